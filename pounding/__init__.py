@@ -1,0 +1,42 @@
+"""pounding: seismic response and slab pounding of two adjacent non-symmetric buildings.
+
+The public Python API is small:
+
+>>> from pounding import load_scene, assemble, run      # doctest: +SKIP
+>>> scene = load_scene("examples/paper/pair_gap_0.03.toml")  # doctest: +SKIP
+>>> result = run(scene)                                 # doctest: +SKIP
+
+Heavy modules (vtk, pyvista, matplotlib) are never imported from here.
+"""
+
+from importlib.metadata import PackageNotFoundError, version as _version
+
+try:
+    __version__ = _version("pounding")
+except PackageNotFoundError:  # running from a source tree that is not installed
+    __version__ = "0.0.0+src"
+
+from pounding.errors import InputError
+
+__all__ = ["InputError", "__version__", "load_scene", "assemble", "run"]
+
+
+def load_scene(path):
+    """Read and validate a scene file (TOML); see :func:`pounding.io.scene.load_scene`."""
+    from pounding.io.scene import load_scene as _load
+
+    return _load(path)
+
+
+def assemble(building):
+    """Assemble one building; see :func:`pounding.framework.assembly.assemble`."""
+    from pounding.framework.assembly import assemble as _assemble
+
+    return _assemble(building)
+
+
+def run(scene, **options):
+    """Run the time-history analysis; see :func:`pounding.framework.analysis.run`."""
+    from pounding.framework.analysis import run as _run
+
+    return _run(scene, **options)

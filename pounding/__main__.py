@@ -1,0 +1,5 @@
+import sys
+
+from pounding.cli import main
+
+sys.exit(main())

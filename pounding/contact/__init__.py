@@ -1,0 +1,1 @@
+"""Contact geometry and contact laws (plugin family pounding.contact)."""

@@ -1,0 +1,1 @@
+"""Planar lateral-load-resisting elements (plugin family ``pounding.elements``)."""

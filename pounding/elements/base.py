@@ -1,0 +1,121 @@
+"""The planar element plugin contract.
+
+A planar element (a frame, a shear wall, a brace...) is stiff in its own
+vertical plane and has no stiffness out of it. It knows nothing of slabs: it
+reports
+
+1. ``floors``: the 1-based floor numbers whose lateral displacement it resists
+   (its base is fixed to the ground);
+2. ``point`` (2,) and ``direction`` (2,): a point of its plan line and the unit
+   vector along it, in global plan coordinates [m];
+3. :meth:`lateral_stiffness`: its statically condensed stiffness (n, n) [N/m]
+   over the in-plane displacements of those floors along ``direction``;
+4. :meth:`plan_segment`: the plan extent (start, end) [m], used to check that
+   the element stands on its slabs and to draw it;
+5. :meth:`outline`: lines and panels in its own (s along the line, z up)
+   coordinates, for drawing.
+
+The framework places it: the displacement along ``direction`` at floor f with
+centre of mass c is ``d . (u, v) + phi * ((p - c) x d)`` (phi counter-clockwise,
+a x b = a_x b_y - a_y b_x), and ``K += T^T k T``.
+
+To add an element type: subclass :class:`PlanarElement`, set ``name``, give a
+JSON ``schema`` for its scene table (validated before :meth:`from_table` is
+called), implement the abstract methods, and register the class under the
+entry-point group ``pounding.elements``.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from typing import Any, ClassVar, Mapping, Sequence
+
+import numpy as np
+
+
+class PlanarElement(ABC):
+    """Base class of every planar element plugin (see the module docstring)."""
+
+    name: ClassVar[str] = ""
+    #: JSON schema of the element's table in the scene (without the "type" key).
+    schema: ClassVar[dict[str, Any]] = {"type": "object"}
+
+    floors: tuple[int, ...]
+    point: np.ndarray
+    direction: np.ndarray
+
+    @classmethod
+    @abstractmethod
+    def from_table(cls, table: Mapping[str, Any], *, storey_heights: Sequence[float]) -> "PlanarElement":
+        """Build the element from its (schema-validated) scene table.
+
+        Parameters
+        ----------
+        table : mapping
+            The ``[[building.element]]`` table, without ``type``.
+        storey_heights : sequence of float
+            Storey heights of the building [m], bottom first.
+
+        Raises
+        ------
+        pounding.errors.InputError
+            With ``field`` set to the offending key.
+        """
+
+    @abstractmethod
+    def lateral_stiffness(self) -> np.ndarray:
+        """Condensed lateral stiffness over ``floors`` [N/m], shape (n, n), symmetric."""
+
+    @abstractmethod
+    def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
+        """Plan extent (start, end), each shape (2,) [m]."""
+
+    def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
+        """Drawing in the element plane: ``{"lines": [(s0, z0, s1, z1)], "panels": [(s0, s1, z0, z1)]}``.
+
+        s is measured from ``point`` along ``direction`` [m], z from the ground [m].
+        """
+        return {"lines": [], "panels": []}
+
+
+def section_properties(sec: Mapping[str, float]) -> tuple[float, float, float]:
+    """(E [Pa], A [m^2], I [m^4]) of a section given as {E, A, I} or rectangular {E, b, h}.
+
+    For a rectangle h is the depth in the element's plane and b the width out
+    of it, so A = b h and I = b h^3 / 12.
+    """
+    if "b" in sec:
+        b, h = float(sec["b"]), float(sec["h"])
+        return float(sec["E"]), b * h, b * h**3 / 12.0
+    return float(sec["E"]), float(sec["A"]), float(sec["I"])
+
+
+SECTION_SCHEMA: dict[str, Any] = {
+    "oneOf": [
+        {
+            "type": "object",
+            "required": ["E", "A", "I"],
+            "additionalProperties": False,
+            "properties": {k: {"type": "number", "exclusiveMinimum": 0} for k in ("E", "A", "I")},
+        },
+        {
+            "type": "object",
+            "required": ["E", "b", "h"],
+            "additionalProperties": False,
+            "properties": {k: {"type": "number", "exclusiveMinimum": 0} for k in ("E", "b", "h")},
+        },
+    ]
+}
+
+POINT_SCHEMA: dict[str, Any] = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
+
+
+def per_storey(value: Any, n: int, field: str) -> list[Any]:
+    """One value for all n storeys, or a list of n values (InputError otherwise)."""
+    from pounding.errors import InputError
+
+    if isinstance(value, list):
+        if len(value) != n:
+            raise InputError(f"expected one value for all storeys or a list of {n}, got a list of {len(value)}", field=field)
+        return list(value)
+    return [value] * n

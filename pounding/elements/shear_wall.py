@@ -1,0 +1,109 @@
+"""Planar shear wall: a Timoshenko cantilever fixed at the base.
+
+The flexibility between floors i and j at heights z_i <= z_j (unit loads along
+the wall) is the sum of bending and shear parts:
+
+    f_ij = z_i^2 (3 z_j - z_i) / (6 E I) + z_i / (G A_s)
+
+with I = t L^3 / 12 (in-plane), A = t L and the shear area A_s = 5/6 A unless
+given. The stiffness over the floors is the inverse of that flexibility.
+Reference: Timoshenko & Gere, *Mechanics of Materials*; for the tip:
+h^3/(3EI) + h/(G A_s).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any, ClassVar, Mapping, Sequence
+
+import numpy as np
+from scipy.linalg import cho_factor, cho_solve
+
+from pounding.elements.base import POINT_SCHEMA, PlanarElement
+from pounding.elements.frame import _spanned_storeys, line_from_table
+from pounding.errors import InputError
+
+
+@dataclass(frozen=True, eq=False)
+class ShearWall(PlanarElement):
+    """Cantilever wall from ``start`` to ``end`` in plan.
+
+    Attributes
+    ----------
+    point, direction : ndarray (2,)
+        Start of the wall and its unit direction [m].
+    length, thickness : float
+        Plan length and thickness [m].
+    E, G : float
+        Young's and shear moduli [Pa].
+    shear_area : float
+        Effective shear area [m^2].
+    heights : tuple of float
+        Storey heights spanned [m].
+    """
+
+    name: ClassVar[str] = "shear_wall"
+    schema: ClassVar[dict[str, Any]] = {
+        "type": "object",
+        "required": ["start", "end", "thickness", "E"],
+        "additionalProperties": False,
+        "properties": {
+            "start": POINT_SCHEMA,
+            "end": POINT_SCHEMA,
+            "thickness": {"type": "number", "exclusiveMinimum": 0},
+            "E": {"type": "number", "exclusiveMinimum": 0},
+            "G": {"type": "number", "exclusiveMinimum": 0},
+            "nu": {"type": "number", "exclusiveMinimum": -1, "exclusiveMaximum": 0.5},
+            "shear_area": {"type": "number", "exclusiveMinimum": 0},
+            "storeys": {"type": "integer", "minimum": 1},
+        },
+        "oneOf": [{"required": ["G"], "not": {"required": ["nu"]}}, {"required": ["nu"], "not": {"required": ["G"]}}],
+    }
+
+    point: np.ndarray
+    direction: np.ndarray
+    length: float
+    thickness: float
+    E: float
+    G: float
+    shear_area: float
+    heights: tuple[float, ...]
+
+    @property
+    def floors(self) -> tuple[int, ...]:
+        return tuple(range(1, len(self.heights) + 1))
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any], *, storey_heights: Sequence[float]) -> "ShearWall":
+        point, direction = line_from_table(table)
+        length = float(np.hypot(*(np.asarray(table["end"], float) - point)))
+        t, E = float(table["thickness"]), float(table["E"])
+        G = float(table["G"]) if "G" in table else E / (2.0 * (1.0 + float(table["nu"])))
+        As = float(table.get("shear_area", 5.0 / 6.0 * t * length))
+        n = _spanned_storeys(table, storey_heights)
+        if length <= 0:
+            raise InputError("a wall needs a positive length", field="end")
+        return cls(point, direction, length, t, E, G, As, tuple(float(h) for h in storey_heights[:n]))
+
+    @property
+    def second_moment(self) -> float:
+        """In-plane second moment of area t L^3 / 12 [m^4]."""
+        return self.thickness * self.length**3 / 12.0
+
+    def flexibility(self) -> np.ndarray:
+        """Flexibility matrix over the floors [m/N], shape (n, n)."""
+        z = np.cumsum(self.heights)
+        zi, zj = np.minimum.outer(z, z), np.maximum.outer(z, z)
+        return zi**2 * (3 * zj - zi) / (6 * self.E * self.second_moment) + zi / (self.G * self.shear_area)
+
+    def lateral_stiffness(self) -> np.ndarray:
+        F = self.flexibility()
+        K = cho_solve(cho_factor(F), np.eye(len(F)))
+        return 0.5 * (K + K.T)
+
+    def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.point, self.point + self.length * self.direction
+
+    def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
+        z = np.concatenate([[0.0], np.cumsum(self.heights)])
+        return {"lines": [], "panels": [(0.0, self.length, z[i], z[i + 1]) for i in range(len(self.heights))]}

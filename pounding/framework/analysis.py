@@ -1,0 +1,435 @@
+"""The analysis driver: owns time, never physics.
+
+It steps every building with the chosen integrator in modal coordinates (see
+:mod:`pounding.solvers.base` for why that is exact here), lets the compiled
+kernel run the stretches where no slabs touch, and handles contact events in
+Python:
+
+* a step that ends with a pair overlapping is taken again from its start with
+  a shorter step until the pair touches within the tolerance (``halving``, the
+  paper), or with the root of the gap function (``root``, Brent's method);
+* at contact, approaching features get impulses from the contact law, each
+  slab pair on its own, and the rest of the step is integrated with the new
+  velocities;
+* a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
+  that stays pressed together is switched to *sustained contact*: a rigid
+  unilateral constraint force solved implicitly with each step, released when
+  the force would pull;
+* force laws (penalty) get the end-of-step gaps and their compliances and
+  return forces, solved implicitly with the step.
+
+Everything the run needs lives in objects created here; nothing is global.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pounding.contact import geometry as geo
+from pounding.framework.assembly import System, assemble
+from pounding.framework.model import Scene
+from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+from pounding.framework.results import Impact, Result
+from pounding.solvers.base import TransitionCache
+
+LEVEL_TOL = 1e-6  # [m] two slabs are at the same level when their elevations differ by less
+MAX_EVENTS_PER_STEP = 64  # bounded work per step: beyond this the pair is held in sustained contact
+
+
+@dataclass
+class Feature:
+    """One touching feature of a slab pair, with its modal row w (ntot,)."""
+
+    pair: int
+    point: np.ndarray
+    normal: np.ndarray  # unit, from slab a towards slab b
+    striker: int  # 0: a vertex of slab a hits, 1: a vertex of slab b hits
+    vertex: int  # index in the striking slab's polygon, -1 face to face
+    gap: float
+    w: np.ndarray = field(repr=False)
+
+
+class Model:
+    """The stacked modal model of all buildings and their slab pairs (read-only during a run)."""
+
+    def __init__(self, scene: Scene, systems: list[System] | None = None):
+        self.scene = scene
+        self.systems = systems or [assemble(b) for b in scene.buildings]
+        gm = scene.ground_motion
+        self.direction = gm.direction()
+        sizes = [s.n_dof for s in self.systems]
+        self.mode_start = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.n = int(sum(sizes))
+        self.omega = np.concatenate([s.omega for s in self.systems])
+        self.zeta = np.concatenate([s.zeta for s in self.systems])
+        self.c2 = 2.0 * self.zeta * self.omega
+        self.L = np.concatenate([s.participation(s.influence(self.direction)) for s in self.systems])
+        self.bidx = np.concatenate([[i] * n for i, n in enumerate(sizes)]).astype(np.int64)
+        # slabs, numbered building by building
+        self.slab_off = np.concatenate([[0], np.cumsum([s.n_storeys for s in self.systems])[:-1]]).astype(np.int64)
+        slabs = [(b, f, slab) for b, s in enumerate(self.systems) for f, slab in enumerate(s.slabs)]
+        nmax, kmax = max(sizes), max(len(sl.vertices) for _, _, sl in slabs)
+        S = len(slabs)
+        self.rows = np.zeros((S, 3, nmax))
+        self.verts = np.zeros((S, kmax, 2))
+        self.nvert = np.zeros(S, dtype=np.int64)
+        self.centres = np.zeros((S, 2))
+        self.radii = np.zeros(S)
+        for s, (b, f, slab) in enumerate(slabs):
+            self.rows[s, :, : sizes[b]] = self.systems[b].modes[3 * f : 3 * f + 3, :]
+            k = len(slab.vertices)
+            self.verts[s, :k] = slab.vertices
+            self.nvert[s] = k
+            self.centres[s] = slab.centre
+            self.radii[s] = slab.radius
+        self.n_modes = np.stack([self.mode_start, np.array(sizes, dtype=np.int64)], axis=1)
+        self.pairs = self._pairs()
+
+    def _pairs(self) -> list[tuple[int, int, int, int, float]]:
+        """Slab pairs at a common level: (building a, storey a, building b, storey b, rest gap)."""
+        out = []
+        if self.scene.analysis.contact == "none":
+            return out
+        for a, sa in enumerate(self.systems):
+            for b in range(a + 1, len(self.systems)):
+                for fa, slab_a in enumerate(sa.slabs):
+                    for fb, slab_b in enumerate(self.systems[b].slabs):
+                        if abs(slab_a.elevation - slab_b.elevation) < LEVEL_TOL:
+                            out.append((a, fa, b, fb, float(geo.signed_gap(slab_a.vertices, slab_b.vertices))))
+        return out
+
+    def slab_index(self, building: int, storey: int) -> int:
+        return int(self.slab_off[building] + storey)
+
+    def slab_dofs(self, x: np.ndarray, building: int, storey: int) -> np.ndarray:
+        """(u, v, phi) of a slab from a stacked modal vector x (ntot,)."""
+        i0, n = self.mode_start[building], self.systems[building].n_dof
+        return self.rows[self.slab_index(building, storey), :, :n] @ x[i0 : i0 + n]
+
+    def polygon(self, q: np.ndarray, building: int, storey: int) -> np.ndarray:
+        """Current polygon (k, 2) of a slab for modal displacements q."""
+        s = self.slab_index(building, storey)
+        d = self.slab_dofs(q, building, storey)
+        return geo.displaced(self.verts[s, : self.nvert[s]], self.centres[s], d[0], d[1], d[2])
+
+    def pair_gap(self, q: np.ndarray, p: int) -> float:
+        a, fa, b, fb, _ = self.pairs[p]
+        return float(geo.signed_gap(self.polygon(q, a, fa), self.polygon(q, b, fb)))
+
+    def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
+        """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.
+
+        d gap = w . dq, and an impulse pair I pushing the slabs apart changes q' by w I.
+        """
+        a, fa, b, fb, _ = self.pairs[p]
+        w = np.zeros(self.n)
+        for sign, bld, f in ((-1.0, a, fa), (1.0, b, fb)):
+            c = self.centres[self.slab_index(bld, f)] + self.slab_dofs(q, bld, f)[:2]
+            r = point - c
+            g = np.array([normal[0], normal[1], r[0] * normal[1] - r[1] * normal[0]])
+            i0, n = self.mode_start[bld], self.systems[bld].n_dof
+            w[i0 : i0 + n] += sign * (self.rows[self.slab_index(bld, f), :, :n].T @ g)
+        return w
+
+    def features(self, q: np.ndarray, p: int, tol: float) -> list[Feature]:
+        a, fa, b, fb, _ = self.pairs[p]
+        out = []
+        count, Q, N, gap, who, idx, face = geo.contact_points(self.polygon(q, a, fa), self.polygon(q, b, fb), tol)
+        for j in range(count):
+            vertex = -1 if face[j] >= 0 else int(idx[j])
+            out.append(Feature(p, Q[j].copy(), N[j].copy(), int(who[j]), vertex, float(gap[j]), self.row(q, p, Q[j], N[j])))
+        return out
+
+
+class Driver:
+    """One run: state, events and records. Create, call :meth:`run`, read :attr:`result`."""
+
+    def __init__(self, scene: Scene, *, model: Model | None = None, progress=None, use_kernel: bool = True):
+        self.scene = scene
+        an = scene.analysis
+        self.model = model or Model(scene)
+        gm = scene.ground_motion
+        self.gm = gm
+        self.dt = float(an.dt or gm.dt or 0.01)
+        duration = float(an.duration or gm.duration)
+        self.nsteps = max(1, int(round(duration / self.dt)))
+        self.every = an.output_every
+        self.integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
+        self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+        self.tol = float(getattr(self.law, "tolerance", 1e-4))
+        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta)
+        self.t_grid = np.arange(self.nsteps + 1) * self.dt
+        self.ag = gm.at(self.t_grid)
+        self.progress = progress
+        self.use_kernel = use_kernel
+        n = self.model.n
+        self.z = np.zeros((n, 3))
+        self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
+        n_out = self.nsteps // self.every + 1
+        self.Q = np.zeros((n_out, n))
+        self.V = np.zeros((n_out, n))
+        self.E = np.zeros((len(self.model.systems), 3))  # ground work, damping work, contact-force work [J]
+        self.impacts: list[Impact] = []
+        self.sustained: set[int] = set()
+        self.held = False  # a rigid constraint force acted at the end of the last step
+        self.events_in_step = 0
+        self.n_located = 0
+
+    # ---------------------------------------------------------------- stepping
+    def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
+        """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
+        tr = self.cache(h)
+        p0 = self.load(t) + f0
+        p1 = self.load(t + h) + (0.0 if f1 is None else f1)
+        return np.einsum("nij,nj->ni", tr.A, z) + tr.B[:, :, 0] * p0[:, None] + tr.B[:, :, 1] * p1[:, None]
+
+    def load(self, t: float) -> np.ndarray:
+        k = t / self.dt
+        kr = int(round(k))
+        if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
+            ag = self.ag[kr]
+        else:
+            ag = float(self.gm.at(np.array([t]))[0])
+        return -self.model.L * ag
+
+    def accumulate(self, z0, z1, t, h, f0, f1):
+        vm = 0.5 * (z0[:, 1] + z1[:, 1])
+        pg = 0.5 * (self.load(t) + self.load(t + h))
+        fm = 0.5 * (f0 + f1)
+        np.add.at(self.E[:, 0], self.model.bidx, h * vm * pg)
+        np.add.at(self.E[:, 1], self.model.bidx, h * self.model.c2 * vm * vm)
+        np.add.at(self.E[:, 2], self.model.bidx, h * vm * fm)
+
+    def gaps(self, q: np.ndarray, pairs=None) -> np.ndarray:
+        pairs = range(len(self.model.pairs)) if pairs is None else pairs
+        return np.array([self.model.pair_gap(q, p) for p in pairs])
+
+    # ---------------------------------------------------------------- the run
+    def run(self) -> Result:
+        t0 = time.perf_counter()
+        k = 0
+        self._record(0)
+        if self.model.pairs and self.law.kind != "none":
+            g0 = self.gaps(self.z[:, 0])
+            if np.any(g0 <= self.tol):
+                self.python_step_until_clear = True
+        kernel_ok = self.use_kernel
+        while k < self.nsteps:
+            if self.needs_python(k):
+                self.python_step(k)
+                k += 1
+                continue
+            k_end = min(self.nsteps, k + 4096)
+            k_new, status, _ = self.advance(k, k_end)
+            if status == 0:  # DONE
+                k = k_new
+            elif status == 1:  # CONTACT at the end of step k_new - 1
+                self.contact_at(self.t_grid[k_new])
+                k = k_new
+                self.python_step_until_clear = True
+            else:  # OVERLAP in step k_new -> k_new + 1: the state is its start
+                self.python_step(k_new)
+                k = k_new + 1
+            if self.progress:
+                self.progress(k, self.nsteps)
+        runtime = time.perf_counter() - t0
+        return Result.from_run(self, runtime)
+
+    python_step_until_clear = False
+
+    def needs_python(self, k: int) -> bool:
+        if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
+            return True
+        if self.python_step_until_clear:
+            if self.model.pairs and np.all(self.gaps(self.z[:, 0]) > self.tol):
+                self.python_step_until_clear = False
+                return False
+            return True
+        return False
+
+    def advance(self, k0: int, k1: int):
+        from pounding.framework.kernel import advance
+
+        m = self.model
+        tr = self.cache(self.dt)
+        pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
+        pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
+        rest = np.array([g for *_, g in m.pairs], dtype=float)
+        if self.law.kind == "none":
+            pa, pb, rest = pa[:0], pb[:0], rest[:0]
+        return advance(
+            tr.A, tr.B, m.L, m.c2, self.dt, self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E,
+            m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, self.tol,
+        )
+
+    def _record(self, k: int) -> None:
+        if k % self.every == 0:
+            self.Q[k // self.every] = self.z[:, 0]
+            self.V[k // self.every] = self.z[:, 1]
+
+    # ---------------------------------------------------------------- one step in Python
+    def python_step(self, k: int) -> None:
+        """Grid step k -> k+1 with contact handled: locate impacts, impulses, contact forces."""
+        t, t_end = self.t_grid[k], self.t_grid[k + 1]
+        self.events_in_step = 0
+        while t_end - t > 1e-12 * self.dt:
+            h = t_end - t
+            z1, f1 = self.trial(self.z, t, h)
+            culprits = self.overlapping(z1)
+            if not culprits:
+                self.commit(z1, t, h, f1)
+                t = t_end
+                self.contact_at(t)
+                break
+            hs = self.locate(t, h, culprits)
+            z1, f1 = self.trial(self.z, t, hs)
+            self.commit(z1, t, hs, f1)
+            t += hs
+            self.n_located += 1
+            if not self.contact_at(t, culprits):
+                # touching but not approaching, yet overlapping before the step ends: pressed together
+                self.sustained.update(culprits)
+            self.events_in_step += 1
+            if self.events_in_step > MAX_EVENTS_PER_STEP:
+                self.sustained.update(culprits)
+        self._record(k + 1)
+        self.release_sustained()
+
+    def commit(self, z1, t, h, f1) -> None:
+        self.accumulate(self.z, z1, t, h, self.fc, f1)
+        self.z = z1
+        # A penalty force is a physical load that varies continuously, so it is the next
+        # step's start load. A rigid constraint force is sized for the step it closed (it
+        # scales with 1/h^2): carried into a longer step it would push the slabs apart.
+        self.held = bool(np.any(f1))
+        self.fc = f1 if self.law.kind == "force" else np.zeros_like(f1)
+
+    def overlapping(self, z1) -> list[int]:
+        """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
+        if self.law.kind != "impulse":
+            return []
+        return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p) < -self.tol]
+
+    def trial(self, z, t, h):
+        """A step with implicit contact forces for the force-held pairs; returns (z1, f1)."""
+        zf = self.step(z, t, h, self.fc)
+        held = list(self.sustained) if self.law.kind == "impulse" else (list(range(len(self.model.pairs))) if self.law.kind == "force" else [])
+        if not held:
+            return zf, np.zeros(self.model.n)
+        feats = []
+        for p in held:
+            if self.model.pair_gap(zf[:, 0], p) < self.tol:
+                feats += [f for f in self.model.features(zf[:, 0], p, max(self.tol, -self.model.pair_gap(zf[:, 0], p) + self.tol)) if f.gap < 0]
+        if not feats:
+            return zf, np.zeros(self.model.n)
+        Wr = np.stack([f.w for f in feats])  # (m, n)
+        tr = self.cache(h)
+        gap = np.array([f.gap for f in feats])
+        rate = Wr @ zf[:, 1]
+        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+        if self.law.kind == "force":
+            lam = self.law.forces(gap, rate, S_q, S_v, Wr @ Wr.T)
+        else:
+            lam = rigid_forces(gap, S_q)
+        f1 = Wr.T @ lam
+        return zf + tr.B[:, :, 1] * f1[:, None], f1
+
+    def release_sustained(self) -> None:
+        if not self.sustained:
+            return
+        q = self.z[:, 0]
+        for p in list(self.sustained):
+            if self.model.pair_gap(q, p) > self.tol and not self.held:
+                self.sustained.discard(p)
+
+    # ---------------------------------------------------------------- impact location
+    def locate(self, t: float, h: float, culprits: list[int]) -> float:
+        """Step length from t to the first contact of the culprit pairs (within the tolerance)."""
+        def gmin(hh):
+            if hh <= 0.0:
+                return min(self.model.pair_gap(self.z[:, 0], p) for p in culprits)
+            z1, _ = self.trial(self.z, t, hh)
+            return min(self.model.pair_gap(z1[:, 0], p) for p in culprits)
+
+        if self.law.locate == "root" and gmin(0.0) > self.tol:
+            from scipy.optimize import brentq
+
+            root = brentq(gmin, 0.0, h, xtol=1e-14 * max(self.dt, 1.0), rtol=4 * np.finfo(float).eps)
+            if abs(gmin(root)) <= self.tol:
+                return root
+        # halving: bisection on [lo, hi] from the saved state at t (the paper)
+        lo, hi = 0.0, h
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            g = gmin(mid)
+            if g < -self.tol:
+                hi = mid
+            elif g <= self.tol:
+                return mid
+            else:
+                lo = mid
+            if hi - lo < 1e-15 * self.dt:
+                break
+        return hi if gmin(hi) >= -self.tol else lo
+
+    # ---------------------------------------------------------------- impacts
+    def contact_at(self, t: float, pairs=None) -> bool:
+        """Apply impulses at time t to every touching, approaching pair. True if any impulse acted."""
+        if self.law.kind != "impulse":
+            return False
+        q, acted = self.z[:, 0], False
+        candidates = range(len(self.model.pairs)) if pairs is None else pairs
+        for p in candidates:
+            if p in self.sustained or self.model.pair_gap(q, p) > self.tol:
+                continue
+            feats = self.model.features(q, p, self.tol)
+            if not feats:
+                continue
+            Wr = np.stack([f.w for f in feats])
+            b = -(Wr @ self.z[:, 1])
+            if not np.any(b > 0):
+                continue
+            W = Wr @ Wr.T
+            I = self.law.impulses(W, b)
+            if not np.any(I > 0):
+                continue
+            after = b - W @ I
+            self.z[:, 1] += Wr.T @ I
+            if self.law.after_impact == "equilibrium":
+                self.z[:, 2] = self.load(t) + self.fc - self.model.c2 * self.z[:, 1] - self.model.omega**2 * self.z[:, 0]
+            acted = True
+            for f, Ik, bk, ak in zip(feats, I, b, after):
+                if Ik > 0:
+                    self.impacts.append(Impact(t, p, f.striker, f.vertex, float(Ik), f.normal.copy(), float(bk), float(0.5 * Ik * (bk + ak)), f.point.copy()))
+            # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
+            # of ever smaller impacts that accumulates in finite time; hold the pair instead.
+            if np.max(b) * self.dt < self.tol:
+                self.sustained.add(p)
+        return acted
+
+
+def rigid_forces(gap: np.ndarray, S_q: np.ndarray) -> np.ndarray:
+    """Unilateral constraint forces lambda >= 0 closing the penetrations: S_q lambda = -gap on the active set."""
+    m = len(gap)
+    active = gap < 0
+    lam = np.zeros(m)
+    for _ in range(m + 1):
+        idx = np.flatnonzero(active)
+        if idx.size == 0:
+            return lam
+        sol = np.linalg.lstsq(S_q[np.ix_(idx, idx)], -gap[idx], rcond=None)[0]
+        lam[:] = 0.0
+        lam[idx] = sol
+        if np.all(sol >= 0):
+            return lam
+        active[idx[sol < 0]] = False
+    return np.maximum(lam, 0.0)
+
+
+def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
+    """Run the time-history analysis of a scene and return its :class:`Result`."""
+    return Driver(scene, progress=progress, use_kernel=use_kernel).run()

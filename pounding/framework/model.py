@@ -1,0 +1,126 @@
+"""The scene: an immutable, validated description of what to analyse (SI units).
+
+Nothing downstream writes into these objects; derived quantities (matrices,
+modes, results) live in their own objects. ``with_*`` methods return copies.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pounding.elements.base import PlanarElement
+
+
+@dataclass(frozen=True, eq=False)
+class Slab:
+    """One rigid floor slab.
+
+    Attributes
+    ----------
+    vertices : ndarray (k, 2)
+        Plan polygon in global coordinates, counter-clockwise [m].
+    mass : float
+        [kg].
+    centre : ndarray (2,)
+        Centre of mass [m].
+    polar_inertia : float
+        Mass moment of inertia about the vertical axis through ``centre`` [kg m^2].
+    elevation : float
+        Height of the floor above the ground [m].
+    """
+
+    vertices: np.ndarray
+    mass: float
+    centre: np.ndarray
+    polar_inertia: float
+    elevation: float
+
+    @property
+    def radius(self) -> float:
+        """Largest distance from the centre of mass to a vertex [m]."""
+        return float(np.max(np.hypot(*(self.vertices - self.centre).T)))
+
+
+@dataclass(frozen=True)
+class Damping:
+    """Classical damping model of one building.
+
+    kind : "rayleigh" (ratio at two modes or two periods), "modal" (ratio per
+    mode) or "stiffness" (stiffness proportional, ratio at one mode).
+    """
+
+    kind: str = "rayleigh"
+    ratio: float | tuple[float, ...] = 0.05
+    modes: tuple[int, ...] = (1, 3)
+    periods: tuple[float, ...] | None = None
+
+
+@dataclass(frozen=True, eq=False)
+class Building:
+    """One shear building: rigid slabs joined by planar elements."""
+
+    name: str
+    storey_heights: tuple[float, ...]
+    slabs: tuple[Slab, ...]
+    elements: tuple[PlanarElement, ...]
+    damping: Damping = field(default_factory=Damping)
+
+    @property
+    def n_storeys(self) -> int:
+        return len(self.storey_heights)
+
+    @property
+    def elevations(self) -> np.ndarray:
+        """Floor heights above ground [m], shape (n_storeys,)."""
+        return np.cumsum(self.storey_heights)
+
+
+@dataclass(frozen=True)
+class Analysis:
+    """Time-history options ([analysis] table)."""
+
+    integrator: str = "hht"
+    integrator_params: dict[str, Any] = field(default_factory=dict)
+    dt: float | None = None
+    duration: float | None = None
+    contact: str = "impulse"
+    contact_params: dict[str, Any] = field(default_factory=dict)
+    output_every: int = 1
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Everything a run needs: the buildings, the ground motion and the options."""
+
+    buildings: tuple[Building, ...]
+    ground_motion: Any  # pounding.io.ground_motion.GroundMotion (kept loose to avoid an import cycle)
+    analysis: Analysis = field(default_factory=Analysis)
+    source: Path | None = None
+
+    def building(self, name: str) -> Building:
+        for b in self.buildings:
+            if b.name == name:
+                return b
+        raise KeyError(name)
+
+    def with_analysis(self, **changes: Any) -> "Scene":
+        return replace(self, analysis=replace(self.analysis, **changes))
+
+    def with_ground_motion(self, ground_motion: Any) -> "Scene":
+        return replace(self, ground_motion=ground_motion)
+
+    def with_building_shifted(self, name: str, offset: np.ndarray) -> "Scene":
+        """A copy where building ``name`` (slabs and elements) is translated in plan by ``offset`` [m]."""
+        offset = np.asarray(offset, dtype=float)
+        out = []
+        for b in self.buildings:
+            if b.name == name:
+                slabs = tuple(replace(s, vertices=s.vertices + offset, centre=s.centre + offset) for s in b.slabs)
+                elements = tuple(replace(e, point=e.point + offset) for e in b.elements)
+                b = replace(b, slabs=slabs, elements=elements)
+            out.append(b)
+        return replace(self, buildings=tuple(out))

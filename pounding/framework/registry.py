@@ -1,0 +1,147 @@
+"""One registry pattern for the three plugin families.
+
+A :class:`Registry` merges the built-in plugins with those that installed
+packages announce through a Python entry-point group
+(``pounding.elements``, ``pounding.integrators``, ``pounding.contact``).
+Entry points are read once, lazily, on the first lookup. A plugin is checked
+when it is loaded (it must subclass the family's base class and carry a
+``name``), not in the middle of a run. A plugin that fails to import gives a
+warning and is left out; two plugins with one name are reported.
+
+Lookup accepts a registered name or the class itself, as
+``scipy.integrate.solve_ivp(method=...)`` does.
+"""
+
+from __future__ import annotations
+
+import importlib
+import warnings
+from importlib.metadata import entry_points
+from typing import Generic, TypeVar
+
+from pounding.errors import InputError
+
+T = TypeVar("T")
+
+
+class Registry(Generic[T]):
+    """Name -> plugin class, for one family.
+
+    Parameters
+    ----------
+    group : str
+        Entry-point group, e.g. ``"pounding.elements"``.
+    base : str
+        Dotted path of the base class every plugin must subclass
+        (imported lazily so that building a registry imports nothing heavy).
+    builtins : dict of str -> str
+        Built-in plugins as ``name -> "module:Class"``; they are found even
+        when the package is not installed (running from a source tree).
+    kind : str
+        Human name of the family, used in messages ("element type").
+    """
+
+    def __init__(self, group: str, base: str, builtins: dict[str, str], kind: str):
+        self.group = group
+        self._base_path = base
+        self._builtins = dict(builtins)
+        self.kind = kind
+        self._targets: dict[str, str] | None = None
+        self._loaded: dict[str, type] = {}
+
+    # -- discovery ---------------------------------------------------------------
+    def _discover(self) -> dict[str, str]:
+        if self._targets is None:
+            targets = dict(self._builtins)
+            for ep in entry_points(group=self.group):
+                if ep.name in targets and targets[ep.name] != ep.value:
+                    warnings.warn(
+                        f"{self.kind} {ep.name!r} is registered twice "
+                        f"({targets[ep.name]} and {ep.value}); keeping {targets[ep.name]}",
+                        stacklevel=3,
+                    )
+                    continue
+                targets[ep.name] = ep.value
+            self._targets = targets
+        return self._targets
+
+    def names(self) -> list[str]:
+        """Sorted names of every plugin that can be loaded."""
+        return sorted(self._discover())
+
+    def _base(self) -> type:
+        module, _, cls = self._base_path.partition(":")
+        return getattr(importlib.import_module(module), cls)
+
+    def _load(self, name: str) -> type:
+        if name not in self._loaded:
+            target = self._discover()[name]
+            module, _, attr = target.partition(":")
+            try:
+                obj = getattr(importlib.import_module(module), attr)
+            except Exception as exc:  # a broken third-party plugin must not hide the others
+                raise InputError(f"{self.kind} {name!r} could not be loaded from {target}: {exc}") from exc
+            self._check(name, obj)
+            self._loaded[name] = obj
+        return self._loaded[name]
+
+    def _check(self, name: str, obj: object) -> None:
+        base = self._base()
+        if not (isinstance(obj, type) and issubclass(obj, base)):
+            raise InputError(f"{self.kind} {name!r} must be a subclass of {base.__qualname__}, got {obj!r}")
+        if getattr(obj, "name", None) != name:
+            raise InputError(
+                f"{self.kind} registered as {name!r} declares name={getattr(obj, 'name', None)!r}; they must agree"
+            )
+
+    # -- lookup ------------------------------------------------------------------
+    def get(self, name_or_class: str | type, *, field: str | None = None) -> type:
+        """The plugin class for a name (or the class itself, checked).
+
+        Raises
+        ------
+        InputError
+            For an unknown name; the message lists the known ones.
+        """
+        if isinstance(name_or_class, type):
+            self._check(getattr(name_or_class, "name", None), name_or_class)
+            return name_or_class
+        if not isinstance(name_or_class, str) or name_or_class not in self._discover():
+            known = ", ".join(self.names())
+            raise InputError(f"unknown {self.kind} {name_or_class!r}; known: {known}", field=field)
+        return self._load(name_or_class)
+
+    def __contains__(self, name: str) -> bool:
+        return name in self._discover()
+
+
+ELEMENTS: Registry = Registry(
+    "pounding.elements",
+    "pounding.elements.base:PlanarElement",
+    {"frame": "pounding.elements.frame:Frame", "shear_wall": "pounding.elements.shear_wall:ShearWall"},
+    "element type",
+)
+
+INTEGRATORS: Registry = Registry(
+    "pounding.integrators",
+    "pounding.solvers.base:Integrator",
+    {
+        "newmark": "pounding.solvers.newmark:Newmark",
+        "hht": "pounding.solvers.hht:HHT",
+        "generalized_alpha": "pounding.solvers.generalized_alpha:GeneralizedAlpha",
+        "central_difference": "pounding.solvers.central_difference:CentralDifference",
+        "exact": "pounding.solvers.exact:Exact",
+    },
+    "integrator",
+)
+
+CONTACT_LAWS: Registry = Registry(
+    "pounding.contact",
+    "pounding.contact.base:ContactLaw",
+    {
+        "impulse": "pounding.contact.impulse:Impulse",
+        "penalty": "pounding.contact.penalty:Penalty",
+        "none": "pounding.contact.none:NoContact",
+    },
+    "contact law",
+)

@@ -1,0 +1,177 @@
+"""Results of a run: arrays at the output rate, the impact log, energies, timings.
+
+A :class:`Result` holds modal histories and turns them into physical ones on
+demand (one matrix product per building), so a run stores O(n) numbers per
+output step however many storeys there are.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One impact: an impulse at one point of one slab pair.
+
+    Attributes
+    ----------
+    time : float
+        [s].
+    pair : int
+        Index of the slab pair in the run's pair list.
+    striker : int
+        0 if a vertex of the pair's first slab hit, 1 if the second's.
+    vertex : int
+        Index of the striking vertex in its slab polygon (scene order), -1 face to face.
+    impulse : float
+        [N s].
+    normal : ndarray (2,)
+        Unit normal from the first slab towards the second.
+    approach_velocity : float
+        Closing speed b before the impact [m/s].
+    energy_loss : float
+        Kinetic energy lost [J].
+    point : ndarray (2,)
+        Contact point in plan [m].
+    """
+
+    time: float
+    pair: int
+    striker: int
+    vertex: int
+    impulse: float
+    normal: np.ndarray
+    approach_velocity: float
+    energy_loss: float
+    point: np.ndarray
+
+
+@dataclass
+class Result:
+    """Histories and logs of a run (physical arrays via :meth:`cm` and :meth:`vertices`).
+
+    Attributes
+    ----------
+    t : ndarray (nt,)
+        Output times [s].
+    names : list of str
+        Building names, scene order.
+    q, qd : ndarray (nt, n)
+        Stacked modal displacements and velocities.
+    systems : list of System
+    mode_start : ndarray (n_buildings,)
+    pairs : list of (building a, storey a, building b, storey b, rest gap)
+        0-based indices; storey numbers in files are 1-based.
+    impacts : list of Impact
+    energy : dict
+        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J].
+    """
+
+    t: np.ndarray
+    names: list[str]
+    q: np.ndarray
+    qd: np.ndarray
+    systems: list
+    mode_start: np.ndarray
+    pairs: list
+    impacts: list[Impact]
+    energy: dict
+    runtime_s: float
+    dt: float
+    steps: int
+    integrator: dict
+    contact: dict
+    ground_motion: dict
+    info: dict = field(default_factory=dict)
+
+    @classmethod
+    def from_run(cls, d, runtime: float) -> "Result":
+        m = d.model
+        k_out = np.arange(0, d.nsteps + 1, d.every)
+        energy = {}
+        z = d.z
+        for i, s in enumerate(m.systems):
+            sl = slice(m.mode_start[i], m.mode_start[i] + s.n_dof)
+            energy[s.name] = {
+                "input": float(d.E[i, 0]),
+                "damping": float(d.E[i, 1]),
+                "contact_forces": float(d.E[i, 2]),
+                "kinetic": float(0.5 * np.sum(z[sl, 1] ** 2)),
+                "strain": float(0.5 * np.sum((s.omega * z[sl, 0]) ** 2)),
+            }
+        gm = d.gm
+        return cls(
+            t=d.t_grid[k_out],
+            names=[s.name for s in m.systems],
+            q=d.Q,
+            qd=d.V,
+            systems=m.systems,
+            mode_start=m.mode_start,
+            pairs=m.pairs,
+            impacts=d.impacts,
+            energy=energy,
+            runtime_s=runtime,
+            dt=d.dt,
+            steps=d.nsteps,
+            integrator=d.integrator.describe(),
+            contact=d.law.describe(),
+            ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
+            info={"located_events": d.n_located, "sustained_pairs_at_end": sorted(d.sustained)},
+        )
+
+    # ------------------------------------------------------------- physical histories
+    def _index(self, name: str) -> int:
+        return self.names.index(name)
+
+    def modal(self, name: str, velocity: bool = False) -> np.ndarray:
+        i = self._index(name)
+        sl = slice(self.mode_start[i], self.mode_start[i] + self.systems[i].n_dof)
+        return (self.qd if velocity else self.q)[:, sl]
+
+    def cm(self, name: str, velocity: bool = False) -> np.ndarray:
+        """(u, v, phi) of every slab's centre of mass [m, m, rad], shape (nt, storeys, 3)."""
+        s = self.systems[self._index(name)]
+        return (self.modal(name, velocity) @ s.modes.T).reshape(len(self.t), s.n_storeys, 3)
+
+    def vertices(self, name: str, velocity: bool = False) -> np.ndarray:
+        """x, y displacement of every slab vertex, shape (nt, storeys, kmax, 2); NaN pads shorter polygons."""
+        s = self.systems[self._index(name)]
+        x = self.cm(name, velocity)
+        kmax = max(len(sl.vertices) for sl in s.slabs)
+        out = np.full((len(self.t), s.n_storeys, kmax, 2), np.nan)
+        for f, slab in enumerate(s.slabs):
+            r = slab.vertices - slab.centre  # (k, 2)
+            u, v, phi = x[:, f, 0:1], x[:, f, 1:2], x[:, f, 2:3]
+            out[:, f, : len(r), 0] = u - phi * r[:, 1]
+            out[:, f, : len(r), 1] = v + phi * r[:, 0]
+        return out
+
+    def peaks(self, name: str) -> np.ndarray:
+        """Peak |u|, |v|, |phi| per storey, shape (storeys, 3)."""
+        return np.max(np.abs(self.cm(name)), axis=0)
+
+    @property
+    def n_impacts(self) -> int:
+        return len(self.impacts)
+
+    def impact_storey(self, imp: Impact) -> int:
+        """1-based storey of an impact (the first slab's storey)."""
+        return self.pairs[imp.pair][1] + 1
+
+    def striking_building(self, imp: Impact) -> str:
+        a, _, b, _, _ = self.pairs[imp.pair]
+        return self.names[a if imp.striker == 0 else b]
+
+    def energy_balance(self) -> dict:
+        """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work."""
+        e = self.energy
+        inp = sum(v["input"] for v in e.values())
+        stored = sum(v["kinetic"] + v["strain"] for v in e.values())
+        damp = sum(v["damping"] for v in e.values())
+        contact = sum(v["contact_forces"] for v in e.values())
+        lost = sum(i.energy_loss for i in self.impacts)
+        err = inp + contact - stored - damp - lost
+        return {"input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "error": err, "relative_error": err / inp if inp else 0.0}

@@ -1,0 +1,1 @@
+"""Scene files, ground motions, results, VTK and plots."""

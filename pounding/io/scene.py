@@ -1,0 +1,353 @@
+"""Read a scene file (TOML) into a validated, immutable :class:`~pounding.framework.model.Scene`.
+
+Checks run in three layers, each stopping at the first problem with one
+message naming the file, the key path (``building[0].element[2].columns``)
+and what was expected:
+
+1. TOML syntax (``tomllib``) and non-finite numbers (TOML allows nan/inf);
+2. structure and types against a JSON schema (``jsonschema``), including each
+   element plugin's own schema;
+3. meaning: polygon validity, one value per storey, mass and inertia, elements
+   standing on their slabs, slabs overlapping at rest, plugin names and
+   parameters, the ground-motion record.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+import tomllib
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from pounding.errors import InputError
+from pounding.framework.model import Analysis, Building, Damping, Scene, Slab
+
+LENGTH_TOL = 1e-6  # [m] tolerance for "on the slab" and "same elevation"
+
+
+def _path(parts) -> str:
+    out = ""
+    for p in parts:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
+def _check_finite(obj: Any, parts: list) -> None:
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise InputError(f"expected a finite number, got {obj}", field=_path(parts))
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            _check_finite(v, parts + [k])
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            _check_finite(v, parts + [i])
+
+
+def _validate(instance: Any, schema: Mapping, prefix: list) -> None:
+    from jsonschema import Draft202012Validator
+    from jsonschema.exceptions import best_match
+
+    err = best_match(Draft202012Validator(schema).iter_errors(instance))
+    if err is not None:
+        raise InputError(_describe(err), field=_path(prefix + list(err.absolute_path)) or "(top level)")
+
+
+def _describe(err) -> str:
+    """A schema error in words an engineer reads without knowing JSON schema."""
+    v = err.validator
+    if v == "required":
+        return err.message.replace("is a required property", "is required")
+    if v == "additionalProperties":
+        allowed = sorted(err.schema.get("properties", {}))
+        return f"{err.message}; accepted keys: {', '.join(allowed)}"
+    if v in ("exclusiveMinimum", "minimum", "maximum", "exclusiveMaximum", "type", "enum", "minItems", "maxItems", "pattern"):
+        return f"expected {_expectation(err)}, got {err.instance!r}"
+    if v == "oneOf":
+        if isinstance(err.instance, dict) and {"angle", "end"} <= set(err.instance):
+            return "give either angle or end, not both"
+        if isinstance(err.instance, dict) and {"G", "nu"} <= set(err.instance):
+            return "give either G or nu, not both"
+        return f"{err.instance!r} does not match any accepted form ({_forms(err.schema)})"
+    return err.message
+
+
+def _expectation(err) -> str:
+    s, v = err.schema, err.validator
+    if v == "exclusiveMinimum":
+        return f"a number > {s['exclusiveMinimum']}"
+    if v == "minimum":
+        return f"a number >= {s['minimum']}"
+    if v == "maximum":
+        return f"a number <= {s['maximum']}"
+    if v == "exclusiveMaximum":
+        return f"a number < {s['exclusiveMaximum']}"
+    if v == "type":
+        return {"number": "a number", "integer": "an integer", "string": "a string", "array": "a list", "object": "a table"}.get(
+            s["type"], s["type"]
+        )
+    if v == "enum":
+        return "one of " + ", ".join(map(repr, s["enum"]))
+    if v == "minItems":
+        return f"at least {s['minItems']} items"
+    if v == "maxItems":
+        return f"at most {s['maxItems']} items"
+    return f"a value matching {s.get('pattern')}"
+
+
+def _forms(schema: Mapping) -> str:
+    forms = []
+    for sub in schema.get("oneOf", []):
+        if "required" in sub:
+            forms.append("{" + ", ".join(sub["required"]) + "}")
+        elif "type" in sub:
+            forms.append({"number": "a number", "array": "a list", "string": "a string", "object": "a table"}.get(sub["type"], sub["type"]))
+    return " or ".join(forms) or "see the README"
+
+
+# --------------------------------------------------------------------------- buildings
+def _per_storey(table: Mapping, key: str, n: int, where: list) -> list:
+    value = table[key]
+    if isinstance(value, list):
+        if len(value) != n:
+            raise InputError(f"expected one value or a list of {n} (one per storey), got {len(value)}", field=_path(where + [key]))
+        return list(value)
+    return [value] * n
+
+
+def _slab_polygons(table: Mapping, n: int, where: list) -> list[np.ndarray]:
+    from pounding.contact.geometry import ccw, is_simple
+
+    if ("slab" in table) == ("slabs" in table):
+        raise InputError("give exactly one of slab (one polygon for every storey) or slabs (one per storey)", field=_path(where + ["slab"]))
+    if "slab" in table:
+        polys, keys = [table["slab"]] * n, [["slab"]] * n
+    else:
+        if len(table["slabs"]) != n:
+            raise InputError(f"expected {n} polygons (one per storey), got {len(table['slabs'])}", field=_path(where + ["slabs"]))
+        polys, keys = table["slabs"], [["slabs", i] for i in range(n)]
+    out = []
+    for poly, key in zip(polys, keys):
+        v = np.asarray(poly, dtype=float)
+        ok, reason = is_simple(v)
+        if not ok:
+            raise InputError(f"the slab polygon is not a simple polygon: {reason}", field=_path(where + key))
+        out.append(ccw(v))
+    return out
+
+
+def _damping(table: Mapping | None, where: list) -> Damping:
+    if table is None:
+        return Damping()
+    kind = table.get("type", "rayleigh")
+    ratio = table.get("ratio", 0.05)
+    field = _path(where + ["damping"])
+    if kind == "rayleigh":
+        if isinstance(ratio, list):
+            raise InputError("Rayleigh damping takes one ratio", field=field + ".ratio")
+        if "periods" in table and "modes" in table:
+            raise InputError("give modes or periods, not both", field=field)
+        modes = tuple(table.get("modes", (1, 3)))
+        if "periods" not in table and (len(modes) != 2 or modes[0] == modes[1]):
+            raise InputError("Rayleigh damping needs two different modes, e.g. [1, 3]", field=field + ".modes")
+        periods = tuple(float(p) for p in table["periods"]) if "periods" in table else None
+        if periods is not None and periods[0] == periods[1]:
+            raise InputError("Rayleigh damping needs two different periods", field=field + ".periods")
+        return Damping("rayleigh", float(ratio), modes, periods)
+    if kind == "modal":
+        return Damping("modal", tuple(float(r) for r in ratio) if isinstance(ratio, list) else float(ratio), ())
+    if isinstance(ratio, list):
+        raise InputError("stiffness-proportional damping takes one ratio", field=field + ".ratio")
+    modes = tuple(table.get("modes", (1,)))
+    if len(modes) != 1:
+        raise InputError("stiffness-proportional damping takes one mode, e.g. [1]", field=field + ".modes")
+    return Damping("stiffness", float(ratio), modes)
+
+
+def _building(table: Mapping, index: int) -> Building:
+    from pounding.contact.geometry import polygon_properties
+    from pounding.framework.registry import ELEMENTS
+
+    where = ["building", index]
+    heights = tuple(float(h) for h in table["storey_heights"])
+    n = len(heights)
+    polys = _slab_polygons(table, n, where)
+    props = [polygon_properties(p) for p in polys]  # (area, centroid, polar moment about centroid)
+
+    if ("mass" in table) == ("mass_per_area" in table):
+        raise InputError("give exactly one of mass [kg] or mass_per_area [kg/m2]", field=_path(where + ["mass"]))
+    if "mass" in table:
+        masses = [float(m) for m in _per_storey(table, "mass", n, where)]
+    else:
+        masses = [float(m) * a for m, (a, _, _) in zip(_per_storey(table, "mass_per_area", n, where), props)]
+
+    centres = [c for _, c, _ in props]
+    if "centre_of_mass" in table:
+        cm = table["centre_of_mass"]
+        if len(cm) != n:
+            raise InputError(f"expected {n} points (one per storey), got {len(cm)}", field=_path(where + ["centre_of_mass"]))
+        centres = [np.asarray(c, dtype=float) for c in cm]
+    if "polar_inertia" in table:
+        J = table["polar_inertia"]
+        if len(J) != n:
+            raise InputError(f"expected {n} values (one per storey), got {len(J)}", field=_path(where + ["polar_inertia"]))
+        inertia = [float(j) for j in J]
+    else:
+        # uniform lamina: m * Ip / A about the centroid, moved to the centre of mass by parallel axes
+        inertia = [m * (ip / a + float(np.sum((c - c0) ** 2))) for m, (a, c0, ip), c in zip(masses, props, centres)]
+
+    elevations = np.cumsum(heights)
+    slabs = tuple(
+        Slab(vertices=p, mass=m, centre=np.asarray(c, dtype=float), polar_inertia=j, elevation=float(z))
+        for p, m, c, j, z in zip(polys, masses, centres, inertia, elevations)
+    )
+
+    elements = []
+    for k, etable in enumerate(table.get("element", [])):
+        ewhere = where + ["element", k]
+        cls = ELEMENTS.get(etable["type"], field=_path(ewhere + ["type"]))
+        body = {key: val for key, val in etable.items() if key != "type"}
+        _validate(body, cls.schema, ewhere)
+        try:
+            element = cls.from_table(body, storey_heights=heights)
+        except InputError as exc:
+            raise exc.located(field_prefix=_path(ewhere)) from None
+        _check_on_slabs(element, slabs, ewhere)
+        elements.append(element)
+    if not elements:
+        raise InputError(f"building {table['name']!r} has no elements: add frames or walls", field=_path(where + ["element"]))
+    return Building(table["name"], heights, slabs, tuple(elements), _damping(table.get("damping"), where))
+
+
+def distance_to_polygon(vertices: np.ndarray, p: np.ndarray) -> float:
+    """Distance [m] from point p to a simple polygon (0 when p is inside or on it)."""
+    a, b = vertices, np.roll(vertices, -1, axis=0)
+    ab, ap = b - a, p - a
+    t = np.clip(np.einsum("ij,ij->i", ap, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+    d = float(np.min(np.hypot(*(ap - t[:, None] * ab).T)))
+    # crossing number: a ray from p towards +x crosses the boundary an odd number of times when inside
+    crosses = ((a[:, 1] > p[1]) != (b[:, 1] > p[1])) & (p[0] < a[:, 0] + (p[1] - a[:, 1]) * ab[:, 0] / np.where(ab[:, 1] == 0, 1, ab[:, 1]))
+    return 0.0 if np.count_nonzero(crosses) % 2 == 1 else d
+
+
+def _check_on_slabs(element, slabs, where: list) -> None:
+    a, b = element.plan_segment()
+    for f in element.floors:
+        slab = slabs[f - 1]
+        for name, p in (("start", a), ("end", b)):
+            if distance_to_polygon(slab.vertices, p) > LENGTH_TOL:
+                raise InputError(
+                    f"the element's {name} point ({p[0]:g}, {p[1]:g}) lies outside the slab of storey {f}",
+                    field=_path(where),
+                )
+
+
+def _check_apart_at_rest(buildings: list[Building]) -> None:
+    from pounding.contact.geometry import signed_gap
+
+    for i, a in enumerate(buildings):
+        for j in range(i + 1, len(buildings)):
+            b = buildings[j]
+            for fa, sa in enumerate(a.slabs):
+                for fb, sb in enumerate(b.slabs):
+                    if abs(sa.elevation - sb.elevation) < LENGTH_TOL:
+                        g = signed_gap(sa.vertices, sb.vertices)
+                        if g < -LENGTH_TOL:
+                            raise InputError(
+                                f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} overlap by {-g:.4g} m at rest",
+                                field=_path(["building", j, "slab"]),
+                            )
+
+
+# --------------------------------------------------------------------------- analysis
+def _plugin(value: Any, registry, field: str) -> tuple[str, dict]:
+    if isinstance(value, str):
+        name, params = value, {}
+    else:
+        params = dict(value)
+        name = params.pop("name")
+    cls = registry.get(name, field=field)
+    _check_params(cls, params, field)
+    return name, params
+
+
+def _check_params(cls, params: dict, field: str) -> None:
+    try:
+        cls(**params)
+    except TypeError:
+        sig = inspect.signature(cls.__init__)
+        accepted = [p for p in sig.parameters if p != "self" and sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY]
+        bad = [k for k in params if k not in accepted]
+        raise InputError(
+            f"unknown parameter(s) {', '.join(bad) or '?'} for {cls.name!r}; accepted: {', '.join(accepted) or 'none'}", field=field
+        ) from None
+    except InputError as exc:
+        raise exc.located(field_prefix=field) from None
+
+
+def _analysis(table: Mapping) -> Analysis:
+    from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+
+    integrator, iparams = _plugin(table.get("integrator", "hht"), INTEGRATORS, "analysis.integrator")
+    contact, cparams = _plugin(table.get("contact", "impulse"), CONTACT_LAWS, "analysis.contact")
+    if "restitution" in table:
+        cparams.setdefault("restitution", float(table["restitution"]))
+        _check_params(CONTACT_LAWS.get(contact), cparams, "analysis.restitution")
+    return Analysis(
+        integrator=integrator,
+        integrator_params=iparams,
+        dt=table.get("dt"),
+        duration=table.get("duration"),
+        contact=contact,
+        contact_params=cparams,
+        output_every=int(table.get("output_every", 1)),
+    )
+
+
+# --------------------------------------------------------------------------- entry point
+def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
+    """Validate a parsed TOML document and build the Scene (errors carry no file; see load_scene)."""
+    from pounding.io.ground_motion import load_record
+    from pounding.io.scene_schema import SCENE
+
+    _check_finite(data, [])
+    _validate(data, SCENE, [])
+    buildings = [_building(t, i) for i, t in enumerate(data["building"])]
+    names = [b.name for b in buildings]
+    for i, nm in enumerate(names):
+        if nm in names[:i]:
+            raise InputError(f"building name {nm!r} is used twice", field=f"building[{i}].name")
+    _check_apart_at_rest(buildings)
+    base_dir = source.parent if source is not None else Path.cwd()
+    gm = load_record(dict(data.get("ground_motion", {"record": "elcentro"})), base_dir=base_dir, file=str(source) if source else None)
+    analysis = _analysis(data.get("analysis", {}))
+    if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
+        raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")
+    return Scene(tuple(buildings), gm, analysis, source)
+
+
+def load_scene(path: str | Path) -> Scene:
+    """Read, validate and build a scene from a TOML file.
+
+    Raises
+    ------
+    InputError
+        Naming the file, the key path and what was expected.
+    """
+    path = Path(path)
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise InputError(f"cannot read the scene file: {exc.strerror}", file=str(path)) from None
+    try:
+        data = tomllib.loads(raw.decode("utf-8"))
+    except UnicodeDecodeError:
+        raise InputError("the scene file is not UTF-8 text", file=str(path)) from None
+    except tomllib.TOMLDecodeError as exc:
+        raise InputError(f"not valid TOML: {exc}", file=str(path)) from None
+    try:
+        return parse_scene(data, source=path)
+    except InputError as exc:
+        raise InputError(exc.message, file=exc.file or str(path), field=exc.field) from None

@@ -1,0 +1,1 @@
+"""Peer codes used to validate and benchmark pounding (optional dependencies)."""

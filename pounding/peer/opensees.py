@@ -1,0 +1,371 @@
+"""Import OpenSeesPy wherever it can run, and build the same scene in it.
+
+The openseespy 3.7.1 wheels for Python 3.11 link against the system's
+libblas.so.3 / liblapack.so.3 but also ship copies in
+``openseespylinux/lib``. Loading those copies with ``RTLD_GLOBAL`` before the
+import lets the dynamic linker resolve them by soname, so no system package
+and no ``LD_LIBRARY_PATH`` is needed.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import importlib.util
+from pathlib import Path
+from typing import Any, Sequence
+
+import numpy as np
+
+
+def load_opensees():
+    """Return the ``openseespy.opensees`` module, loading its bundled BLAS/LAPACK first.
+
+    Raises
+    ------
+    ImportError
+        If openseespy is not installed or cannot run here.
+    """
+    spec = importlib.util.find_spec("openseespylinux")
+    if spec is not None and spec.origin:
+        lib = Path(spec.origin).parent / "lib"
+        for name in ("libgfortran.so.4", "libquadmath.so.0", "libgomp.so.1", "libblas.so.3", "liblapack.so.3"):
+            if (lib / name).exists():
+                try:
+                    ctypes.CDLL(str(lib / name), mode=ctypes.RTLD_GLOBAL)
+                except OSError:
+                    pass  # the system copy may already be loaded; the import below decides
+    try:
+        import openseespy.opensees as ops
+    except RuntimeError as exc:  # openseespy wraps its loader failure in RuntimeError
+        raise ImportError(str(exc)) from exc
+    return ops
+
+
+# --------------------------------------------------------------------------- the peer model
+#
+# The same building, modelled "as an OpenSees user would": a 3-D model
+# (ndm 3, ndf 6) where every planar element is a real planar structure of
+# elastic beam-columns, every floor a rigid diaphragm with its mass at one
+# master node. Nothing here uses pounding's condensed stiffness: agreement with
+# :func:`pounding.framework.assembly.assemble` is an independent check.
+
+#: Poisson's ratio used for the shear modulus G = E / (2 (1 + nu)) of frame
+#: members. G only multiplies the (negligible) torsional constant, so its
+#: value does not affect the in-plane response.
+FRAME_NU = 0.2
+
+#: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
+MASTER_FIX = (0, 0, 1, 1, 1, 0)
+
+
+class _Tags:
+    """A running tag counter shared by nodes, elements and transformations (disjoint by construction)."""
+
+    def __init__(self, offset: int):
+        self.last = int(offset)
+
+    def __call__(self) -> int:
+        self.last += 1
+        return self.last
+
+
+def _elements_by_kind(building):
+    from pounding.elements.frame import Frame
+    from pounding.elements.shear_wall import ShearWall
+
+    for e in building.elements:
+        if isinstance(e, Frame):
+            yield "frame", e
+        elif isinstance(e, ShearWall):
+            yield "wall", e
+        else:
+            raise NotImplementedError(
+                f"building {building.name!r}: no OpenSees model for element type {type(e).__name__!r} "
+                "(only frame and shear_wall are modelled)"
+            )
+
+
+def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], list[int], list[int]]:
+    """Build one building; return (master tags per floor, all node tags, all element tags)."""
+    if not out_of_plane > 0.0:
+        raise ValueError(f"out_of_plane must be > 0 (a zero out-of-plane stiffness leaves the frames unstable), got {out_of_plane}")
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    eps = float(out_of_plane)
+    slaves: list[list[int]] = [[] for _ in building.slabs]
+    nodes: list[int] = []
+    elements: list[int] = []
+
+    for kind, e in _elements_by_kind(building):
+        p = np.asarray(e.point, dtype=float)
+        d = np.asarray(e.direction, dtype=float)
+        d = d / np.hypot(*d)
+        n_hat = (-d[1], d[0], 0.0)  # horizontal normal of the element plane
+        z = np.concatenate([[0.0], np.cumsum(e.heights)])
+        # vecxz = the plane normal: for a column (local x = up) local y = +-d, for a
+        # beam (local x = d) local y = vertical, so bending about local z (Iz) is in
+        # the element plane in both cases; Iy is out of plane.
+        transf = tags()
+        ops.geomTransf("Linear", transf, *n_hat)
+        if kind == "frame":
+            positions = list(e.columns)
+        else:
+            positions = [0.5 * e.length]  # the wall's centre line; any point on the wall line moves alike in plane
+        grid = []  # grid[level][j] = node tag
+        for level, zl in enumerate(z):
+            row = []
+            for s in positions:
+                x, y = p + s * d
+                tag = tags()
+                ops.node(tag, float(x), float(y), float(zl))
+                nodes.append(tag)
+                if level == 0:
+                    ops.fix(tag, 1, 1, 1, 1, 1, 1)
+                else:
+                    slaves[e.floors[level - 1] - 1].append(tag)
+                row.append(tag)
+            grid.append(row)
+        if kind == "frame":
+            for i in range(len(e.heights)):
+                E, A, I = e.column_sections[i]
+                G = E / (2.0 * (1.0 + FRAME_NU))
+                for j in range(len(positions)):
+                    tag = tags()
+                    ops.element("elasticBeamColumn", tag, grid[i][j], grid[i + 1][j], A, E, G, eps * I, eps * I, I, transf)
+                    elements.append(tag)
+                E, A, I = e.beam_sections[i]
+                G = E / (2.0 * (1.0 + FRAME_NU))
+                for j in range(len(positions) - 1):
+                    tag = tags()
+                    ops.element("elasticBeamColumn", tag, grid[i + 1][j], grid[i + 1][j + 1], A, E, G, eps * I, eps * I, I, transf)
+                    elements.append(tag)
+        else:
+            # Exact Timoshenko beam (shear flexibility with shear area As) per storey:
+            # the chain is the Timoshenko cantilever of ShearWall.flexibility.
+            I = e.second_moment
+            A = e.thickness * e.length
+            for i in range(len(e.heights)):
+                tag = tags()
+                ops.element(
+                    "ElasticTimoshenkoBeam", tag, grid[i][0], grid[i + 1][0],
+                    e.E, e.G, A, eps * I, eps * I, I, e.shear_area, e.shear_area, transf,
+                )
+                elements.append(tag)
+
+    masters = []
+    for f, slab in enumerate(building.slabs):
+        tag = tags()
+        cx, cy = (float(c) for c in slab.centre)
+        ops.node(tag, cx, cy, float(slab.elevation))
+        ops.fix(tag, *MASTER_FIX)
+        ops.mass(tag, slab.mass, slab.mass, 0.0, 0.0, 0.0, slab.polar_inertia)
+        if slaves[f]:
+            ops.rigidDiaphragm(3, tag, *slaves[f])
+        masters.append(tag)
+        nodes.append(tag)
+    return masters, nodes, elements
+
+
+def build_building(ops, building, *, out_of_plane: float = 1e-6, tag_offset: int = 0) -> list[int]:
+    """Add one pounding :class:`~pounding.framework.model.Building` to the OpenSees domain.
+
+    The model is 3-D (``ndm 3, ndf 6``), in SI units (m, N, kg, s):
+
+    * every frame is an independent planar structure: a node at every column
+      line and floor (x, y = point + s direction, z = floor elevation [m]),
+      ``elasticBeamColumn`` columns and beams with the frame's (E, A, I) for
+      bending in the frame plane (``Iz``), ``Iy = J = out_of_plane * I`` out of
+      it, G = E / (2 (1 + 0.2)); ``geomTransf Linear`` with vecxz = the plane's
+      horizontal normal. Frames that cross in plan keep their own nodes;
+    * every shear wall is a chain of ``ElasticTimoshenkoBeam`` elements (one
+      per storey) on the wall's centre line with E, G, A = t L, Iz = t L^3/12
+      and shear area As in plane (``Iy = J = out_of_plane * Iz``): the exact
+      Timoshenko cantilever that :class:`~pounding.elements.shear_wall.ShearWall`
+      condenses;
+    * base nodes are fixed in all six DOFs;
+    * every floor has a master node at the slab's centre of mass carrying
+      ``mass(m, m, 0, 0, 0, J)`` [kg, kg m^2], fixed in uz, rx, ry and free in
+      ux, uy, rz, tied to all element nodes of that floor by
+      ``rigidDiaphragm 3``. The slave nodes keep their uz, rx, ry free.
+
+    The caller wipes the domain if needed (this function does not); analyses
+    need ``constraints('Transformation')``.
+
+    Parameters
+    ----------
+    ops : module
+        The ``openseespy.opensees`` module from :func:`load_opensees`.
+    building : Building
+    out_of_plane : float
+        Out-of-plane bending inertia and torsional constant of every member, as
+        a fraction of its in-plane inertia [-], > 0. It adds that fraction of
+        stiffness the condensed model does not have, so periods differ from
+        pounding's by about that relative amount.
+    tag_offset : int
+        Node, element and transformation tags start at ``tag_offset + 1``.
+
+    Returns
+    -------
+    list of int
+        Master node tag of every floor, bottom first (length ``n_storeys``).
+    """
+    masters, _, _ = _build(ops, building, out_of_plane, _Tags(tag_offset))
+    return masters
+
+
+def build_scene(ops, scene, *, out_of_plane: float = 1e-6) -> dict[str, list[int]]:
+    """Wipe the domain and build every building of ``scene`` with disjoint tags.
+
+    Returns
+    -------
+    dict
+        Building name -> master node tags per floor (bottom first).
+    """
+    ops.wipe()
+    return {name: masters for name, (masters, _, _) in _build_all(ops, scene.buildings, out_of_plane).items()}
+
+
+def _build_all(ops, buildings, out_of_plane: float) -> dict[str, tuple[list[int], list[int], list[int]]]:
+    tags = _Tags(0)
+    out = {}
+    for b in buildings:
+        out[b.name] = _build(ops, b, out_of_plane, tags)
+    return out
+
+
+def eigen_periods(ops, n: int) -> np.ndarray:
+    """The first ``n`` natural periods of the current model [s], shape (n,), descending.
+
+    Sets ``constraints('Transformation')`` and solves with ``'-fullGenLapack'``
+    (the mass matrix is singular: only the masters carry mass, so the default
+    Arpack solver does not apply). Call it before defining a transient analysis.
+    """
+    ops.wipeAnalysis()
+    ops.constraints("Transformation")
+    ops.numberer("Plain")
+    ops.system("FullGeneral")
+    lam = np.asarray(ops.eigen("-fullGenLapack", int(n)), dtype=float)
+    ops.wipeAnalysis()
+    return 2.0 * np.pi / np.sqrt(lam)
+
+
+def run_transient(
+    ops,
+    scene_or_building,
+    ground_motion,
+    dt: float,
+    n_steps: int,
+    integrator: Sequence[Any] = ("Newmark", 0.5, 0.25),
+    rayleigh: tuple[float, float] | Sequence[tuple[float, float]] | None = None,
+    *,
+    out_of_plane: float = 1e-6,
+):
+    """Linear time history of a building (or every building of a scene) under a ground motion.
+
+    Wipes the domain, builds the model (:func:`build_building`), applies the
+    ground acceleration as ``UniformExcitation`` along the motion's direction
+    (two patterns, x and y, with the record scaled by cos and sin of the angle
+    when it is not a multiple of 90 degrees) and runs ``n_steps`` steps of
+    ``dt`` with ``constraints('Transformation')`` and a ``Linear`` algorithm.
+
+    Damping is C = a0 M + a1 K_initial: ``rayleigh(a0, 0, a1, 0)`` (the initial
+    stiffness; the model is linear, so it is also the current and committed
+    one, and it is fixed once instead of following the committed state). With
+    the stiffness term applied to every element, the massless internal DOFs
+    carry (1 + a1 d/dt) K forces that condense exactly to a1 times the
+    condensed K on the floor DOFs, so this is pounding's C = a0 M + a1 K.
+
+    Parameters
+    ----------
+    ops : module
+        From :func:`load_opensees`.
+    scene_or_building : Scene or Building
+    ground_motion : GroundMotion
+        ``t`` [s], ``acc`` [m/s^2] and ``angle`` [deg]; the record is zero
+        outside its time span (as ``GroundMotion.at``). OpenSees starts from
+        zero acceleration, i.e. it does not solve for a consistent initial
+        acceleration when ``acc(0) != 0``.
+    dt : float
+        Time step [s].
+    n_steps : int
+    integrator : tuple
+        Arguments of ``ops.integrator``, e.g. ``("Newmark", 0.5, 0.25)`` or
+        ``("HHT", 1 + alpha)``: OpenSees' HHT alpha is 1 + Hilber's alpha
+        (pounding's ``alpha = -0.05`` is OpenSees' ``0.95``).
+    rayleigh : (a0, a1) or list of (a0, a1), optional
+        [1/s, s]. One pair for all buildings, one pair per building (applied
+        per building through ``region``), or None for each building's own
+        Rayleigh coefficients from its ``damping`` (Rayleigh kind only).
+    out_of_plane : float
+        See :func:`build_building`.
+
+    Returns
+    -------
+    ndarray (n_steps + 1, n_storeys, 3) for a Building, or dict name -> such an array for a Scene
+        Master-node displacements (ux [m], uy [m], rz [rad]) relative to the
+        ground, row 0 the initial rest state, row k at time k dt.
+    """
+    from pounding.framework.model import Building
+
+    single = isinstance(scene_or_building, Building)
+    buildings = (scene_or_building,) if single else tuple(scene_or_building.buildings)
+    ops.wipe()
+    built = _build_all(ops, buildings, out_of_plane)
+
+    pairs = _rayleigh_pairs(buildings, rayleigh)
+    if all(pq == pairs[0] for pq in pairs):
+        a0, a1 = pairs[0]
+        ops.rayleigh(a0, 0.0, a1, 0.0)
+    else:
+        for k, (b, (a0, a1)) in enumerate(zip(buildings, pairs), start=1):
+            _, nodes, elements = built[b.name]
+            ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, a1, 0.0)
+            ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", a0, 0.0, 0.0, 0.0)
+
+    direction = ground_motion.direction()
+    t = [float(x) for x in ground_motion.t]
+    acc = [float(x) for x in ground_motion.acc]
+    pattern = 0
+    for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
+        if factor == 0.0:
+            continue
+        pattern += 1
+        ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
+        ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.algorithm("Linear")
+    ops.integrator(*integrator)
+    ops.analysis("Transient")
+
+    masters = [built[b.name][0] for b in buildings]
+    out = [np.zeros((n_steps + 1, b.n_storeys, 3)) for b in buildings]
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        for arr, tags in zip(out, masters):
+            for f, tag in enumerate(tags):
+                arr[k, f] = (ops.nodeDisp(tag, 1), ops.nodeDisp(tag, 2), ops.nodeDisp(tag, 6))
+    ops.wipeAnalysis()
+    if single:
+        return out[0]
+    return {b.name: arr for b, arr in zip(buildings, out)}
+
+
+def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
+    if rayleigh is None:
+        from pounding.framework.assembly import assemble, rayleigh_coefficients
+
+        pairs = []
+        for b in buildings:
+            if b.damping.kind != "rayleigh":
+                raise ValueError(f"building {b.name!r} has {b.damping.kind!r} damping; give rayleigh=(a0, a1) explicitly")
+            pairs.append(tuple(float(c) for c in rayleigh_coefficients(b.damping, assemble(b).omega, b.name)))
+        return pairs
+    arr = np.asarray(rayleigh, dtype=float)
+    if arr.shape == (2,):
+        return [(float(arr[0]), float(arr[1]))] * len(buildings)
+    if arr.shape == (len(buildings), 2):
+        return [(float(a), float(c)) for a, c in arr]
+    raise ValueError(f"rayleigh must be (a0, a1) or one pair per building ({len(buildings)}), got shape {arr.shape}")

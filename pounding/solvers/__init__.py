@@ -1,0 +1,1 @@
+"""Time integrators (plugin family ``pounding.integrators``)."""

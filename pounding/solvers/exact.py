@@ -1,0 +1,158 @@
+"""Exact integration of each mode under a load linear in the step.
+
+The unit-mass oscillator ``q'' + 2 zeta omega q' + omega**2 q = p(t)`` with
+``p`` linear between ``p0`` and ``p1`` has a closed-form solution
+(Nigam & Jennings, 1969, Bull. Seismol. Soc. Am. 59, 909-922). Written
+naively its coefficients cancel catastrophically for small ``omega dt``;
+written as matrix exponentials they do not, so each mode takes one of two
+routes, both accurate to a few ulps of the natural scale of each entry
+(checked against 50-digit arithmetic for ``omega dt`` in [1e-4, 1e4],
+``zeta`` in [0, 10]):
+
+* ``omega dt <= 1/2``: ``scipy.linalg.expm`` of a 4x4 augmented matrix
+  (Van Loan, 1978, IEEE Trans. Autom. Control 23, 395-404). Its norm is
+  small, so no squaring is needed and rounding stays at the ulp level.
+* ``omega dt > 1/2``: the closed form of ``exp(F)``, ``F = omega dt [[0, 1],
+  [-1, -2 zeta]]``, and the load responses ``F^-1 (exp(F) - I)`` and
+  ``F^-2 (exp(F) - I - F)``. There ``expm`` would square many times and lose
+  up to 1e-12 on lightly damped modes; the closed form loses nothing.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.linalg import expm
+
+from pounding.solvers.base import Integrator, Transition
+
+_SPLIT = 0.5  # omega dt at which the closed form takes over from expm
+
+
+def _small(s, zeta):
+    """Scaled one-step maps for ``s = omega dt <= 1/2``.
+
+    In ``tau = t/dt`` with ``y = (q/dt, q')`` and ``u = dt p = u0 + tau du``,
+    ``d/dtau (y, u, du) = M (y, u, du)`` with
+    ``M = [[0, 1, 0, 0], [-s**2, -2 zeta s, 1, 0], [0, 0, 0, 1], [0, 0, 0, 0]]``,
+    all entries O(1) (valid also for ``omega = 0``).
+    """
+    M = np.zeros((s.shape[0], 4, 4))
+    M[:, 0, 1] = 1.0
+    M[:, 1, 0] = -s * s
+    M[:, 1, 1] = -2.0 * zeta * s
+    M[:, 1, 2] = 1.0
+    M[:, 2, 3] = 1.0
+    E = expm(M)
+    ramp = E[:, :2, 3]  # response to u rising 0 -> 1
+    return E[:, :2, :2], np.stack([E[:, :2, 2] - ramp, ramp], axis=2)
+
+
+def _large(s, zeta):
+    """Scaled one-step maps for ``s = omega dt > 1/2``, in closed form.
+
+    With ``y = (omega q, q')`` and ``tau = t/dt``, ``y' = F y + (0, u)``,
+    ``F = s (-zeta I + K)``, ``K = [[zeta, 1], [-1, -zeta]]``,
+    ``K**2 = (zeta**2 - 1) I``, so ``exp(F) = C I + S K`` with
+    ``C = e^(-zeta s) cosh(r s)``, ``S = e^(-zeta s) sinh(r s)/r``,
+    ``r = sqrt(zeta**2 - 1)`` (cos/sin with ``sqrt(1 - zeta**2)`` below critical).
+    """
+    n = s.shape[0]
+    C = np.empty(n)
+    S = np.empty(n)
+    d = zeta * zeta - 1.0
+    r = np.sqrt(np.abs(d))
+    x = r * s
+    under = d < 0.0
+    # Underdamped: S = e^(-zeta s) s sin(x)/x, continuous at critical damping
+    # (x > 0 here; np.sinc would round x/pi and lose ~x*eps in the phase).
+    e = np.exp(-zeta[under] * s[under])
+    xu = x[under]
+    C[under] = e * np.cos(xu)
+    S[under] = e * s[under] * (np.sin(xu) / xu)
+    # Overdamped, well apart from critical: separate exponentials (no overflow;
+    # zeta - r written as 1/(zeta + r) to avoid cancellation at large zeta).
+    far = ~under & (x > 1.0)
+    slow = np.exp(-s[far] / (zeta[far] + r[far]))
+    fast = np.exp(-(zeta[far] + r[far]) * s[far])
+    C[far] = 0.5 * (slow + fast)
+    S[far] = 0.5 * (slow - fast) / r[far]
+    # Overdamped near critical: sinh(x)/x -> 1 without cancellation.
+    near = ~under & ~far
+    e = np.exp(-zeta[near] * s[near])
+    xn = x[near]
+    C[near] = e * np.cosh(xn)
+    S[near] = e * s[near] * np.where(xn > 0.0, np.sinh(xn) / np.where(xn > 0.0, xn, 1.0), 1.0)
+
+    phi = np.empty((n, 2, 2))
+    phi[:, 0, 0] = C + zeta * S
+    phi[:, 0, 1] = S
+    phi[:, 1, 0] = -S
+    phi[:, 1, 1] = C - zeta * S
+    # F^-1 = [[-2 zeta, -1], [1, 0]]/s; g = (0, 1) is where u enters.
+    step0 = (1.0 - C - zeta * S) / s  # F^-1 (exp(F) - I) g: response to constant u = 1
+    step1 = S / s
+    ramp0 = (1.0 - step1 - 2.0 * zeta * step0) / s  # F^-1 (step - g): response to u = tau
+    ramp1 = step0 / s
+    gamma = np.empty((n, 2, 2))
+    gamma[:, 0, 0] = step0 - ramp0
+    gamma[:, 1, 0] = step1 - ramp1
+    gamma[:, 0, 1] = ramp0
+    gamma[:, 1, 1] = ramp1
+    return phi, gamma
+
+
+class Exact(Integrator):
+    """Free of integration error for piecewise-linear modal loads.
+
+    ``(q, q')`` at the end of the step is the exact solution; ``q''`` at the
+    end follows from equilibrium, ``q''1 = p1 - 2 zeta omega q'1 - omega**2 q1``,
+    so the start acceleration is not an input (its column of ``A`` is zero).
+    ``order`` is 2 because a sampled record is followed to second order by
+    its linear interpolation.
+    """
+
+    name = "exact"
+    order = 2
+
+    def transition(self, omega, zeta, dt):
+        omega = np.asarray(omega, dtype=float).reshape(-1)
+        zeta = np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape)
+        dt = float(dt)
+        n = omega.shape[0]
+        s = omega * dt
+        # Both routes work with y = (kappa q, q') and the load as u = dt p.
+        phi = np.empty((n, 2, 2))
+        gamma = np.empty((n, 2, 2))
+        kappa = np.empty(n)
+        small = s <= _SPLIT
+        if small.any():
+            phi[small], gamma[small] = _small(s[small], zeta[small])
+            kappa[small] = 1.0 / dt
+        if (~small).any():
+            phi[~small], gamma[~small] = _large(s[~small], zeta[~small])
+            kappa[~small] = omega[~small]
+
+        A = np.zeros((n, 3, 3))
+        B = np.zeros((n, 3, 2))
+        A[:, 0, 0] = phi[:, 0, 0]
+        A[:, 0, 1] = phi[:, 0, 1] / kappa
+        A[:, 1, 0] = phi[:, 1, 0] * kappa
+        A[:, 1, 1] = phi[:, 1, 1]
+        B[:, 0, :] = gamma[:, 0, :] * (dt / kappa)[:, None]
+        B[:, 1, :] = gamma[:, 1, :] * dt
+        # End acceleration from equilibrium at the end of the step.
+        c = (2.0 * zeta * omega)[:, None]
+        k = (omega * omega)[:, None]
+        A[:, 2, :] = -k * A[:, 0, :] - c * A[:, 1, :]
+        B[:, 2, :] = -k * B[:, 0, :] - c * B[:, 1, :]
+        B[:, 2, 1] += 1.0
+        return Transition(A=A, B=B, dt=dt)
+
+    def step(self, q, qd, qdd, p0, p1, omega, zeta, dt):
+        omega = np.asarray(omega, dtype=float)
+        zeta = np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape)
+        tr = self.transition(omega.reshape(-1), zeta.reshape(-1), dt)
+        z = np.stack(np.broadcast_arrays(q, qd, qdd), axis=1)  # (n, 3) or (n, 3, k)
+        u = np.stack(np.broadcast_arrays(p0, p1), axis=1)  # (n, 2) or (n, 2, k)
+        z1 = np.einsum("nij,nj...->ni...", tr.A, z) + np.einsum("nij,nj...->ni...", tr.B, u)
+        return z1[:, 0], z1[:, 1], z1[:, 2]

@@ -1,0 +1,66 @@
+"""The Hilber-Hughes-Taylor (HHT, "alpha") method.
+
+Reference: H. M. Hilber, T. J. R. Hughes & R. L. Taylor (1977), Improved
+numerical dissipation for time integration algorithms in structural dynamics,
+Earthquake Eng. Struct. Dyn. 5, 283-292.
+"""
+
+from __future__ import annotations
+
+from pounding.errors import InputError
+from pounding.solvers.base import Integrator
+from pounding.solvers.newmark import alpha_step, real_param
+
+
+class HHT(Integrator):
+    """HHT method in Hilber's convention, the project's default integrator.
+
+    Newmark's updates with ``beta = (1 - alpha)**2 / 4`` and
+    ``gamma = (1 - 2 alpha) / 2``, closed by the shifted equilibrium
+
+        M a_{n+1} + (1 + alpha)(C v_{n+1} + K x_{n+1}) - alpha (C v_n + K x_n)
+            = (1 + alpha) p_{n+1} - alpha p_n.
+
+    Parameters
+    ----------
+    alpha : float, default -0.05
+        Hilber's alpha, in ``[-1/3, 0]``. ``0`` is Newmark's average
+        acceleration; more negative values damp the high modes more (spectral
+        radius at ``omega dt -> inf`` is ``(1 + alpha)/(1 - alpha)``: 0.905 for
+        -0.05, 0.5 for -1/3) while staying second-order accurate and
+        unconditionally stable. The default -0.05 removes the spurious
+        high-frequency content of stiff storeys and of contact with little
+        effect on the modes that matter (period elongation ~0.1 % at
+        ``omega dt = 0.1``).
+
+    Notes
+    -----
+    OpenSees (``integrator HHT alpha``) weights the *new* state instead: its
+    alpha is ``1 + alpha_Hilber``, in ``[2/3, 1]`` (Hilber's -0.05 is
+    OpenSees' 0.95).
+    """
+
+    name = "hht"
+    order = 2
+
+    def __init__(self, *, alpha=-0.05):
+        alpha = real_param(alpha, "alpha")
+        if not -1.0 / 3.0 <= alpha <= 0.0:
+            raise InputError(
+                f"alpha must be in [-1/3, 0] (Hilber's convention; OpenSees' alpha is 1 + this); got {alpha}",
+                field="alpha",
+            )
+        self.alpha = alpha
+
+    @property
+    def beta(self) -> float:
+        return (1.0 - self.alpha) ** 2 / 4.0
+
+    @property
+    def gamma(self) -> float:
+        return (1.0 - 2.0 * self.alpha) / 2.0
+
+    def step(self, q, qd, qdd, p0, p1, omega, zeta, dt):
+        return alpha_step(
+            q, qd, qdd, p0, p1, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=0.0, alpha_f=-self.alpha
+        )

@@ -1,0 +1,171 @@
+"""Newmark's family of one-step methods, and the step shared by its alpha variants.
+
+Newmark (1959) advances a unit-mass oscillator ``q'' + c q' + k q = p(t)``
+(``c = 2 zeta omega``, ``k = omega**2``) with
+
+    q1  = q0 + dt q'0 + dt**2 ((1/2 - beta) q''0 + beta q''1)
+    q'1 = q'0 + dt ((1 - gamma) q''0 + gamma q''1)
+
+and closes the step with an equilibrium equation. :func:`alpha_step`
+evaluates that equation at a shifted instant, which covers Newmark
+(``alpha_m = alpha_f = 0``), HHT (``alpha_m = 0``) and the generalized-alpha
+method of Chung & Hulbert (1993) with one kernel.
+
+Reference: N. M. Newmark (1959), A method of computation for structural
+dynamics, J. Eng. Mech. Div. ASCE 85(EM3), 67-94.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from pounding.errors import InputError
+from pounding.solvers.base import Integrator
+
+PRESETS = {"average": (0.25, 0.5), "linear": (1.0 / 6.0, 0.5)}
+
+
+def real_param(value, field: str) -> float:
+    """``value`` as a finite float, or an ``InputError`` naming ``field``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise InputError(f"expected a number, got {value!r}", field=field)
+    value = float(value)
+    if not math.isfinite(value):
+        raise InputError(f"expected a finite number, got {value!r}", field=field)
+    return value
+
+
+def alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, *, beta, gamma, alpha_m=0.0, alpha_f=0.0):
+    """One step of the Newmark / HHT / generalized-alpha family (unit mass).
+
+    Solves, for the end-of-step acceleration ``a1``,
+
+        (1 - alpha_m) a1 + alpha_m a0
+          + (1 - alpha_f) (c v1 + k x1) + alpha_f (c v0 + k x0)
+          = (1 - alpha_f) p1 + alpha_f p0
+
+    with Newmark's updates for ``x1`` and ``v1``. The load is linear in the
+    step, so ``p(t_{n+1-alpha_f})`` is the same blend of ``p0`` and ``p1``.
+
+    Parameters
+    ----------
+    q, qd, qdd : ndarray, shape (n,) or (n, k)
+        Displacement, velocity [1/s x displacement] and acceleration at the start.
+    p0, p1 : ndarray, shape like q
+        Load per unit mass at the start and the end of the step.
+    omega, zeta : ndarray, shape (n,) or (n, 1)
+        Circular frequency [rad/s] (0 allowed) and damping ratio [-].
+    dt : float
+        Step size [s].
+    beta, gamma, alpha_m, alpha_f : float
+        Method parameters.
+
+    Returns
+    -------
+    (q1, qd1, qdd1) : tuple of ndarray, broadcast shape of the inputs
+    """
+    c = 2.0 * zeta * omega
+    k = omega * omega
+    dt2 = dt * dt
+    # Predictors: the part of Newmark's updates known before a1.
+    qp = q + dt * qd + (0.5 - beta) * dt2 * qdd
+    vp = qd + (1.0 - gamma) * dt * qdd
+    rhs = (1.0 - alpha_f) * p1 + alpha_f * p0 - alpha_m * qdd - alpha_f * (c * qd + k * q)
+
+    # Acceleration form: a1 = (rhs - (1-af)(c vp + k qp)) / m_eff. Exact for
+    # beta = 0 (explicit), but for beta Omega^2 >> 1 the update qp + beta dt^2 a1
+    # cancels almost completely and q1 loses ~eps beta Omega^2 relative.
+    m_eff = (1.0 - alpha_m) + (1.0 - alpha_f) * (gamma * dt * c + beta * dt2 * k)
+    a1 = (rhs - (1.0 - alpha_f) * (c * vp + k * qp)) / m_eff
+    q1 = qp + beta * dt2 * a1
+    if beta > 0.0:
+        # Displacement (effective stiffness) form, k_hat = m_eff/(beta dt^2):
+        # accurate where the acceleration form is not, and vice versa (there
+        # a1 = (q1 - qp)/(beta dt^2) cancels). Each mode takes the better one.
+        stiff = (1.0 - alpha_f) * beta * dt2 * k > (1.0 - alpha_m)
+        if np.any(stiff):
+            g = gamma / (beta * dt)
+            k_hat = (1.0 - alpha_m) / (beta * dt2) + (1.0 - alpha_f) * (g * c + k)
+            q1_d = (rhs + (1.0 - alpha_m) / (beta * dt2) * qp - (1.0 - alpha_f) * c * (vp - g * qp)) / k_hat
+            q1 = np.where(stiff, q1_d, q1)
+            a1 = np.where(stiff, (q1_d - qp) / (beta * dt2), a1)
+    return q1, vp + gamma * dt * a1, a1
+
+
+class Newmark(Integrator):
+    """Newmark's method with parameters ``beta`` and ``gamma``.
+
+    Parameters
+    ----------
+    beta : float, default 1/4
+        Weight of the end acceleration in the displacement update, ``>= 0``.
+    gamma : float, default 1/2
+        Weight of the end acceleration in the velocity update, ``>= 1/2``
+        (below 1/2 the method adds energy). ``gamma = 1/2`` is second-order
+        accurate and free of numerical damping.
+    preset : {"average", "linear"}, optional
+        Constant average acceleration (1/4, 1/2; unconditionally stable) or
+        linear acceleration (1/6, 1/2; stable for ``omega dt <= sqrt(12)``).
+        Exclusive with non-default ``beta``/``gamma``.
+
+    Notes
+    -----
+    Unconditionally stable for ``2 beta >= gamma >= 1/2``. For
+    ``beta < gamma/2`` the undamped oscillator is stable for
+    ``omega dt <= Omega_crit = 1/sqrt(gamma/2 - beta)``; viscous damping does
+    not lower that limit (it raises it when ``gamma > 1/2``), so
+    :meth:`check_dt` applies the undamped limit to the highest mode.
+    ``beta = 0`` is explicit.
+    """
+
+    name = "newmark"
+    order = 2
+
+    def __init__(self, *, beta=0.25, gamma=0.5, preset=None):
+        beta = real_param(beta, "beta")
+        gamma = real_param(gamma, "gamma")
+        if preset is not None:
+            if preset not in PRESETS:
+                raise InputError(f"unknown preset {preset!r}; expected one of {sorted(PRESETS)}", field="preset")
+            if (beta, gamma) != (0.25, 0.5) and (beta, gamma) != PRESETS[preset]:
+                raise InputError(
+                    f"give either preset={preset!r} or beta/gamma, not both (got beta={beta}, gamma={gamma})",
+                    field="preset",
+                )
+            beta, gamma = PRESETS[preset]
+        if gamma < 0.5:
+            raise InputError(f"gamma must be >= 1/2 (smaller values add energy); got {gamma}", field="gamma")
+        if beta < 0.0:
+            raise InputError(f"beta must be >= 0; got {beta}", field="beta")
+        self.beta = beta
+        self.gamma = gamma
+
+    @property
+    def explicit(self) -> bool:
+        """True when only conditionally stable (``beta < gamma/2``)."""
+        return self.beta < self.gamma / 2.0
+
+    @property
+    def omega_crit(self) -> float:
+        """Undamped stability limit of ``omega dt`` (``inf`` if unconditionally stable)."""
+        margin = self.gamma / 2.0 - self.beta
+        return math.inf if margin <= 0.0 else 1.0 / math.sqrt(margin)
+
+    def check_dt(self, omega, zeta, dt):
+        omega_max = float(np.max(np.asarray(omega, dtype=float), initial=0.0))
+        if math.isinf(self.omega_crit) or omega_max == 0.0:
+            return
+        dt_max = self.omega_crit / omega_max
+        if dt > dt_max * (1.0 + 1e-12):  # dt_max itself is accepted, up to rounding
+            raise InputError(
+                f"dt = {dt:.6g} s exceeds the stability limit of Newmark (beta={self.beta:.6g}, "
+                f"gamma={self.gamma:.6g}): dt_max = {dt_max:.6g} s = Omega_crit/omega_max with "
+                f"Omega_crit = 1/sqrt(gamma/2 - beta) = {self.omega_crit:.6g} (undamped), "
+                f"omega_max = {omega_max:.6g} rad/s (T_min = {2 * math.pi / omega_max:.6g} s)",
+                field="dt",
+            )
+
+    def step(self, q, qd, qdd, p0, p1, omega, zeta, dt):
+        return alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, beta=self.beta, gamma=self.gamma)

@@ -1,0 +1,26 @@
+"""Shared fixtures: small scenes built in code, and the example files."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+EXAMPLES = ROOT / "examples"
+
+
+@pytest.fixture
+def paper_scene_path() -> Path:
+    return EXAMPLES / "paper" / "pair_gap_0.03.toml"
+
+
+@pytest.fixture(scope="session")
+def opensees():
+    """The OpenSeesPy module, or a skip where it cannot run (it is a test extra)."""
+    from pounding.peer.opensees import load_opensees
+
+    try:
+        return load_opensees()
+    except ImportError as exc:  # pragma: no cover - depends on the machine
+        pytest.skip(f"openseespy unavailable: {exc}")
