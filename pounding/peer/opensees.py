@@ -265,7 +265,8 @@ def run_transient(
     ground acceleration as ``UniformExcitation`` along the motion's direction
     (two patterns, x and y, with the record scaled by cos and sin of the angle
     when it is not a multiple of 90 degrees) and runs ``n_steps`` steps of
-    ``dt`` with ``constraints('Transformation')`` and a ``Linear`` algorithm.
+    ``dt`` with ``constraints('Transformation')``, ``system('UmfPack')`` and a
+    ``Linear -factorOnce`` algorithm (the model is linear and dt constant).
 
     Damping is C = a0 M + a1 K_initial: ``rayleigh(a0, 0, a1, 0)`` (the initial
     stiffness; the model is linear, so it is also the current and committed
@@ -335,7 +336,7 @@ def run_transient(
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("UmfPack")
-    ops.algorithm("Linear")
+    ops.algorithm("Linear", "-factorOnce")  # linear model, constant dt: one factorisation serves every step
     ops.integrator(*integrator)
     ops.analysis("Transient")
 

@@ -40,7 +40,7 @@ class CentralDifference(Integrator):
         if dt > dt_max * (1.0 + 1e-12):  # dt_max itself is accepted, up to rounding
             raise InputError(
                 f"dt = {dt:.6g} s exceeds the central difference stability limit "
-                f"dt_max = 2/omega_max = {dt_max:.6g} s (omega_max = {omega_max:.6g} rad/s, "
+                f"dt_max = {dt_max:.6g} s = 2/omega_max (omega_max = {omega_max:.6g} rad/s, "
                 f"T_min = {2 * math.pi / omega_max:.6g} s = pi dt_max)",
                 field="dt",
             )

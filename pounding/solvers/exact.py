@@ -5,7 +5,7 @@ The unit-mass oscillator ``q'' + 2 zeta omega q' + omega**2 q = p(t)`` with
 (Nigam & Jennings, 1969, Bull. Seismol. Soc. Am. 59, 909-922). Written
 naively its coefficients cancel catastrophically for small ``omega dt``;
 written as matrix exponentials they do not, so each mode takes one of two
-routes, both accurate to a few ulps of the natural scale of each entry
+routes, both accurate to ~1e-14 of the natural scale of each entry
 (checked against 50-digit arithmetic for ``omega dt`` in [1e-4, 1e4],
 ``zeta`` in [0, 10]):
 
@@ -121,16 +121,17 @@ class Exact(Integrator):
         n = omega.shape[0]
         s = omega * dt
         # Both routes work with y = (kappa q, q') and the load as u = dt p.
-        phi = np.empty((n, 2, 2))
-        gamma = np.empty((n, 2, 2))
-        kappa = np.empty(n)
-        small = s <= _SPLIT
+        phi = np.broadcast_to(np.eye(2), (n, 2, 2)).copy()  # dt = 0: identity
+        gamma = np.zeros((n, 2, 2))
+        kappa = np.ones(n)
+        small = (s <= _SPLIT) & (dt > 0.0)
         if small.any():
             phi[small], gamma[small] = _small(s[small], zeta[small])
             kappa[small] = 1.0 / dt
-        if (~small).any():
-            phi[~small], gamma[~small] = _large(s[~small], zeta[~small])
-            kappa[~small] = omega[~small]
+        large = s > _SPLIT
+        if large.any():
+            phi[large], gamma[large] = _large(s[large], zeta[large])
+            kappa[large] = omega[large]
 
         A = np.zeros((n, 3, 3))
         B = np.zeros((n, 3, 2))

@@ -31,6 +31,12 @@ class GeneralizedAlpha(Integrator):
         Newmark's average acceleration (no dissipation); ``0`` annihilates the
         highest modes in one step. Second-order accurate and unconditionally
         stable throughout.
+
+    Notes
+    -----
+    As with HHT, a mode far above the step's resolution released with its
+    equilibrium acceleration shows a first-step velocity spike proportional
+    to ``omega dt``, which then decays at the rate ``rho_inf``.
     """
 
     name = "generalized_alpha"

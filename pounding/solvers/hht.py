@@ -35,6 +35,13 @@ class HHT(Integrator):
 
     Notes
     -----
+    Like generalized-alpha, the method overshoots in velocity on modes far
+    above the step's resolution: a mode released from ``q0`` with its
+    equilibrium acceleration gets ``q'1 ~ -alpha**2 Omega/(4 beta) omega q0``
+    (``Omega = omega dt``) in the first step, which then decays at the rate
+    of the spectral radius (Hilber & Hughes, 1978, Earthquake Eng. Struct.
+    Dyn. 6, 99-117). Newmark's average acceleration has no such spike.
+
     OpenSees (``integrator HHT alpha``) weights the *new* state instead: its
     alpha is ``1 + alpha_Hilber``, in ``[2/3, 1]`` (Hilber's -0.05 is
     OpenSees' 0.95).
