@@ -151,7 +151,14 @@ def rayleigh_coefficients(damping: Damping, omega: np.ndarray, name: str) -> tup
     return 2 * z * wi * wj / (wi + wj), 2 * z / (wi + wj)
 
 
-def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray) -> None:
+def check_stable(building: Building, field: str | None = None) -> None:
+    """Raise InputError if the building is a mechanism (see :func:`assemble`)."""
+    mass = np.concatenate([[s.mass, s.mass, s.polar_inertia] for s in building.slabs])
+    lam, vecs = eigh(stiffness(building), np.diag(mass))
+    _check_mechanism(building, lam, vecs, field)
+
+
+def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray, field: str | None = None) -> None:
     # A zero eigenvalue (relative to the largest) means a displacement pattern that no element resists.
     if lam[0] > 1e-10 * lam[-1] and lam[0] > 0:
         return
@@ -161,7 +168,7 @@ def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray) -> N
     raise InputError(
         f"building {building.name!r} is a mechanism: nothing resists {dof} of storey {storey} "
         "(add a frame or wall in that direction, or away from the others for rotation)",
-        field=f"building[{building.name}].element",
+        field=field or f"building {building.name!r}",
     )
 
 

@@ -70,7 +70,7 @@ def _describe(err) -> str:
             return "give either angle or end, not both"
         if isinstance(err.instance, dict) and {"G", "nu"} <= set(err.instance):
             return "give either G or nu, not both"
-        return f"{err.instance!r} does not match any accepted form ({_forms(err.schema)})"
+        return f"expected {_forms(err.schema)}, got {err.instance!r}"
     return err.message
 
 
@@ -315,6 +315,10 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     _check_finite(data, [])
     _validate(data, SCENE, [])
     buildings = [_building(t, i) for i, t in enumerate(data["building"])]
+    from pounding.framework.assembly import check_stable
+
+    for i, b in enumerate(buildings):
+        check_stable(b, field=f"building[{i}].element")
     names = [b.name for b in buildings]
     for i, nm in enumerate(names):
         if nm in names[:i]:
