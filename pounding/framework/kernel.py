@@ -35,7 +35,7 @@ def _slab_dofs(rows, q, out):
 
 @njit
 def advance(
-    A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E,
+    A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
     bidx, pair_a, pair_b, rows, off, n_modes,
     verts, nvert, centres, radii, rest_gap, tol,
 ):
@@ -61,8 +61,14 @@ def advance(
         Output rate: the state at grid index k is stored in Q[k // every] when k % every == 0.
     Q, V : (n_out, n)
         Recorded modal displacements and velocities.
-    E : (n_buildings, 2)
-        Accumulated ground-motion work and damping work [J], trapezoidal rule.
+    E : (n_buildings, 3)
+        Accumulated ground-motion work and damping work [J] (column 2, contact-force
+        work, is the driver's).
+    GA, GB : (nq, n, 3, 3), (nq, n, 3, 2)
+        Transitions from the step start to the quadrature points c_j dt (nq = 0:
+        trapezoidal rule on step-end values).
+    gc, gw : (nq,)
+        Quadrature points and weights on [0, 1].
     bidx : (n,) int
         Building of every mode. The remaining arrays describe the slab pairs
         that share a level: ``pair_a``/``pair_b`` (P, 2) = (building, storey),
@@ -93,10 +99,18 @@ def advance(
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
         # energy: trapezoidal work of the ground load and of the damping forces
+        nq = gc.shape[0]
         for i in range(n):
-            vm = 0.5 * (z0[i, 1] + z[i, 1])
-            E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
-            E[bidx[i], 1] += dt * c2[i] * vm * vm
+            if nq == 0:
+                vm = 0.5 * (z0[i, 1] + z[i, 1])
+                E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+                E[bidx[i], 1] += dt * c2[i] * vm * vm
+            else:
+                for j in range(nq):
+                    pj = L[i] * (p0s + gc[j] * (p1s - p0s))
+                    vj = GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2] + GB[j, i, 1, 0] * L[i] * p0s + GB[j, i, 1, 1] * pj
+                    E[bidx[i], 0] += dt * gw[j] * vj * pj
+                    E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
         # contact check on the pairs that could touch
         for p in range(pair_a.shape[0]):
             sa = off[pair_a[p, 0]] + pair_a[p, 1]

@@ -1,0 +1,645 @@
+"""ParaView output: both buildings in 3-D, one unstructured grid per written instant.
+
+:func:`write_vtk_series` writes a ``.pvd`` collection (the time series ParaView
+opens) and one ``.vtu`` per written instant:
+
+* slabs as polygons at their floor level (z = elevation);
+* every planar element's ``outline()``: lines (frame columns and beams) and
+  panels (wall quads), placed in 3-D along the element's plan line;
+* point coordinates = rest position + ``scale`` x displacement. A point at
+  floor f moves with that slab's rigid motion ``(u - phi dy, v + phi dx)``;
+  points at z = 0 do not move; a point between two floors (none of the stock
+  elements has one) moves by linear interpolation in z between them.
+
+Point data: ``displacement`` and ``velocity`` (3 components, z = 0, true
+values, never scaled). Cell data: ``building`` (index in scene order),
+``storey`` (1-based; 0 for ground-level items), ``element_type`` (0 slab,
+1 frame member / line, 2 wall panel), ``in_contact`` (1 on both slab cells of
+a pair whose signed gap is <= the contact tolerance at that instant, computed
+from the geometry) and ``gap`` (the smallest signed gap of the slab's pairs
+[m], NaN for non-slab cells and unpaired slabs). Field data: ``time`` and
+``impact_instant`` (1 when the frame is an impact instant).
+
+Instants written: every ``every``-th output step, plus every impact instant at
+its *exact* time. The state at an impact time is reconstructed from the last
+output step at or before it by integrating the modal equations
+``q'' + 2 zeta omega q' + omega^2 q = -L a_g(t)`` (RK4, sub-steps <= dt/8)
+and applying the logged impulses of the impacts in between; the velocity
+written at an impact frame is the one just *before* that instant's impulses.
+The reconstruction differs from the driver's own integrator by its local
+truncation error (well below the contact tolerance for the example scenes);
+contact *forces* (penalty law, sustained contact) are not logged and hence
+not included, so a frame inside sustained contact is approximate.
+
+``vtk`` is imported inside the functions that write files only.
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Iterable, Sequence
+
+import numpy as np
+
+LEVEL_TOL = 1e-6  # [m] a drawing point is at a floor when its z differs by less
+DEFAULT_TOLERANCE = 1e-4  # [m] contact tolerance when neither the result nor the scene gives one
+
+SLAB, LINE, PANEL = 0, 1, 2
+
+
+# =============================================================================
+# Motion: physical slab histories of a run (from a Result or from a run directory)
+# =============================================================================
+
+
+@dataclass
+class Motion:
+    """Physical slab motion of every building, independent of how it was stored.
+
+    Attributes
+    ----------
+    t : ndarray (nt,)
+        Output times [s].
+    names : list of str
+        Building names, scene order.
+    slabs : list of tuple of Slab
+        Slabs of each building.
+    cm : list of ndarray (nt, storeys, 3)
+        (u, v, phi) of every slab's centre of mass [m, m, rad].
+    cm_velocity : list of ndarray (nt, storeys, 3) or None
+        Their rates (None when unknown, e.g. read from response.npz).
+    pairs : list of (building a, storey a, building b, storey b, rest gap)
+        Slab pairs at a common level, 0-based.
+    tolerance : float
+        Contact tolerance [m].
+    impacts : list of Impact
+        The impact log (empty when unknown).
+    """
+
+    t: np.ndarray
+    names: list
+    slabs: list
+    cm: list
+    cm_velocity: list | None
+    pairs: list
+    tolerance: float = DEFAULT_TOLERANCE
+    impacts: list = field(default_factory=list)
+
+    @classmethod
+    def from_result(cls, result, scene=None) -> "Motion":
+        """Motion of a :class:`~pounding.framework.results.Result`."""
+        return cls(
+            t=np.asarray(result.t, dtype=float),
+            names=list(result.names),
+            slabs=[tuple(s.slabs) for s in result.systems],
+            cm=[result.cm(n) for n in result.names],
+            cm_velocity=[result.cm(n, velocity=True) for n in result.names],
+            pairs=list(result.pairs),
+            tolerance=contact_tolerance(result, scene),
+            impacts=list(result.impacts),
+        )
+
+    @classmethod
+    def from_arrays(cls, scene, t: np.ndarray, cm: dict, cm_velocity: dict | None = None) -> "Motion":
+        """Motion from physical arrays: ``cm[name]`` (nt, storeys, 3); pairs recomputed from the scene."""
+        names = [b.name for b in scene.buildings]
+        missing = [n for n in names if n not in cm]
+        if missing:
+            raise KeyError(f"no centre-of-mass history for building(s) {', '.join(map(repr, missing))}")
+        return cls(
+            t=np.asarray(t, dtype=float),
+            names=names,
+            slabs=[tuple(b.slabs) for b in scene.buildings],
+            cm=[np.asarray(cm[n], dtype=float) for n in names],
+            cm_velocity=None if cm_velocity is None else [np.asarray(cm_velocity[n], dtype=float) for n in names],
+            pairs=scene_pairs(scene),
+            tolerance=contact_tolerance(None, scene),
+        )
+
+    def building_index(self, building) -> int:
+        return building if isinstance(building, (int, np.integer)) else self.names.index(building)
+
+    def polygon(self, building: int, storey: int, k: int, cm: np.ndarray | None = None) -> np.ndarray:
+        """Displaced polygon (k, 2) of slab ``storey`` (0-based) at output index k (or for given cm (3,))."""
+        slab = self.slabs[building][storey]
+        d = self.cm[building][k, storey] if cm is None else cm
+        return slab_polygon(slab, d)
+
+    def pair_gaps(self) -> np.ndarray:
+        """Signed gap of every pair at every output step [m], shape (nt, n_pairs)."""
+        return pair_gap_history(self.slabs, self.cm, self.pairs)
+
+
+def contact_tolerance(result=None, scene=None) -> float:
+    """Contact length tolerance [m]: the result's contact law, else the scene's, else 1e-4."""
+    if result is not None:
+        tol = (getattr(result, "contact", None) or {}).get("tolerance")
+        if tol is not None:
+            return float(tol)
+    if scene is not None:
+        tol = (scene.analysis.contact_params or {}).get("tolerance")
+        if tol is not None:
+            return float(tol)
+    return DEFAULT_TOLERANCE
+
+
+def scene_pairs(scene) -> list:
+    """Slab pairs at a common level, as the analysis builds them: (a, storey a, b, storey b, rest gap)."""
+    from pounding.contact.geometry import signed_gap
+
+    out = []
+    bs = scene.buildings
+    for a in range(len(bs)):
+        for b in range(a + 1, len(bs)):
+            for fa, sa in enumerate(bs[a].slabs):
+                for fb, sb in enumerate(bs[b].slabs):
+                    if abs(sa.elevation - sb.elevation) < LEVEL_TOL:
+                        out.append((a, fa, b, fb, float(signed_gap(_f64(sa.vertices), _f64(sb.vertices)))))
+    return out
+
+
+def _f64(a) -> np.ndarray:
+    return np.ascontiguousarray(a, dtype=np.float64)
+
+
+def slab_polygon(slab, d) -> np.ndarray:
+    """Polygon (k, 2) of a slab displaced by its centre-of-mass motion d = (u, v, phi)."""
+    r = slab.vertices - slab.centre
+    out = np.array(slab.vertices, dtype=float, copy=True)
+    out[:, 0] += d[0] - d[2] * r[:, 1]
+    out[:, 1] += d[1] + d[2] * r[:, 0]
+    return out
+
+
+def pair_gap_history(slabs: Sequence, cm: Sequence[np.ndarray], pairs: Sequence) -> np.ndarray:
+    """Signed gap of every pair at every step [m], shape (nt, n_pairs), from cm histories."""
+    from pounding.contact.geometry import signed_gap
+
+    nt = cm[0].shape[0] if cm else 0
+    out = np.empty((nt, len(pairs)))
+    for p, (a, fa, b, fb, _) in enumerate(pairs):
+        sa, sb = slabs[a][fa], slabs[b][fb]
+        for k in range(nt):
+            out[k, p] = signed_gap(_f64(slab_polygon(sa, cm[a][k, fa])), _f64(slab_polygon(sb, cm[b][k, fb])))
+    return out
+
+
+def pair_gaps(result) -> np.ndarray:
+    """Signed gap of every pair of ``result.pairs`` at every output step [m], shape (nt, n_pairs)."""
+    return Motion.from_result(result).pair_gaps()
+
+
+# =============================================================================
+# The drawing: rest geometry and its topology, displaced per instant
+# =============================================================================
+
+
+@dataclass
+class Drawing:
+    """3-D drawing of all buildings at rest, with the data to displace it.
+
+    Attributes
+    ----------
+    points : ndarray (np, 3)
+        Rest coordinates [m].
+    point_building : ndarray (np,) int
+    lo, hi : ndarray (np,) int
+        Floor below / above each point (0-based storey, -1 = ground).
+    w : ndarray (np,)
+        Weight of ``hi`` in the linear interpolation (1 at a floor).
+    cells : list of tuple of int
+        Point indices of every cell.
+    cell_kind : ndarray (nc,) int
+        0 slab, 1 line, 2 panel.
+    cell_building, cell_storey : ndarray (nc,) int
+    slab_cell : dict (building, storey 0-based) -> cell index
+    """
+
+    points: np.ndarray
+    point_building: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    w: np.ndarray
+    cells: list
+    cell_kind: np.ndarray
+    cell_building: np.ndarray
+    cell_storey: np.ndarray
+    slab_cell: dict
+
+    @classmethod
+    def build(cls, scene, names: Sequence[str] | None = None) -> "Drawing":
+        """Drawing of the scene's buildings (in the order of ``names``, default scene order)."""
+        names = [b.name for b in scene.buildings] if names is None else list(names)
+        pts: list = []
+        pbld: list = []
+        index: dict = {}
+        cells, kinds, cb, cs = [], [], [], []
+        slab_cell = {}
+
+        def point(b: int, x: float, y: float, z: float) -> int:
+            key = (b, round(x, 9), round(y, 9), round(z, 9))
+            j = index.get(key)
+            if j is None:
+                j = index[key] = len(pts)
+                pts.append((x, y, z))
+                pbld.append(b)
+            return j
+
+        levels_of = []
+        for b, name in enumerate(names):
+            bld = scene.building(name)
+            levels = np.concatenate([[0.0], [s.elevation for s in bld.slabs]])
+            levels_of.append(levels)
+            for f, slab in enumerate(bld.slabs):
+                slab_cell[(b, f)] = len(cells)
+                cells.append(tuple(point(b, float(x), float(y), float(slab.elevation)) for x, y in slab.vertices))
+                kinds.append(SLAB)
+                cb.append(b)
+                cs.append(f + 1)
+            for el in bld.elements:
+                p0, d = np.asarray(el.point, float), np.asarray(el.direction, float)
+                out = el.outline()
+
+                def at(s: float, z: float) -> int:
+                    x, y = p0 + s * d
+                    return point(b, float(x), float(y), float(z))
+
+                for s0, z0, s1, z1 in out.get("lines", []):
+                    cells.append((at(s0, z0), at(s1, z1)))
+                    kinds.append(LINE)
+                    cb.append(b)
+                    cs.append(_storey_of(levels, max(z0, z1)))
+                for s0, s1, z0, z1 in out.get("panels", []):
+                    cells.append((at(s0, z0), at(s1, z0), at(s1, z1), at(s0, z1)))
+                    kinds.append(PANEL)
+                    cb.append(b)
+                    cs.append(_storey_of(levels, max(z0, z1)))
+
+        points = np.array(pts, dtype=float).reshape(-1, 3)
+        pb = np.array(pbld, dtype=np.int64)
+        lo = np.empty(len(points), dtype=np.int64)
+        hi = np.empty(len(points), dtype=np.int64)
+        w = np.empty(len(points))
+        for j, (z, b) in enumerate(zip(points[:, 2], pb)):
+            lo[j], hi[j], w[j] = _bracket(levels_of[b], z)
+        return cls(points, pb, lo, hi, w, cells, np.array(kinds, np.int64), np.array(cb, np.int64), np.array(cs, np.int64), slab_cell)
+
+    # ------------------------------------------------------------------ motion
+    def displacement(self, slabs: Sequence, cm: Sequence[np.ndarray]) -> np.ndarray:
+        """Displacement (np, 3) of every point for slab motions ``cm[b]`` (storeys, 3) (or their rates)."""
+        out = np.zeros((len(self.points), 3))
+        for b, (sl, d) in enumerate(zip(slabs, cm)):
+            m = self.point_building == b
+            if not np.any(m):
+                continue
+            x, y = self.points[m, 0], self.points[m, 1]
+            centres = np.array([s.centre for s in sl], dtype=float).reshape(-1, 2)
+            lo, hi, w = self.lo[m], self.hi[m], self.w[m]
+            dl = _floor_motion(d, centres, lo, x, y)
+            dh = _floor_motion(d, centres, hi, x, y)
+            out[m, :2] = (1.0 - w)[:, None] * dl + w[:, None] * dh
+        return out
+
+    def contact(self, slabs: Sequence, cm: Sequence[np.ndarray], pairs: Sequence, tol: float):
+        """(in_contact (nc,) int, gap (nc,) float) of the slab cells for slab motions cm[b] (storeys, 3)."""
+        from pounding.contact.geometry import signed_gap
+
+        nc = len(self.cells)
+        flag = np.zeros(nc, dtype=np.int64)
+        gap = np.full(nc, np.nan)
+        for a, fa, b, fb, _ in pairs:
+            g = float(signed_gap(_f64(slab_polygon(slabs[a][fa], cm[a][fa])), _f64(slab_polygon(slabs[b][fb], cm[b][fb]))))
+            for key in ((a, fa), (b, fb)):
+                c = self.slab_cell.get(key)
+                if c is None:
+                    continue
+                gap[c] = g if np.isnan(gap[c]) else min(gap[c], g)
+                if g <= tol:
+                    flag[c] = 1
+        return flag, gap
+
+    # ------------------------------------------------------------------ vtk
+    def vtk_grid(self):
+        """A vtkUnstructuredGrid with the topology and rest points (no data arrays)."""
+        from vtkmodules.util.numpy_support import numpy_to_vtk, numpy_to_vtkIdTypeArray
+        from vtkmodules.vtkCommonCore import vtkPoints
+        from vtkmodules.vtkCommonDataModel import VTK_LINE, VTK_POLYGON, VTK_QUAD, vtkCellArray, vtkUnstructuredGrid
+
+        types = np.array([{SLAB: VTK_POLYGON, LINE: VTK_LINE, PANEL: VTK_QUAD}[int(k)] for k in self.cell_kind], dtype=np.uint8)
+        offsets = np.concatenate([[0], np.cumsum([len(c) for c in self.cells])]).astype(np.int64)
+        conn = np.array([j for c in self.cells for j in c], dtype=np.int64)
+        ca = vtkCellArray()
+        ca.SetData(numpy_to_vtkIdTypeArray(offsets, deep=True), numpy_to_vtkIdTypeArray(conn, deep=True))
+        grid = vtkUnstructuredGrid()
+        pts = vtkPoints()
+        pts.SetData(numpy_to_vtk(self.points.copy(), deep=True))
+        grid.SetPoints(pts)
+        grid.SetCells(numpy_to_vtk(types, deep=True, array_type=3), ca)  # 3 = VTK_UNSIGNED_CHAR
+        return grid
+
+
+def _storey_of(levels: np.ndarray, z: float) -> int:
+    """Storey number of an item whose top is at z: the floor there (1-based), 0 at ground."""
+    j = int(np.argmin(np.abs(levels - z)))
+    if abs(levels[j] - z) < LEVEL_TOL:
+        return j
+    return int(np.searchsorted(levels, z))  # inside storey i: between floors i-1 and i
+
+
+def _bracket(levels: np.ndarray, z: float) -> tuple[int, int, float]:
+    """(floor below, floor above, weight of above) of height z; floors 0-based, -1 ground."""
+    j = int(np.argmin(np.abs(levels - z)))
+    if abs(levels[j] - z) < LEVEL_TOL:
+        return j - 1, j - 1, 1.0
+    if z >= levels[-1]:
+        return len(levels) - 2, len(levels) - 2, 1.0
+    i = int(np.searchsorted(levels, z)) - 1  # levels[i] < z < levels[i + 1]
+    w = (z - levels[i]) / (levels[i + 1] - levels[i])
+    return i - 1, i, float(w)
+
+
+def _floor_motion(d: np.ndarray, centres: np.ndarray, f: np.ndarray, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """Plan motion (m, 2) of points (x, y) rigidly attached to floors f (-1: ground, no motion)."""
+    out = np.zeros((len(f), 2))
+    live = f >= 0
+    if np.any(live):
+        ff = f[live]
+        u, v, phi = d[ff, 0], d[ff, 1], d[ff, 2]
+        out[live, 0] = u - phi * (y[live] - centres[ff, 1])
+        out[live, 1] = v + phi * (x[live] - centres[ff, 0])
+    return out
+
+
+# =============================================================================
+# State at an arbitrary instant (impact frames)
+# =============================================================================
+
+
+class StateAt:
+    """Modal state of a Result at any time, reconstructed from the output steps (see the module docstring)."""
+
+    def __init__(self, scene, result):
+        self.r = result
+        self.gm = scene.ground_motion
+        direction = self.gm.direction()
+        systems = result.systems
+        self.omega = np.concatenate([s.omega for s in systems])
+        self.c2 = np.concatenate([2.0 * s.zeta * s.omega for s in systems])
+        self.L = np.concatenate([s.participation(s.influence(direction)) for s in systems])
+        self.h_max = min(float(result.dt) / 8.0, 0.2 / max(float(np.max(self.omega)), 1e-12))
+        self.events = sorted(result.impacts, key=lambda i: i.time)
+        self.ev_t = np.array([i.time for i in self.events], dtype=float)
+
+    # ------------------------------------------------------------------ helpers
+    def _slab_cm(self, q: np.ndarray, b: int, f: int) -> np.ndarray:
+        s = self.r.systems[b]
+        i0 = self.r.mode_start[b]
+        return s.modes[3 * f : 3 * f + 3, :] @ q[i0 : i0 + s.n_dof]
+
+    def row(self, q: np.ndarray, imp) -> np.ndarray:
+        """Modal row w of an impact: d gap = w . dq; its impulse I changes q' by w I."""
+        a, fa, b, fb, _ = self.r.pairs[imp.pair]
+        w = np.zeros(self.r.q.shape[1])
+        n = np.asarray(imp.normal, float)
+        for sign, bld, f in ((-1.0, a, fa), (1.0, b, fb)):
+            s = self.r.systems[bld]
+            slab = s.slabs[f]
+            c = slab.centre + self._slab_cm(q, bld, f)[:2]
+            rr = np.asarray(imp.point, float) - c
+            g = np.array([n[0], n[1], rr[0] * n[1] - rr[1] * n[0]])
+            i0 = self.r.mode_start[bld]
+            w[i0 : i0 + s.n_dof] += sign * (s.modes[3 * f : 3 * f + 3, :].T @ g)
+        return w
+
+    def _rhs(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return -self.L * float(self.gm.at(t)) - self.c2 * v - self.omega**2 * q
+
+    def _integrate(self, q, v, t0, t1):
+        if t1 <= t0:
+            return q, v
+        m = max(1, int(math.ceil((t1 - t0) / self.h_max)))
+        h = (t1 - t0) / m
+        t = t0
+        for _ in range(m):
+            k1q, k1v = v, self._rhs(t, q, v)
+            k2q, k2v = v + 0.5 * h * k1v, self._rhs(t + 0.5 * h, q + 0.5 * h * k1q, v + 0.5 * h * k1v)
+            k3q, k3v = v + 0.5 * h * k2v, self._rhs(t + 0.5 * h, q + 0.5 * h * k2q, v + 0.5 * h * k2v)
+            k4q, k4v = v + h * k3v, self._rhs(t + h, q + h * k3q, v + h * k3v)
+            q = q + h / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q)
+            v = v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)
+            t += h
+        return q, v
+
+    def _apply(self, q, v, imps):
+        """Apply the impulses of simultaneous impacts (rows taken before any of them)."""
+        rows = [self.row(q, i) for i in imps]
+        for w, i in zip(rows, imps):
+            v = v + w * i.impulse
+        return v
+
+    def _recorded_pre(self, q, v, imps) -> bool:
+        """Whether the recorded velocity at an impact instant on the output grid is before its impulses."""
+        d_pre = d_post = 0.0
+        for i in imps:
+            b = -(self.row(q, i) @ v)
+            after = 2.0 * i.energy_loss / i.impulse - i.approach_velocity if i.impulse > 0 else i.approach_velocity
+            d_pre += abs(b - i.approach_velocity)
+            d_post += abs(b - after)
+        return d_pre <= d_post
+
+    def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """(q, q') at time t; q' just before the impulses of impacts at exactly t."""
+        r = self.r
+        tt = r.t
+        k = int(np.searchsorted(tt, t + 1e-12, side="right")) - 1
+        k = min(max(k, 0), len(tt) - 1)
+        q, v = r.q[k].astype(float), r.qd[k].astype(float)
+        tk = float(tt[k])
+        eps = 1e-12 * max(1.0, abs(t))
+        # impacts at the output instant itself: the record may hold the velocity before or after them
+        at_k = [i for i in self.events if abs(i.time - tk) <= eps]
+        if abs(t - tk) <= eps:
+            if at_k and not self._recorded_pre(q, v, at_k):
+                # recorded after: undo them to report the velocity before the impulses
+                rows = [self.row(q, i) for i in at_k]
+                for w, i in zip(rows, at_k):
+                    v = v - w * i.impulse
+            return q, v
+        if at_k and self._recorded_pre(q, v, at_k):
+            v = self._apply(q, v, at_k)
+        between = [i for i in self.events if tk + eps < i.time < t - eps]
+        cur = tk
+        groups: dict = {}
+        for i in between:
+            groups.setdefault(i.time, []).append(i)
+        for te in sorted(groups):
+            q, v = self._integrate(q, v, cur, te)
+            v = self._apply(q, v, groups[te])
+            cur = te
+        q, v = self._integrate(q, v, cur, t)
+        return q, v
+
+    def cm(self, q: np.ndarray) -> list[np.ndarray]:
+        """(storeys, 3) centre-of-mass motion of every building for a stacked modal vector q."""
+        out = []
+        for b, s in enumerate(self.r.systems):
+            i0 = self.r.mode_start[b]
+            out.append((s.modes @ q[i0 : i0 + s.n_dof]).reshape(s.n_storeys, 3))
+        return out
+
+
+# =============================================================================
+# Writing
+# =============================================================================
+
+
+def _impact_instants(result, impact_times) -> np.ndarray:
+    times = [i.time for i in result.impacts] if impact_times is None else list(impact_times)
+    times = np.unique(np.asarray(times, dtype=float))
+    t = np.asarray(result.t, float)
+    if t.size == 0:
+        return times[:0]
+    times = times[(times >= t[0] - 1e-12) & (times <= t[-1] + 1e-12)]
+    # merge instants closer than 1e-12 s
+    out: list[float] = []
+    for x in times:
+        if not out or x - out[-1] > 1e-12 * max(1.0, abs(x)):
+            out.append(float(x))
+    return np.array(out)
+
+
+def frame_plan(result, *, every: int = 1, impact_times: Iterable[float] | None = None) -> list[tuple[float, int | None, bool]]:
+    """The instants :func:`write_vtk_series` writes: (time, output index or None, is an impact instant).
+
+    Output steps 0, every, 2 every, ...; plus each impact instant at its exact
+    time (an impact on an output step uses that step, index given).
+    """
+    if every < 1:
+        raise ValueError(f"every must be >= 1, got {every}")
+    t = np.asarray(result.t, float)
+    frames: dict = {}
+    for k in range(0, len(t), every):
+        frames[k] = (float(t[k]), k, False)
+    extra = []
+    for ti in _impact_instants(result, impact_times):
+        k = int(np.argmin(np.abs(t - ti)))
+        if abs(t[k] - ti) <= 1e-12 * max(1.0, abs(ti)):
+            frames[k] = (float(t[k]), k, True)
+        else:
+            extra.append((float(ti), None, True))
+    return sorted(list(frames.values()) + extra, key=lambda f: f[0])
+
+
+def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1.0, impact_times: Iterable[float] | None = None, name: str = "pounding") -> Path:
+    """Write a ParaView time series of the run: ``<name>.pvd`` + one ``<name>_NNNNNN.vtu`` per instant.
+
+    Parameters
+    ----------
+    scene : Scene
+        The scene that was run (for the elements' drawing and the ground motion).
+    result : Result
+    out_dir : path
+        Created if missing.
+    every : int
+        Write every ``every``-th output step (plus the impact instants).
+    scale : float
+        Displacement magnification of the point coordinates (the ``displacement``
+        and ``velocity`` arrays are never scaled).
+    impact_times : iterable of float, optional
+        Instants written at their exact time [s]; default the times of
+        ``result.impacts``. Pass ``()`` to write the output steps only.
+    name : str
+        File stem.
+
+    Returns
+    -------
+    Path
+        The ``.pvd`` file.
+    """
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonCore import vtkPoints
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    motion = Motion.from_result(result, scene)
+    drawing = Drawing.build(scene, motion.names)
+    grid = drawing.vtk_grid()
+    plan = frame_plan(result, every=every, impact_times=impact_times)
+    state = StateAt(scene, result) if any(imp for _, _, imp in plan) else None
+
+    cd = grid.GetCellData()
+    for nm, arr in (("building", drawing.cell_building), ("storey", drawing.cell_storey), ("element_type", drawing.cell_kind)):
+        a = numpy_to_vtk(arr.astype(np.int32), deep=True)
+        a.SetName(nm)
+        cd.AddArray(a)
+
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(grid)
+    writer.SetDataModeToAppended()
+    writer.EncodeAppendedDataOff()
+    writer.SetCompressorTypeToZLib()
+
+    rest = drawing.points
+    entries = []
+    for j, (t, k, is_impact) in enumerate(plan):
+        if k is not None:
+            cm = [c[k] for c in motion.cm]
+            cmv = [c[k] for c in motion.cm_velocity]
+            if is_impact:  # report the velocity before the impulses, as for off-grid instants
+                cmv = state.cm(state(t)[1])
+        else:
+            q, qd = state(t)
+            cm, cmv = state.cm(q), state.cm(qd)
+        disp = drawing.displacement(motion.slabs, cm)
+        vel = drawing.displacement(motion.slabs, cmv)
+        flag, gap = drawing.contact(motion.slabs, cm, motion.pairs, motion.tolerance)
+
+        pts = vtkPoints()
+        pts.SetData(numpy_to_vtk(rest + scale * disp, deep=True))
+        grid.SetPoints(pts)
+        pd = grid.GetPointData()
+        for nm, arr in (("displacement", disp), ("velocity", vel)):
+            a = numpy_to_vtk(np.ascontiguousarray(arr), deep=True)
+            a.SetName(nm)
+            pd.AddArray(a)
+        for nm, arr in (("in_contact", flag.astype(np.int32)), ("gap", gap)):
+            a = numpy_to_vtk(arr, deep=True)
+            a.SetName(nm)
+            cd.AddArray(a)
+        fd = grid.GetFieldData()
+        for nm, arr in (("time", np.array([t])), ("impact_instant", np.array([int(is_impact)], dtype=np.int32))):
+            a = numpy_to_vtk(arr, deep=True)
+            a.SetName(nm)
+            fd.AddArray(a)
+
+        fname = f"{name}_{j:06d}.vtu"
+        writer.SetFileName(str(out_dir / fname))
+        if writer.Write() != 1:
+            raise OSError(f"could not write {out_dir / fname}")
+        entries.append((t, fname))
+
+    return write_pvd(out_dir / f"{name}.pvd", entries)
+
+
+def write_pvd(path, entries: Sequence[tuple[float, str]]) -> Path:
+    """A ParaView collection file listing (time, relative file name) entries."""
+    path = Path(path)
+    root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
+    coll = ET.SubElement(root, "Collection")
+    for t, fname in entries:
+        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0", file=str(fname))
+    tree = ET.ElementTree(root)
+    ET.indent(tree, space=" ")
+    tree.write(path, encoding="utf-8", xml_declaration=True)
+    return path
+
+
+def read_pvd(path) -> list[tuple[float, Path]]:
+    """(time, file) entries of a ``.pvd`` collection, files resolved next to it."""
+    path = Path(path)
+    root = ET.parse(path).getroot()
+    return [(float(d.get("timestep")), path.parent / d.get("file")) for d in root.iter("DataSet")]
