@@ -1,0 +1,411 @@
+"""Figures of a run (PNG, matplotlib's Agg canvas; pyplot is never imported).
+
+:func:`plot_all` writes, into one directory:
+
+* ``plan.png`` - plan of the slabs with their vertex numbers (the numbers the
+  impact log and the other figures use) and where the impacts happened;
+* ``displacement_histories.png`` - displacement histories of chosen slab
+  vertices; by default the x displacement of each corner of the lower
+  building's common-storey slabs that faces the other building, with the
+  response without pounding overlaid when a ``reference`` Result is given
+  (the paper's Fig. 3);
+* ``impact_timeline.png`` - time vs storey, one marker shape per striking
+  (building, vertex), marker area proportional to the impulse;
+* ``gap_histories.png`` - signed clear distance of every slab pair (common
+  storey) over time, impacts marked;
+* ``energy_balance.png`` - the final energy terms of the run as stacked bars
+  per building with the balance error, above histories rebuilt from the output
+  steps (kinetic + strain exactly; input and damping by the trapezoidal rule
+  on the output grid; cumulative impact loss from the log).
+
+Every function returns the paths it wrote. Storeys are 1-based, vertices
+0-based in scene order, as in the impact log.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+
+DPI = 120
+COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"]
+MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
+
+
+def _figure(w: float, h: float):
+    from matplotlib.figure import Figure
+
+    return Figure(figsize=(w, h), dpi=DPI, layout="constrained")
+
+
+def _save(fig, path) -> Path:
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=DPI, format="png")
+    return path
+
+
+def _bindex(result, building) -> int:
+    return int(building) if isinstance(building, (int, np.integer)) else result.names.index(building)
+
+
+# =============================================================================
+# Choosing points
+# =============================================================================
+
+
+def _point_polygon_distance(p: np.ndarray, poly: np.ndarray) -> float:
+    a = poly
+    b = np.roll(poly, -1, axis=0)
+    ab = b - a
+    t = np.clip(np.einsum("ij,ij->i", p - a, ab) / np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300), 0.0, 1.0)
+    return float(np.min(np.hypot(*(a + t[:, None] * ab - p).T)))
+
+
+def lower_building(result) -> int:
+    """Index of the building whose top slab is lowest (the first on a tie)."""
+    tops = [max(sl.elevation for sl in s.slabs) for s in result.systems]
+    return int(np.argmin(tops))
+
+
+def facing_vertices(slab, other, frac: float = 0.25) -> list[int]:
+    """Vertices of ``slab`` that face ``other``: at most ``frac`` x the slab radius farther from it than the nearest."""
+    d = np.array([_point_polygon_distance(v, np.asarray(other.vertices, float)) for v in np.asarray(slab.vertices, float)])
+    return [int(i) for i in np.flatnonzero(d <= d.min() + frac * slab.radius)]
+
+
+def default_points(result) -> list[tuple[str, int, int, str]]:
+    """(building, storey 1-based, vertex, "x") of each common-storey corner of the lower building facing the other."""
+    low = lower_building(result)
+    out = []
+    for a, fa, b, fb, _ in result.pairs:
+        if low not in (a, b):
+            continue
+        f, other = (fa, result.systems[b].slabs[fb]) if a == low else (fb, result.systems[a].slabs[fa])
+        slab = result.systems[low].slabs[f]
+        for v in facing_vertices(slab, other):
+            key = (result.names[low], f + 1, v, "x")
+            if key not in out:
+                out.append(key)
+    return sorted(out, key=lambda k: (-k[1], k[2]))
+
+
+def vertex_history(result, building, storey: int, vertex: int, component: str = "x", velocity: bool = False) -> np.ndarray:
+    """History (nt,) of one slab vertex's x or y displacement (or velocity) [m]."""
+    name = result.names[_bindex(result, building)]
+    c = {"x": 0, "y": 1}[component]
+    return result.vertices(name, velocity=velocity)[:, storey - 1, vertex, c]
+
+
+def _impacts_of_slab(result, b: int, storey: int) -> list:
+    out = []
+    for imp in result.impacts:
+        a, fa, bb, fb, _ = result.pairs[imp.pair]
+        if (a, fa) == (b, storey - 1) or (bb, fb) == (b, storey - 1):
+            out.append(imp)
+    return out
+
+
+# =============================================================================
+# Displacement histories
+# =============================================================================
+
+
+def _draw_history(ax, result, building, storey, vertex, component, reference):
+    b = _bindex(result, building)
+    name = result.names[b]
+    y = vertex_history(result, b, storey, vertex, component) * 1e3
+    if reference is not None:
+        yr = vertex_history(reference, name, storey, vertex, component) * 1e3
+        ax.plot(reference.t, yr, color="0.55", lw=1.0, ls="--", label="without pounding")
+    ax.plot(result.t, y, color=COLOURS[0], lw=1.1, label="with pounding" if reference is not None else name)
+    imps = _impacts_of_slab(result, b, storey)
+    if imps:
+        ti = np.array([i.time for i in imps])
+        ax.plot(ti, np.interp(ti, result.t, y), "v", color=COLOURS[1], ms=4, label="impacts on this slab")
+    vx, vy = result.systems[b].slabs[storey - 1].vertices[vertex]
+    ax.set_title(f"{name}, storey {storey}, vertex {vertex} ({vx:.2f}, {vy:.2f}) m", fontsize=9)
+    ax.set_ylabel(f"{component} displ. [mm]")
+    ax.axhline(0.0, color="0.8", lw=0.6, zorder=0)
+    ax.grid(True, lw=0.3, alpha=0.6)
+
+
+def plot_corner_history(result, building, storey: int, vertex: int, reference=None, path="corner_history.png", *, component: str = "x") -> Path:
+    """Displacement history of one slab vertex, with a reference run (no pounding) overlaid if given.
+
+    Parameters
+    ----------
+    result : Result
+    building : str or int
+        Building name or index.
+    storey : int
+        1-based.
+    vertex : int
+        0-based index in the slab polygon (scene order).
+    reference : Result, optional
+        The same scene without pounding.
+    path : path
+        PNG to write.
+    component : {"x", "y"}
+    """
+    fig = _figure(8.0, 3.2)
+    ax = fig.add_subplot(1, 1, 1)
+    _draw_history(ax, result, building, storey, vertex, component, reference)
+    ax.set_xlabel("time [s]")
+    ax.legend(fontsize=8, loc="upper right")
+    return _save(fig, path)
+
+
+def plot_displacement_histories(result, path, *, points: Sequence | None = None, reference=None) -> Path:
+    """One panel per point (building, storey 1-based, vertex[, "x"|"y"]); default :func:`default_points`."""
+    pts = [tuple(p) + ("x",) * (4 - len(p)) for p in (points if points is not None else default_points(result))]
+    if not pts:  # no pairs: the roof corners of the first building
+        s = result.systems[0]
+        pts = [(result.names[0], s.n_storeys, v, "x") for v in range(len(s.slabs[-1].vertices))]
+    fig = _figure(8.5, 1.0 + 2.2 * len(pts))
+    axes = fig.subplots(len(pts), 1, sharex=True, squeeze=False)[:, 0]
+    for ax, (bld, storey, vertex, comp) in zip(axes, pts):
+        _draw_history(ax, result, bld, int(storey), int(vertex), comp, reference)
+    axes[0].legend(fontsize=8, loc="upper right")
+    axes[-1].set_xlabel("time [s]")
+    return _save(fig, path)
+
+
+# =============================================================================
+# Impacts and gaps
+# =============================================================================
+
+
+def plot_impact_timeline(result, path) -> Path:
+    """Impacts: time vs storey, a marker per striking (building, vertex), area ~ impulse."""
+    fig = _figure(9.0, 4.0)
+    ax = fig.add_subplot(1, 1, 1)
+    storeys = sorted({result.pairs[p][1] + 1 for p in range(len(result.pairs))}) or [1]
+    if not result.impacts:
+        ax.text(0.5, 0.5, "no impacts", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
+    else:
+        groups: dict = {}
+        for imp in result.impacts:
+            key = (result.striking_building(imp), imp.vertex)
+            groups.setdefault(key, []).append(imp)
+        keys = sorted(groups, key=lambda k: (result.names.index(k[0]), k[1]))
+        imax = max(i.impulse for i in result.impacts) or 1.0
+        n = len(keys)
+        for g, key in enumerate(keys):
+            imps = groups[key]
+            off = (g - (n - 1) / 2) * min(0.12, 0.6 / max(n, 1))
+            t = [i.time for i in imps]
+            y = [result.impact_storey(i) + off for i in imps]
+            s = [15 + 300 * i.impulse / imax for i in imps]
+            label = f"{key[0]} {'face' if key[1] < 0 else f'vertex {key[1]}'}"
+            ax.scatter(t, y, s=s, marker=MARKERS[g % len(MARKERS)], color=COLOURS[g % len(COLOURS)], alpha=0.7, edgecolors="k", linewidths=0.4, label=label)
+        leg = ax.legend(title="striking", fontsize=8, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        leg.get_frame().set_linewidth(0.4)
+        for handle in getattr(leg, "legend_handles", getattr(leg, "legendHandles", [])):
+            handle.set_sizes([40.0])
+        ax.text(0.99, 0.02, f"{len(result.impacts)} impacts, largest impulse {imax / 1e3:.3g} kN s (marker area ~ impulse)", ha="right", va="bottom", transform=ax.transAxes, fontsize=8, color="0.3")
+    ax.set_yticks(storeys)
+    ax.set_ylim(min(storeys) - 0.6, max(storeys) + 0.6)
+    ax.set_xlim(float(result.t[0]), float(result.t[-1]))
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("storey")
+    ax.set_title("Impacts")
+    ax.grid(True, lw=0.3, alpha=0.6)
+    return _save(fig, path)
+
+
+def plot_gap_histories(result, path, *, gaps: np.ndarray | None = None, tolerance: float | None = None) -> Path:
+    """Signed clear distance between the slabs of every pair over time [mm], impacts marked."""
+    from pounding.io.vtk import contact_tolerance, pair_gaps
+
+    fig = _figure(9.0, 4.0)
+    ax = fig.add_subplot(1, 1, 1)
+    if not result.pairs:
+        ax.text(0.5, 0.5, "no slab pairs at a common level", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
+    else:
+        g = pair_gaps(result) if gaps is None else gaps
+        tol = contact_tolerance(result) if tolerance is None else tolerance
+        for p, (a, fa, b, fb, rest) in enumerate(result.pairs):
+            lab = f"storey {fa + 1}" if fa == fb else f"{result.names[a]} {fa + 1} / {result.names[b]} {fb + 1}"
+            c = COLOURS[p % len(COLOURS)]
+            ax.plot(result.t, g[:, p] * 1e3, lw=1.0, color=c, label=f"{lab} (rest {rest * 1e3:.4g} mm)")
+            ti = np.array([i.time for i in result.impacts if i.pair == p])
+            if ti.size:
+                ax.plot(ti, np.zeros_like(ti), "|", color=c, ms=10, mew=1.2)
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.axhspan(-tol * 1e3, tol * 1e3, color="0.85", zorder=0)
+        ax.legend(fontsize=8, loc="upper right")
+        ax.text(0.01, 0.02, "ticks on 0: impacts; grey band: contact tolerance", transform=ax.transAxes, fontsize=8, color="0.3")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("signed gap [mm]")
+    ax.set_title("Clear distance between the slabs of each common storey")
+    ax.grid(True, lw=0.3, alpha=0.6)
+    return _save(fig, path)
+
+
+# =============================================================================
+# Energy
+# =============================================================================
+
+
+def energy_histories(result, scene=None) -> dict:
+    """Energy terms over the output steps [J], summed over the buildings.
+
+    ``kinetic_plus_strain`` is exact at the output steps (mass-normalised modes);
+    ``damping`` and ``input`` (the latter only with ``scene``, for the ground
+    motion) integrate the modal powers by the trapezoidal rule on the output
+    grid; ``impact_loss`` is the cumulative loss of the logged impacts.
+    """
+    t = np.asarray(result.t, float)
+    ks = np.zeros_like(t)
+    pdamp = np.zeros_like(t)
+    pin = np.zeros_like(t)
+    ag = scene.ground_motion.at(t) if scene is not None else None
+    for i, s in enumerate(result.systems):
+        q, qd = result.modal(result.names[i]), result.modal(result.names[i], velocity=True)
+        ks += 0.5 * np.sum(qd**2, axis=1) + 0.5 * np.sum((s.omega * q) ** 2, axis=1)
+        pdamp += np.sum(2.0 * s.zeta * s.omega * qd**2, axis=1)
+        if ag is not None:
+            L = s.participation(s.influence(scene.ground_motion.direction()))
+            pin += (qd @ L) * (-ag)
+
+    def cumtrapz(p):
+        out = np.zeros_like(p)
+        out[1:] = np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(t))
+        return out
+
+    times = np.array([i.time for i in result.impacts])
+    losses = np.array([i.energy_loss for i in result.impacts])
+    order = np.argsort(times)
+    cum = np.concatenate([[0.0], np.cumsum(losses[order])])
+    loss = cum[np.searchsorted(times[order], t, side="right")] if times.size else np.zeros_like(t)
+    out = {"t": t, "kinetic_plus_strain": ks, "damping": cumtrapz(pdamp), "impact_loss": loss}
+    if ag is not None:
+        out["input"] = cumtrapz(pin)
+    return out
+
+
+def plot_energy(result, path, *, scene=None) -> Path:
+    """Energy balance: histories (top) and final totals per building with the balance error (bottom)."""
+    fig = _figure(9.0, 7.0)
+    ax1, ax2 = fig.subplots(2, 1, height_ratios=[1.0, 1.1])
+    h = energy_histories(result, scene)
+    kJ = 1e-3
+    if "input" in h:
+        ax1.plot(h["t"], h["input"] * kJ, color="k", lw=1.2, label="input (ground motion)")
+    ax1.plot(h["t"], h["kinetic_plus_strain"] * kJ, color=COLOURS[0], lw=1.0, label="kinetic + strain")
+    ax1.plot(h["t"], h["damping"] * kJ, color=COLOURS[2], lw=1.0, label="damping")
+    ax1.plot(h["t"], h["impact_loss"] * kJ, color=COLOURS[1], lw=1.0, label="impact loss")
+    if "input" in h:
+        ax1.plot(h["t"], (h["kinetic_plus_strain"] + h["damping"] + h["impact_loss"]) * kJ, color="0.5", lw=0.8, ls=":", label="sum of the terms")
+    ax1.set_xlabel("time [s]")
+    ax1.set_ylabel("energy [kJ]")
+    ax1.set_title("Energy over time (input, damping: trapezoidal on the output steps)", fontsize=10)
+    ax1.legend(fontsize=8, loc="upper left")
+    ax1.grid(True, lw=0.3, alpha=0.6)
+
+    bal = result.energy_balance()
+    e = result.energy
+    terms = [("input", "input"), ("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"), ("contact_forces", "contact-force work")]
+    x = np.arange(len(terms) + 2)
+    bottom = np.zeros(len(terms))
+    for i, name in enumerate(result.names):
+        vals = np.array([e[name][k] for k, _ in terms]) * kJ
+        ax2.bar(x[: len(terms)], vals, bottom=bottom, color=COLOURS[i % len(COLOURS)], alpha=0.8, label=name, edgecolor="k", lw=0.3)
+        bottom += vals
+    ax2.bar([x[-2]], [bal["impact_loss"] * kJ], color="0.45", edgecolor="k", lw=0.3, label="impacts (pair)")
+    ax2.bar([x[-1]], [bal["error"] * kJ], color="#ffbf00", edgecolor="k", lw=0.3, label="balance error")
+    labels = [lab for _, lab in terms] + ["impact loss", "error"]
+    totals = list(bottom) + [bal["impact_loss"] * kJ, bal["error"] * kJ]
+    for xi, v in zip(x, totals):
+        ax2.annotate(f"{v:.4g}", (xi, v), xytext=(0, 2 if v >= 0 else -10), textcoords="offset points", ha="center", fontsize=8)
+    ax2.set_xticks(x, labels, fontsize=8)
+    ax2.axhline(0.0, color="k", lw=0.6)
+    ax2.set_ylabel("energy at the end [kJ]")
+    ax2.set_title(
+        f"Balance: input + contact work - (kinetic + strain + damping + impact loss) = {bal['error'] * kJ:.4g} kJ "
+        f"({100 * bal['relative_error']:.2f} % of the input)",
+        fontsize=9,
+    )
+    ax2.legend(fontsize=8, loc="upper right")
+    ax2.grid(True, axis="y", lw=0.3, alpha=0.6)
+    return _save(fig, path)
+
+
+# =============================================================================
+# Plan
+# =============================================================================
+
+
+def plot_plan(result, path, *, scene=None) -> Path:
+    """Plan of the slabs (every storey; vertex numbers on the slabs of the pairs), elements, impact points."""
+    allv = np.vstack([np.asarray(sl.vertices, float) for s in result.systems for sl in s.slabs])
+    span = np.ptp(allv, axis=0) + 1e-9
+    fig = _figure(9.0, float(np.clip(1.6 + 7.4 * span[1] / span[0], 3.5, 9.0)))
+    ax = fig.add_subplot(1, 1, 1)
+    paired = {(a, fa) for a, fa, _, _, _ in result.pairs} | {(b, fb) for _, _, b, fb, _ in result.pairs}
+    for i, s in enumerate(result.systems):
+        c = COLOURS[i % len(COLOURS)]
+        labelled = set()
+        for f, slab in enumerate(s.slabs):
+            v = np.asarray(slab.vertices, float)
+            ax.fill(v[:, 0], v[:, 1], color=c, alpha=0.06)
+            ax.plot(*np.vstack([v, v[:1]]).T, color=c, lw=0.8 + 0.4 * (f == s.n_storeys - 1), label=result.names[i] if f == 0 else None)
+            if (i, f) in paired:
+                for j, (x, y) in enumerate(v):
+                    if (round(x, 6), round(y, 6), j) in labelled:
+                        continue
+                    labelled.add((round(x, 6), round(y, 6), j))
+                    ax.annotate(str(j), (x, y), xytext=(4 if x >= slab.centre[0] else -10, 4 if y >= slab.centre[1] else -12), textcoords="offset points", fontsize=8, color=c)
+        ax.plot(*s.slabs[0].centre, "+", color=c, ms=8)
+        if scene is not None:
+            try:
+                bld = scene.building(result.names[i])
+            except KeyError:
+                bld = None
+            for el in bld.elements if bld is not None else ():
+                p0, p1 = el.plan_segment()
+                ax.plot([p0[0], p1[0]], [p0[1], p1[1]], color=c, lw=2.2, alpha=0.5, solid_capstyle="butt")
+    if result.impacts:
+        pts = np.array([i.point for i in result.impacts])
+        ax.scatter(pts[:, 0], pts[:, 1], s=18, color="k", marker="x", lw=0.8, label="impact points", zorder=5)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title("Plan: slabs, elements (thick), vertex numbers, centres of mass (+)")
+    ax.legend(fontsize=8, loc="best")
+    ax.grid(True, lw=0.3, alpha=0.6)
+    ax.margins(0.08)
+    return _save(fig, path)
+
+
+# =============================================================================
+# Everything
+# =============================================================================
+
+
+def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None = None) -> list[Path]:
+    """Write every figure of a run into ``out_dir`` (created); returns the PNG paths.
+
+    Parameters
+    ----------
+    scene : Scene or None
+        For the elements in the plan and the ground motion of the energy input history.
+    result : Result
+    out_dir : path
+    reference : Result, optional
+        The same scene without pounding, overlaid on the displacement histories.
+    points : sequence of (building, storey 1-based, vertex[, "x" | "y"]), optional
+        Points of the displacement histories; default :func:`default_points`.
+    """
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    return [
+        plot_plan(result, out / "plan.png", scene=scene),
+        plot_displacement_histories(result, out / "displacement_histories.png", points=points, reference=reference),
+        plot_impact_timeline(result, out / "impact_timeline.png"),
+        plot_gap_histories(result, out / "gap_histories.png"),
+        plot_energy(result, out / "energy_balance.png", scene=scene),
+    ]
