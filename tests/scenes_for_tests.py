@@ -31,25 +31,26 @@ def frame(start, end, column: float, beam: float = 0.5, columns=None) -> dict:
 
 
 def box_building(name: str, x0: float, width: float, depth: float, storeys: int, column_x: float, column_y: float | None = None,
-                 *, height: float = 3.2, mass_per_area: float = 900.0, damping: dict | None = None, column_x_far: float | None = None) -> dict:
-    """A rectangular building [x0, x0 + width] x [0, depth], symmetric unless ``column_x_far`` is given.
+                 *, y0: float = 0.0, height: float = 3.2, mass_per_area: float = 900.0, damping: dict | None = None,
+                 column_x_far: float | None = None) -> dict:
+    """A rectangular building [x0, x0 + width] x [y0, y0 + depth], symmetric unless ``column_x_far`` is given.
 
-    Two frames along x (at y = 0 and y = depth: the y = 0 one has columns ``column_x``,
+    Two frames along x (at y = y0 and y = y0 + depth: the first has columns ``column_x``,
     the far one ``column_x_far`` or the same) and two along y (x = x0 and x = x0 + width).
     """
     cy = column_x if column_y is None else column_y
     far = column_x if column_x_far is None else column_x_far
-    x1 = x0 + width
+    x1, y1 = x0 + width, y0 + depth
     table = {
         "name": name,
         "storey_heights": [height] * storeys,
-        "slab": [[x0, 0.0], [x1, 0.0], [x1, depth], [x0, depth]],
+        "slab": [[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
         "mass_per_area": mass_per_area,
         "element": [
-            frame([x0, 0.0], [x1, 0.0], column_x),
-            frame([x0, depth], [x1, depth], far),
-            frame([x0, 0.0], [x0, depth], cy),
-            frame([x1, 0.0], [x1, depth], cy),
+            frame([x0, y0], [x1, y0], column_x),
+            frame([x0, y1], [x1, y1], far),
+            frame([x0, y0], [x0, y1], cy),
+            frame([x1, y0], [x1, y1], cy),
         ],
     }
     if damping is not None:
@@ -59,12 +60,18 @@ def box_building(name: str, x0: float, width: float, depth: float, storeys: int,
 
 def side_by_side(gap: float, *, storeys=(1, 1), widths=(10.0, 12.0), depth: float = 10.0, columns=(0.40, 0.55),
                  columns_y=(0.5, 0.6), restitution: float = 0.5, contact: dict | None = None, integrator="newmark",
-                 dt: float = 0.005, duration: float = 2.0, pga: float = 0.32, damping: dict | None = None) -> dict:
-    """Two box buildings along x, "left" on [0, w0], "right" starting ``gap`` further along x."""
+                 dt: float = 0.005, duration: float = 2.0, pga: float = 0.32, damping: dict | None = None,
+                 right_y0: float = 0.0) -> dict:
+    """Two box buildings along x, "left" on [0, w0] x [0, depth], "right" starting ``gap`` further along x.
+
+    The right one spans y in [right_y0, right_y0 + depth]; with right_y0 = 0 and symmetric frames the
+    pair is symmetric about y = depth / 2 and centred head-on impacts follow.
+    """
     return {
         "building": [
             box_building("left", 0.0, widths[0], depth, storeys[0], columns[0], columns_y[0], damping=damping),
-            box_building("right", widths[0] + gap, widths[1], depth, storeys[1], columns[1], columns_y[1], damping=damping),
+            box_building("right", widths[0] + gap, widths[1], depth, storeys[1], columns[1], columns_y[1], damping=damping,
+                         y0=right_y0),
         ],
         "ground_motion": {"record": "elcentro", "pga": pga, "angle": 0.0},
         "analysis": {

@@ -502,15 +502,15 @@ def _nearest_on_pieces(px, py, T, n, edge, t0, t1):
         j1 = j + 1 if j + 1 < k else 0
         dx = T[j1, 0] - T[j, 0]
         dy = T[j1, 1] - T[j, 1]
-        ax = T[j, 0] + t0[p] * dx
-        ay = T[j, 1] + t0[p] * dy
-        bx = T[j, 0] + t1[p] * dx
-        by = T[j, 1] + t1[p] * dy
+        ax = T[j, 0]
+        ay = T[j, 1]
+        bx = T[j, 0] + dx
+        by = T[j, 1] + dy
         d, s, qx, qy = _closest_on_segment(px, py, ax, ay, bx, by)
         if d < best:
             best = d
             bj = j
-            bt = t0[p] + s * (t1[p] - t0[p])
+            bt = s
             bqx = qx
             bqy = qy
     return best, bj, bt, bqx, bqy

@@ -303,16 +303,16 @@ class Driver:
             h = t_end - t
             if abs(h - self.dt) <= 1e-9 * self.dt:
                 h = self.dt  # one transition per distinct step: grid arithmetic differs in the last bits
-            z1, f1 = self.trial(self.z, t, h)
+            z1, f1, zf = self.trial(self.z, t, h)
             culprits = self.overlapping(z1)
             if not culprits:
-                self.commit(z1, t, h, f1)
+                self.commit(z1, t, h, f1, zf)
                 t = t_end
                 self.contact_at(t)
                 break
             hs = self.locate(t, h, culprits)
-            z1, f1 = self.trial(self.z, t, hs)
-            self.commit(z1, t, hs, f1)
+            z1, f1, zf = self.trial(self.z, t, hs)
+            self.commit(z1, t, hs, f1, zf)
             t += hs
             self.n_located += 1
             if not self.contact_at(t, culprits):
@@ -324,14 +324,29 @@ class Driver:
         self._record(k + 1)
         self.release_sustained()
 
-    def commit(self, z1, t, h, f1) -> None:
-        self.accumulate(self.z, z1, t, h, self.fc, f1)
+    def commit(self, z1, t, h, f1, zf=None) -> None:
+        """Accept a trial step (z1, its end force f1; zf the same step without contact force)."""
+        if self.law.kind == "force" or zf is None or not np.any(f1):
+            # A penalty force is a physical load that varies continuously through the step.
+            self.accumulate(self.z, z1, t, h, self.fc, f1)
+            self.fc = f1 if self.law.kind == "force" else np.zeros_like(f1)
+            self.held = False
+        else:
+            # A rigid constraint force is a correction sized for this step (it scales with
+            # 1/h^2): the free step is booked as usual, the constraint's work is the energy
+            # change it causes, and its load is taken out of the stored acceleration so
+            # the next step starts from equilibrium without it.
+            self.accumulate(self.z, zf, t, h, self.fc, np.zeros_like(f1))
+            np.add.at(self.E[:, 2], self.model.bidx, self.mode_energy(z1) - self.mode_energy(zf))
+            z1 = z1.copy()
+            z1[:, 2] -= f1
+            self.fc = np.zeros_like(f1)
+            self.held = True
         self.z = z1
-        # A penalty force is a physical load that varies continuously, so it is the next
-        # step's start load. A rigid constraint force is sized for the step it closed (it
-        # scales with 1/h^2): carried into a longer step it would push the slabs apart.
-        self.held = bool(np.any(f1))
-        self.fc = f1 if self.law.kind == "force" else np.zeros_like(f1)
+
+    def mode_energy(self, z) -> np.ndarray:
+        """Kinetic plus strain energy of every mode [J], shape (n,)."""
+        return 0.5 * z[:, 1] ** 2 + 0.5 * (self.model.omega * z[:, 0]) ** 2
 
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
@@ -344,13 +359,13 @@ class Driver:
         zf = self.step(z, t, h, self.fc)
         held = list(self.sustained) if self.law.kind == "impulse" else (list(range(len(self.model.pairs))) if self.law.kind == "force" else [])
         if not held:
-            return zf, np.zeros(self.model.n)
+            return zf, np.zeros(self.model.n), zf
         feats = []
         for p in held:
             if self.model.pair_gap(zf[:, 0], p) < self.tol:
                 feats += [f for f in self.model.features(zf[:, 0], p, max(self.tol, -self.model.pair_gap(zf[:, 0], p) + self.tol)) if f.gap < 0]
         if not feats:
-            return zf, np.zeros(self.model.n)
+            return zf, np.zeros(self.model.n), zf
         Wr = np.stack([f.w for f in feats])  # (m, n)
         tr = self.cache(h)
         gap = np.array([f.gap for f in feats])
@@ -362,7 +377,7 @@ class Driver:
         else:
             lam = rigid_forces(gap, S_q)
         f1 = Wr.T @ lam
-        return zf + tr.B[:, :, 1] * f1[:, None], f1
+        return zf + tr.B[:, :, 1] * f1[:, None], f1, zf
 
     def release_sustained(self) -> None:
         if not self.sustained:
@@ -378,7 +393,7 @@ class Driver:
         def gmin(hh):
             if hh <= 0.0:
                 return min(self.model.pair_gap(self.z[:, 0], p) for p in culprits)
-            z1, _ = self.trial(self.z, t, hh)
+            z1, _, _ = self.trial(self.z, t, hh)
             return min(self.model.pair_gap(z1[:, 0], p) for p in culprits)
 
         if self.law.locate == "root" and gmin(0.0) > self.tol:

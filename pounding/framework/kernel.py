@@ -98,20 +98,9 @@ def advance(
             p1 = L[i] * p1s
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
-        # energy: trapezoidal work of the ground load and of the damping forces
-        nq = gc.shape[0]
-        for i in range(n):
-            if nq == 0:
-                vm = 0.5 * (z0[i, 1] + z[i, 1])
-                E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
-                E[bidx[i], 1] += dt * c2[i] * vm * vm
-            else:
-                for j in range(nq):
-                    pj = L[i] * (p0s + gc[j] * (p1s - p0s))
-                    vj = GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2] + GB[j, i, 1, 0] * L[i] * p0s + GB[j, i, 1, 1] * pj
-                    E[bidx[i], 0] += dt * gw[j] * vj * pj
-                    E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
-        # contact check on the pairs that could touch
+        # contact check on the pairs that could touch; a rejected step books no energy
+        status = DONE
+        hit = -1
         for p in range(pair_a.shape[0]):
             sa = off[pair_a[p, 0]] + pair_a[p, 1]
             sb = off[pair_b[p, 0]] + pair_b[p, 1]
@@ -130,10 +119,34 @@ def advance(
                     z[i, 2] = z0[i, 2]
                 return k, OVERLAP, p
             if g <= tol:
-                _record(z, k + 1, every, Q, V)
-                return k + 1, CONTACT, p
+                status = CONTACT
+                hit = p
+                break
+        _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, bidx)
         _record(z, k + 1, every, Q, V)
+        if status == CONTACT:
+            return k + 1, CONTACT, hit
     return k1, DONE, -1
+
+
+@njit
+def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, bidx):
+    """Add the step's ground-motion work and damping work to E (quadrature: see advance)."""
+    n = z.shape[0]
+    p0s = -ag0
+    p1s = -ag1
+    nq = gc.shape[0]
+    for i in range(n):
+        if nq == 0:
+            vm = 0.5 * (z0[i, 1] + z[i, 1])
+            E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+            E[bidx[i], 1] += dt * c2[i] * vm * vm
+        else:
+            for j in range(nq):
+                pj = L[i] * (p0s + gc[j] * (p1s - p0s))
+                vj = GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2] + GB[j, i, 1, 0] * L[i] * p0s + GB[j, i, 1, 1] * pj
+                E[bidx[i], 0] += dt * gw[j] * vj * pj
+                E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
 
 
 @njit
