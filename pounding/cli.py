@@ -98,6 +98,12 @@ def command(fn):
 
 
 def main(argv: list[str] | None = None) -> int:
+    import warnings
+
+    from pounding.errors import AnalysisWarning
+
+    warnings.simplefilter("always", AnalysisWarning)
+    warnings.showwarning = _show_warning
     parser = build_parser()
     args = parser.parse_args(argv)
     if not getattr(args, "func", None):
@@ -111,6 +117,10 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("pounding: interrupted", file=sys.stderr)
         return 130
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    print(f"pounding: warning: {message}", file=sys.stderr)
 
 
 if __name__ == "__main__":

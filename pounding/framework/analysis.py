@@ -472,5 +472,24 @@ def rigid_forces(gap: np.ndarray, S_q: np.ndarray) -> np.ndarray:
 
 
 def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
-    """Run the time-history analysis of a scene and return its :class:`Result`."""
-    return Driver(scene, progress=progress, use_kernel=use_kernel).run()
+    """Run the time-history analysis of a scene and return its :class:`Result`.
+
+    Warns (:class:`~pounding.errors.AnalysisWarning`) when the energy balance
+    misses by more than ``scene.analysis.energy_tolerance`` of the input.
+    """
+    import warnings
+
+    from pounding.errors import AnalysisWarning
+
+    result = Driver(scene, progress=progress, use_kernel=use_kernel).run()
+    eb = result.energy_balance()
+    if not eb["ok"]:
+        warnings.warn(
+            f"energy balance error {eb['relative_error']:.2e} of the input exceeds the tolerance "
+            f"{eb['tolerance']:g} (summary.json: energy_balance)",
+            AnalysisWarning,
+            stacklevel=2,
+        )
+    if not np.all(np.isfinite(result.q)):
+        raise FloatingPointError("the response is not finite: the integrator diverged (check dt against the shortest period)")
+    return result

@@ -86,6 +86,7 @@ class Result:
     contact: dict
     ground_motion: dict
     info: dict = field(default_factory=dict)
+    energy_tolerance: float = 0.02
 
     @classmethod
     def from_run(cls, d, runtime: float) -> "Result":
@@ -120,6 +121,7 @@ class Result:
             contact=d.law.describe(),
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
             info={"located_events": d.n_located, "sustained_pairs_at_end": sorted(d.sustained)},
+            energy_tolerance=d.scene.analysis.energy_tolerance,
         )
 
     # ------------------------------------------------------------- physical histories
@@ -174,4 +176,5 @@ class Result:
         contact = sum(v["contact_forces"] for v in e.values())
         lost = sum(i.energy_loss for i in self.impacts)
         err = inp + contact - stored - damp - lost
-        return {"input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "error": err, "relative_error": err / inp if inp else 0.0}
+        rel = err / inp if inp else 0.0
+        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "error": err, "relative_error": rel}

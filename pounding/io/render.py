@@ -62,6 +62,7 @@ _failure: str | None = None
 
 BUILDING_RGB = [(70, 130, 200), (240, 150, 60), (90, 170, 90), (150, 110, 190)]
 CONTACT_RGB = (220, 30, 30)
+NEAR_CONTACT = 1e-3  # [m] without an impact log, slabs closer than this at an output step are drawn in contact
 
 
 class RenderUnavailable(RuntimeError):
@@ -244,6 +245,22 @@ class _Scene3D:
         if self.panels is not None:
             self.panels.cell_data["rgb"] = (0.5 * np.array([BUILDING_RGB[b % len(BUILDING_RGB)] for b in drawing.cell_building[panel_ids]]) + 100).astype(np.uint8)
 
+    def _touching(self, k: int, cm) -> np.ndarray:
+        """in_contact flags (cells) at output step k: geometry, plus impacts logged within half a step of it."""
+        m = self.m
+        tol = m.tolerance if m.impacts else max(m.tolerance, NEAR_CONTACT)
+        flag, _ = self.d.contact(m.slabs, cm, m.pairs, tol)
+        if m.impacts:
+            t = m.t
+            lo = 0.5 * (t[k - 1] + t[k]) if k > 0 else -np.inf
+            hi = 0.5 * (t[k] + t[k + 1]) if k + 1 < len(t) else np.inf
+            for p in {i.pair for i in m.impacts if lo < i.time <= hi}:
+                a, fa, b, fb, _ = m.pairs[p]
+                for key in ((a, fa), (b, fb)):
+                    if key in self.d.slab_cell:
+                        flag[self.d.slab_cell[key]] = 1
+        return flag
+
     def update(self, k: int) -> None:
         cm = [c[k] for c in self.m.cm]
         disp = self.d.displacement(self.m.slabs, cm)
@@ -251,13 +268,19 @@ class _Scene3D:
         for mesh in (self.slabs, self.lines, self.panels):
             if mesh is not None:
                 mesh.points = pts.copy()
-        flag, _ = self.d.contact(self.m.slabs, cm, self.m.pairs, self.m.tolerance)
+        flag = self._touching(k, cm)
         rgb = self.base_rgb.copy()
         rgb[flag[self.slab_ids] == 1] = CONTACT_RGB
         self.slabs.cell_data["rgb"] = rgb
 
-    def add_to(self, plotter) -> None:
+    def add_to(self, plotter, plan: bool = False) -> None:
         plotter.add_mesh(self.rest, style="wireframe", color="grey", line_width=1, opacity=0.5)
+        if plan:  # outlines of every storey; the slabs in contact filled (the top slabs would hide them)
+            plotter.add_mesh(self.slabs, scalars="rgb", rgb=True, style="wireframe", line_width=2)
+            hit = np.flatnonzero(np.all(self.slabs.cell_data["rgb"] == CONTACT_RGB, axis=1))
+            if hit.size:
+                plotter.add_mesh(self.slabs.extract_cells(hit), color=tuple(c / 255 for c in CONTACT_RGB), opacity=0.45)
+            return
         plotter.add_mesh(self.slabs, scalars="rgb", rgb=True, opacity=0.85, show_edges=True, edge_color="black", line_width=1.5)
         if self.panels is not None:
             plotter.add_mesh(self.panels, scalars="rgb", rgb=True, opacity=0.6)
@@ -271,21 +294,26 @@ class _Scene3D:
 def _plotter(pv, size, view: str, sc: _Scene3D):
     p = pv.Plotter(off_screen=True, window_size=list(size))
     p.set_background("white")
-    sc.add_to(p)
-    names = "   ".join(f"{n}" for n in sc.m.names)
-    p.add_text(names, position="upper_right", font_size=9, color="black")
+    sc.add_to(p, plan=view == "plan")
+    labels = [[n, tuple(c / 255 for c in BUILDING_RGB[i % len(BUILDING_RGB)])] for i, n in enumerate(sc.m.names)]
+    labels.append(["in contact", tuple(c / 255 for c in CONTACT_RGB)])
+    p.add_legend(labels=labels, bcolor="white", border=True, face="rectangle", loc="upper right", size=(0.14, 0.035 * len(labels)))
+    lo, hi = sc.d.points.min(axis=0), sc.d.points.max(axis=0)
+    c = 0.5 * (lo + hi)
     if view == "plan":
         p.view_xy()
         p.enable_parallel_projection()
+        p.reset_camera()
+        p.camera.zoom(1.2)
     else:
-        p.view_isometric()
-        p.camera.elevation = -10
-    p.reset_camera()
-    p.camera.zoom(1.15)
+        span = float(np.linalg.norm(hi - lo)) or 1.0
+        p.camera_position = [tuple(c + span * np.array([0.55, -1.2, 0.7])), tuple(c), (0.0, 0.0, 1.0)]
+        p.reset_camera()
+        p.camera.zoom(1.25)
     return p
 
 
-def render(run_dir_or_result, out_dir, *, magnify: float = 50.0, scene=None, fps: float = 10.0, max_frames: int = 120, window_size=(1200, 800), margin: float = 0.5) -> list[Path]:
+def render(run_dir_or_result, out_dir, *, magnify: float = 50.0, scene=None, fps: float = 10.0, max_frames: int = 80, window_size=(1200, 800), gif_size=(800, 540), margin: float = 0.5) -> list[Path]:
     """Render snapshots and a GIF of the pounding window (see the module docstring).
 
     Parameters
@@ -303,7 +331,9 @@ def render(run_dir_or_result, out_dir, *, magnify: float = 50.0, scene=None, fps
     max_frames : int
         At most this many GIF frames (output steps of the window, evenly thinned).
     window_size : (int, int)
-        Pixels.
+        Pixels of the snapshots.
+    gif_size : (int, int)
+        Pixels of the GIF frames.
     margin : float
         Seconds shown before the first and after the last contact.
 
@@ -346,7 +376,7 @@ def render(run_dir_or_result, out_dir, *, magnify: float = 50.0, scene=None, fps
         frames = np.unique(np.round(np.linspace(first, last, max_frames)).astype(int))
     gif = out / "render_pounding.gif"
     sc.update(int(frames[0]))
-    p = _plotter(pv, window_size, "3d", sc)
+    p = _plotter(pv, gif_size, "3d", sc)
     p.open_gif(str(gif), fps=fps)
     for k in frames:
         sc.update(int(k))

@@ -62,6 +62,7 @@ ANALYSIS = {
         "contact": NAMED_PLUGIN,
         "restitution": {"type": "number", "minimum": 0, "maximum": 1},
         "output_every": {"type": "integer", "minimum": 1},
+        "energy_tolerance": {"type": "number", "exclusiveMinimum": 0},
     },
 }
 
