@@ -304,7 +304,8 @@ def _plotter(pv, size, view: str, sc: _Scene3D):
         p.view_xy()
         p.enable_parallel_projection()
         p.reset_camera()
-        p.camera.zoom(1.2)
+        dx, dy = float(hi[0] - lo[0]), float(hi[1] - lo[1])
+        p.camera.parallel_scale = 0.5 * max(dy, dx * size[1] / size[0]) * 1.25 + 1e-9
     else:
         span = float(np.linalg.norm(hi - lo)) or 1.0
         p.camera_position = [tuple(c + span * np.array([0.55, -1.2, 0.7])), tuple(c), (0.0, 0.0, 1.0)]

@@ -1,0 +1,505 @@
+"""Separation-gap design: the smallest clear distance at which no slabs ever touch.
+
+Method
+------
+One run of the scene without contact (``contact = "none"``; both buildings
+are then independent, so this is one no-contact run of each building) gives
+the displaced slab polygons of every common storey at every step (rotations
+included, any simple polygon). For a plan unit vector d pointing from the
+first building towards the second, define for two polygons A, B
+
+    D(A, B, d) = max { delta : A and B + delta d touch }        (-inf if none)
+
+the signed translation of B along d at which the two polygons last touch:
+``-D`` is the clear distance between them measured along d (negative when
+they overlap). It is computed exactly by casting every vertex of B along d
+onto every edge of A and every vertex of A along -d onto every edge of B
+(:func:`translation_to_contact`): the last contact of two polygons sliding
+along a line is always a vertex of one on an edge of the other. Moving the
+second building by ``(s - g0) d``, where ``g0`` is the clear distance along d
+at rest in the scene as given (smallest over the common storeys), keeps every
+pair apart at every instant if and only if
+
+    s > min_gap = g0 + max over storeys and time of D(A_f(t), B_f(t), d).
+
+``min_gap`` is therefore exact on the output grid of the no-contact run (the
+full runs check contact on the same grid). :func:`verify_gap` checks it with
+two full runs at 0.99 and 1.01 times the answer.
+
+Building-code estimates
+-----------------------
+From the same run, at the governing storey, with u_a and u_b the peak
+displacements along d of the facing slab points (the material points of each
+slab at the governing contact, rotation included):
+
+* ABS  = u_a + u_b (absolute sum);
+* SRSS = sqrt(u_a^2 + u_b^2);
+* DDC  = sqrt(u_a^2 + u_b^2 - 2 rho u_a u_b), the double difference combination
+  (Jeng, Kasai and Maison 1992; Penzien 1997; Lopez-Garcia and Soong 2009),
+  with the CQC correlation of two oscillators (Der Kiureghian 1981)
+
+      rho = 8 sqrt(z_a z_b) (z_a + r z_b) r^1.5
+            / ((1 - r^2)^2 + 4 z_a z_b r (1 + r^2) + 4 (z_a^2 + z_b^2) r^2),
+
+  r = T_a / T_b, using each building's fundamental period along d (the mode
+  with the largest effective mass along d) and that mode's damping ratio.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pounding.errors import InputError
+from pounding.framework.model import Scene
+
+LEVEL_TOL = 1e-6  # [m] slabs at the same elevation (as the analysis driver)
+S_TOL = 1e-9  # relative tolerance on the edge parameter of a ray hit
+CHUNK = 2048  # time steps per vectorised block (bounds memory for large polygons)
+
+__all__ = [
+    "GapCheck",
+    "GapReport",
+    "correlation",
+    "direction_vector",
+    "gap_from_result",
+    "minimum_gap",
+    "rest_gap",
+    "translation_to_contact",
+    "verify_gap",
+    "with_gap",
+]
+
+
+# =============================================================================
+# Geometry: translation along a direction until two polygons touch
+# =============================================================================
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _cast(P: np.ndarray, Q: np.ndarray, d: np.ndarray):
+    """Rays from the vertices of P along d onto the edges of Q.
+
+    P (..., m, 2), Q (..., n, 2), d (2,). Returns delta (..., m, n) with
+    ``P_i + delta d`` on edge j of Q (from vertex j to j + 1), NaN where the
+    line misses the edge or runs parallel to it, and the edge parameter s.
+    """
+    E = np.roll(Q, -1, axis=-2) - Q  # (..., n, 2)
+    W = P[..., :, None, :] - Q[..., None, :, :]  # (..., m, n, 2)
+    den = _cross(E, d)  # (..., n): cross(e, d)
+    elen = np.hypot(E[..., 0], E[..., 1])
+    ok_den = np.abs(den) > 1e-12 * elen
+    den_safe = np.where(ok_den, den, 1.0)[..., None, :]
+    s = _cross(W, d) / den_safe
+    delta = _cross(W, E[..., None, :, :]) / den_safe
+    hit = ok_den[..., None, :] & (s >= -S_TOL) & (s <= 1.0 + S_TOL)
+    return np.where(hit, delta, np.nan), s
+
+
+def translation_to_contact(A, B, d):
+    """Signed translation of polygon B along d at which A and B last touch.
+
+    Parameters
+    ----------
+    A, B : array_like, shape (..., k, 2) and (..., l, 2)
+        Simple polygons (any orientation, convex or not) in plan [m]; leading
+        axes (e.g. time) broadcast.
+    d : array_like, shape (2,)
+        Unit direction.
+
+    Returns
+    -------
+    delta : ndarray (...)
+        ``max {delta : A and B + delta d touch}`` [m]; ``-inf`` if B moving
+        along the line never touches A. For B beyond A along d, ``-delta`` is
+        their clear distance along d (negative when they overlap).
+    info : dict of ndarray (...)
+        The last contact: ``who`` (1: a vertex of B on an edge of A, 0: a
+        vertex of A on an edge of B), ``vertex`` (index in the striking
+        polygon), ``edge`` (index in the other; edge j runs from vertex j to
+        j + 1) and ``s`` (parameter along that edge, 0..1).
+    """
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    d = np.asarray(d, dtype=float)
+    lead = np.broadcast_shapes(A.shape[:-2], B.shape[:-2])
+    A = np.broadcast_to(A, lead + A.shape[-2:])
+    B = np.broadcast_to(B, lead + B.shape[-2:])
+    k, l = A.shape[-2], B.shape[-2]
+    d1, s1 = _cast(B, A, d)  # B_i + delta d on edge j of A: (..., l, k)
+    d0, s0 = _cast(A, B, -d)  # A_i - delta d on edge j of B: (..., k, l)
+    flat = np.concatenate([d1.reshape(lead + (l * k,)), d0.reshape(lead + (k * l,))], axis=-1)
+    sflat = np.concatenate([s1.reshape(lead + (l * k,)), s0.reshape(lead + (k * l,))], axis=-1)
+    none = np.all(np.isnan(flat), axis=-1)
+    j = np.argmax(np.where(np.isnan(flat), -np.inf, flat), axis=-1)
+    delta = np.where(none, -np.inf, np.take_along_axis(np.where(np.isnan(flat), -np.inf, flat), j[..., None], axis=-1)[..., 0])
+    who = np.where(j < l * k, 1, 0)
+    jj = np.where(who == 1, j, j - l * k)
+    vertex = np.where(who == 1, jj // k, jj // l)
+    edge = np.where(who == 1, jj % k, jj % l)
+    s = np.take_along_axis(sflat, j[..., None], axis=-1)[..., 0]
+    info = {"who": who, "vertex": vertex, "edge": edge, "s": np.clip(s, 0.0, 1.0)}
+    return delta, info
+
+
+def _closest_points(A: np.ndarray, B: np.ndarray):
+    """Closest points (pa, pb) of two disjoint polygons' boundaries and their distance."""
+    best = (np.inf, None, None)
+    for P, Q, flip in ((A, B, False), (B, A, True)):
+        E = np.roll(Q, -1, axis=0) - Q
+        for p in P:
+            w = p - Q
+            t = np.clip(np.einsum("ij,ij->i", w, E) / np.einsum("ij,ij->i", E, E), 0.0, 1.0)
+            foot = Q + t[:, None] * E
+            dist = np.hypot(*(p - foot).T)
+            i = int(np.argmin(dist))
+            if dist[i] < best[0]:
+                best = (float(dist[i]), foot[i], p) if flip else (float(dist[i]), p, foot[i])
+    return best[1], best[2], best[0]
+
+
+# =============================================================================
+# Scene-level helpers
+# =============================================================================
+
+
+def direction_vector(value) -> np.ndarray | None:
+    """A plan unit vector from ``None``, ``"x"``, ``"y"``, ``"-x"``, ``"-y"``, an angle in degrees (number or text) or a 2-vector.
+
+    Multiples of 90 degrees give exact 0/±1 components.
+    """
+    if value is None:
+        return None
+    if isinstance(value, str):
+        text = value.strip().lower()
+        named = {"x": 0.0, "+x": 0.0, "-x": 180.0, "y": 90.0, "+y": 90.0, "-y": 270.0}
+        if text in named:
+            value = named[text]
+        else:
+            try:
+                value = float(text)
+            except ValueError:
+                raise InputError(f"expected x, y or an angle in degrees, got {value!r}", field="--direction") from None
+    if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
+        angle = float(value)
+        if not math.isfinite(angle):
+            raise InputError(f"expected a finite angle in degrees, got {value!r}", field="--direction")
+        quarter, rest = divmod(angle, 90.0)
+        if rest == 0.0:
+            return np.array(((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4])
+        a = math.radians(angle)
+        return np.array((math.cos(a), math.sin(a)))
+    v = np.asarray(value, dtype=float)
+    if v.shape != (2,) or not np.all(np.isfinite(v)) or np.hypot(*v) == 0.0:
+        raise InputError(f"expected a non-zero plan vector (dx, dy), got {value!r}", field="--direction")
+    return v / np.hypot(*v)
+
+
+def _pair_of(scene: Scene):
+    """The two buildings and their common storeys [(storey a, storey b)] (0-based)."""
+    if len(scene.buildings) != 2:
+        raise InputError(f"the gap design needs exactly two buildings, the scene has {len(scene.buildings)}", field="building")
+    a, b = scene.buildings
+    common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
+    if not common:
+        raise InputError(f"buildings {a.name!r} and {b.name!r} have no storey at a common level: their slabs can never meet", field="building")
+    return a, b, common
+
+
+def _oriented(scene: Scene, direction) -> tuple[np.ndarray, float]:
+    """(d, g0): the unit direction from the first building towards the second, and the rest clear distance along it."""
+    a, b, common = _pair_of(scene)
+    d = direction_vector(direction)
+    if d is None:
+        # the normal of the facing edges: the shortest segment between the slabs at rest
+        best = None
+        for fa, fb in common:
+            pa, pb, dist = _closest_points(a.slabs[fa].vertices, b.slabs[fb].vertices)
+            if best is None or dist < best[0]:
+                best = (dist, pa, pb)
+        dist, pa, pb = best
+        v = pb - pa if dist > 1e-9 else (np.mean([s.centre for s in b.slabs], axis=0) - np.mean([s.centre for s in a.slabs], axis=0))
+        v = np.where(np.abs(v) < 1e-12 * max(1.0, float(np.abs(v).max())), 0.0, v)
+        d = v / np.hypot(*v)
+    lo, hi = np.inf, -np.inf
+    for fa, fb in common:
+        dl, _ = translation_to_contact(a.slabs[fa].vertices, b.slabs[fb].vertices, d)
+        if np.isfinite(dl):
+            hi = max(hi, float(dl))
+        dr, _ = translation_to_contact(a.slabs[fa].vertices, b.slabs[fb].vertices, -d)
+        if np.isfinite(dr):
+            lo = min(lo, -float(dr))
+    if not np.isfinite(hi):
+        raise InputError(
+            f"moving {b.name!r} along ({d[0]:.6g}, {d[1]:.6g}) never brings its slabs against {a.name!r}'s: "
+            "the buildings do not face each other in that direction", field="--direction")
+    tol = 1e-9 * max(1.0, float(np.max(np.abs(np.concatenate([s.vertices for s in a.slabs + b.slabs])))))
+    if hi <= tol:
+        return d, max(0.0, -hi)
+    # {delta : touching} = {-delta' : touching along -d}: B lies behind A along d -> flip
+    flipped = -d
+    hi_f = -lo
+    if hi_f <= tol:
+        return flipped + 0.0, max(0.0, -hi_f)
+    raise InputError(f"the slabs of {a.name!r} and {b.name!r} interlock along ({d[0]:.6g}, {d[1]:.6g}): no translation along it separates them",
+                     field="--direction")
+
+
+def rest_gap(scene: Scene, direction=None) -> tuple[float, np.ndarray]:
+    """Clear distance at rest along the direction [m] (smallest over the common storeys) and the oriented unit direction."""
+    d, g0 = _oriented(scene, direction)
+    return g0, d
+
+
+def with_gap(scene: Scene, gap: float, direction=None) -> Scene:
+    """The scene with the second building moved along the direction so that the clear distance at rest is ``gap`` [m]."""
+    if not (isinstance(gap, (int, float, np.integer, np.floating)) and math.isfinite(gap) and gap >= 0):
+        raise InputError(f"expected a gap >= 0 m, got {gap!r}", field="gap")
+    d, g0 = _oriented(scene, direction)
+    return scene.with_building_shifted(scene.buildings[1].name, (float(gap) - g0) * d)
+
+
+# =============================================================================
+# The report
+# =============================================================================
+
+
+def correlation(T_a: float, T_b: float, z_a: float, z_b: float) -> float:
+    """CQC correlation of two damped oscillators (Der Kiureghian 1981), r = T_a / T_b; symmetric in (a, b)."""
+    r = T_a / T_b
+    num = 8.0 * math.sqrt(z_a * z_b) * (z_a + r * z_b) * r**1.5
+    den = (1.0 - r * r) ** 2 + 4.0 * z_a * z_b * r * (1.0 + r * r) + 4.0 * (z_a * z_a + z_b * z_b) * r * r
+    return num / den
+
+
+@dataclass
+class GapCheck:
+    """Two full runs with pounding at ``factors`` times the minimum gap."""
+
+    factors: tuple[float, float]
+    gaps: tuple[float, float]
+    n_impacts: tuple[int, int]
+    tolerance: float  # the contact law's length tolerance [m]
+
+    @property
+    def ok(self) -> bool:
+        """Impacts below the answer and none above it."""
+        return self.n_impacts[0] > 0 and self.n_impacts[1] == 0
+
+    def to_dict(self) -> dict:
+        return {
+            "below": {"factor": self.factors[0], "gap": self.gaps[0], "n_impacts": self.n_impacts[0]},
+            "above": {"factor": self.factors[1], "gap": self.gaps[1], "n_impacts": self.n_impacts[1]},
+            "contact_tolerance": self.tolerance,
+            "ok": self.ok,
+        }
+
+
+@dataclass
+class GapReport:
+    """The minimum separation gap of a pair and the code estimates (lengths in m, times in s).
+
+    ``buildings`` = (fixed, moved): the second building is the one moved along
+    ``direction`` (a unit vector from the first towards the second). Storeys are
+    1-based, of the first building (``storey_b`` of the second); vertices and
+    edges 0-based in the slab polygons' order (edge j from vertex j to j + 1).
+    """
+
+    min_gap: float
+    current_gap: float
+    direction: np.ndarray
+    buildings: tuple[str, str]
+    storey: int
+    storey_b: int
+    time: float
+    striking: str  # building whose corner touches
+    vertex: int
+    struck: str
+    edge: int
+    point: np.ndarray  # contact point in plan at the governing instant, second building at min_gap
+    required: list  # per common storey: (storey a, storey b, required gap, time)
+    periods: tuple[float, float]
+    damping: tuple[float, float]
+    peaks: tuple[float, float]  # peak displacement along d of the facing points at the governing storey
+    rho: float
+    abs: float
+    srss: float
+    ddc: float
+    t: np.ndarray = field(repr=False)
+    clearance: np.ndarray = field(repr=False)  # (nt, common storeys) clear distance along d in the scene as given
+    check: GapCheck | None = None
+
+    def to_dict(self) -> dict:
+        out = {
+            "min_gap": self.min_gap,
+            "current_gap": self.current_gap,
+            "direction": [float(self.direction[0]), float(self.direction[1])],
+            "storey": self.storey,
+            "time": self.time,
+            "abs": self.abs,
+            "srss": self.srss,
+            "ddc": self.ddc,
+            "buildings": {"fixed": self.buildings[0], "moved": self.buildings[1]},
+            "storey_b": self.storey_b,
+            "corner": {"building": self.striking, "vertex": self.vertex},
+            "edge": {"building": self.struck, "edge": self.edge},
+            "point": [float(self.point[0]), float(self.point[1])],
+            "required_per_storey": [{"storey": fa, "storey_b": fb, "gap": g, "time": t} for fa, fb, g, t in self.required],
+            "periods": {self.buildings[0]: self.periods[0], self.buildings[1]: self.periods[1]},
+            "damping_ratios": {self.buildings[0]: self.damping[0], self.buildings[1]: self.damping[1]},
+            "peak_displacements": {self.buildings[0]: self.peaks[0], self.buildings[1]: self.peaks[1]},
+            "rho": self.rho,
+        }
+        if self.check is not None:
+            out["check"] = self.check.to_dict()
+        return out
+
+
+def _fundamental(system, d: np.ndarray) -> tuple[float, float]:
+    """(period, damping ratio) of the mode with the largest effective mass along d."""
+    gamma = system.participation(system.influence(d))
+    i = int(np.argmax(gamma**2))
+    return float(system.periods[i]), float(system.zeta[i])
+
+
+def _point_history(cm: np.ndarray, centre: np.ndarray, point: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Displacement along d of a slab's material point (rest position ``point``), shape (nt,)."""
+    r = point - centre
+    ux = cm[:, 0] - cm[:, 2] * r[1]
+    uy = cm[:, 1] + cm[:, 2] * r[0]
+    return ux * d[0] + uy * d[1]
+
+
+def gap_from_result(scene: Scene, result, direction=None) -> GapReport:
+    """The :class:`GapReport` from a run of ``scene`` (normally without contact; output every step)."""
+    a, b, common = _pair_of(scene)
+    d, g0 = _oriented(scene, direction)
+    cm_a, cm_b = result.cm(a.name), result.cm(b.name)
+    va, vb = result.vertices(a.name), result.vertices(b.name)
+    nt = len(result.t)
+    D = np.full((nt, len(common)), -np.inf)
+    infos = []
+    for c, (fa, fb) in enumerate(common):
+        ka, kb = len(a.slabs[fa].vertices), len(b.slabs[fb].vertices)
+        A = a.slabs[fa].vertices + va[:, fa, :ka]
+        B = b.slabs[fb].vertices + vb[:, fb, :kb]
+        info = {k: np.zeros(nt, dtype=float if k == "s" else int) for k in ("who", "vertex", "edge", "s")}
+        for i0 in range(0, nt, CHUNK):
+            sl = slice(i0, min(nt, i0 + CHUNK))
+            D[sl, c], inf = translation_to_contact(A[sl], B[sl], d)
+            for key in info:
+                info[key][sl] = inf[key]
+        infos.append(info)
+    if not np.any(np.isfinite(D)):
+        raise InputError("the slabs never face each other along the direction", field="--direction")
+    k_t, c = np.unravel_index(int(np.argmax(D)), D.shape)
+    delta = float(D[k_t, c])
+    min_gap = g0 + delta
+    fa, fb = common[c]
+    info = {key: val[k_t] for key, val in infos[c].items()}
+    who, vertex, edge, s = int(info["who"]), int(info["vertex"]), int(info["edge"]), float(info["s"])
+    # the facing material points (rest positions) and the contact point at min_gap
+    sa, sb = a.slabs[fa], b.slabs[fb]
+    if who == 1:  # a corner of b on an edge of a
+        striking, struck = b.name, a.name
+        rest_b = sb.vertices[vertex]
+        ea0, ea1 = sa.vertices[edge], sa.vertices[(edge + 1) % len(sa.vertices)]
+        rest_a = ea0 + s * (ea1 - ea0)
+        point = rest_a + va[k_t, fa, edge] + s * (va[k_t, fa, (edge + 1) % len(sa.vertices)] - va[k_t, fa, edge])
+    else:  # a corner of a on an edge of b
+        striking, struck = a.name, b.name
+        rest_a = sa.vertices[vertex]
+        eb0, eb1 = sb.vertices[edge], sb.vertices[(edge + 1) % len(sb.vertices)]
+        rest_b = eb0 + s * (eb1 - eb0)
+        point = rest_a + va[k_t, fa, vertex]
+    u_a = float(np.max(np.abs(_point_history(cm_a[:, fa], sa.centre, rest_a, d))))
+    u_b = float(np.max(np.abs(_point_history(cm_b[:, fb], sb.centre, rest_b, d))))
+    sys_a, sys_b = (result.systems[result.names.index(n)] for n in (a.name, b.name))
+    (T_a, z_a), (T_b, z_b) = _fundamental(sys_a, d), _fundamental(sys_b, d)
+    rho = correlation(T_a, T_b, z_a, z_b)
+    required = []
+    for cc, (ga, gb) in enumerate(common):
+        kk = int(np.argmax(D[:, cc]))
+        required.append((ga + 1, gb + 1, float(g0 + D[kk, cc]) if np.isfinite(D[kk, cc]) else None, float(result.t[kk])))
+    return GapReport(
+        min_gap=float(min_gap),
+        current_gap=float(g0),
+        direction=d,
+        buildings=(a.name, b.name),
+        storey=fa + 1,
+        storey_b=fb + 1,
+        time=float(result.t[k_t]),
+        striking=striking,
+        vertex=vertex,
+        struck=struck,
+        edge=edge,
+        point=np.asarray(point, dtype=float),
+        required=required,
+        periods=(T_a, T_b),
+        damping=(z_a, z_b),
+        peaks=(u_a, u_b),
+        rho=float(rho),
+        abs=u_a + u_b,
+        srss=math.hypot(u_a, u_b),
+        ddc=math.sqrt(max(0.0, u_a * u_a + u_b * u_b - 2.0 * rho * u_a * u_b)),
+        t=np.asarray(result.t),
+        clearance=-D,
+    )
+
+
+def no_contact(scene: Scene) -> Scene:
+    """The scene without contact, recording every step."""
+    return scene.with_analysis(contact="none", contact_params={}, output_every=1)
+
+
+def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
+    """Smallest clear distance at rest along ``direction`` at which no slabs touch under the scene's ground motion.
+
+    Parameters
+    ----------
+    scene : Scene
+        Exactly two buildings with at least one storey at a common level.
+    direction : None, "x", "y", angle [degrees] or (dx, dy)
+        The direction the gap is measured and the second building moved along
+        (oriented from the first building towards the second). Default: the
+        shortest segment between the slabs at rest (the normal of the facing edges).
+
+    Returns
+    -------
+    GapReport
+        Without a check; see :func:`verify_gap`.
+    """
+    from pounding.framework.analysis import run
+
+    _oriented(scene, direction)  # bad directions fail before the run
+    result = run(no_contact(scene), progress=progress)
+    return gap_from_result(scene, result, direction)
+
+
+def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapCheck:
+    """Two full runs with the second building at ``factors`` times the minimum gap: impacts expected at the first, none at the second.
+
+    The scene's own contact law is used (the impulse law if the scene has none).
+    Contact is detected within the law's length tolerance (1e-4 m by default), so
+    the check is only meaningful when ``(factors[1] - 1) * min_gap`` exceeds it.
+    """
+    from pounding.framework.analysis import run
+    from pounding.framework.registry import CONTACT_LAWS
+
+    if scene.analysis.contact == "none":
+        scene = scene.with_analysis(contact="impulse", contact_params={})
+    law = CONTACT_LAWS.get(scene.analysis.contact)(**scene.analysis.contact_params)
+    gaps, counts = [], []
+    for f in factors:
+        g = float(f) * report.min_gap
+        shifted = scene.with_building_shifted(report.buildings[1], (g - report.current_gap) * report.direction)
+        counts.append(run(shifted.with_analysis(output_every=max(1, scene.analysis.output_every))).n_impacts)
+        gaps.append(g)
+    check = GapCheck(tuple(float(f) for f in factors), tuple(gaps), tuple(counts), float(getattr(law, "tolerance", 0.0)))
+    report.check = check
+    return check
