@@ -140,18 +140,9 @@ def modal_from_physical(model, slab_values: dict) -> np.ndarray:
     return out
 
 
-def slab_of(model, b: int, f: int):
-    return model.systems[b].slabs[f]
-
-
 def point_velocity(dofs: np.ndarray, rates: np.ndarray, centre0: np.ndarray, point: np.ndarray) -> np.ndarray:
     """Velocity of a plan point of a rigid slab: (u' - phi' r_y, v' + phi' r_x), r from the current centre."""
     c = centre0 + dofs[:2]
     r = point - c
     return np.array([rates[0] - rates[2] * r[1], rates[1] + rates[2] * r[0]])
 
-
-def lever_arm(point: np.ndarray, centre: np.ndarray, normal: np.ndarray) -> float:
-    """h = (Q - c) x n: the moment arm of a unit force along n at Q about c (counter-clockwise positive)."""
-    r = point - centre
-    return float(r[0] * normal[1] - r[1] * normal[0])

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pounding.contact import geometry as geo
+from pounding.contact.base import newton_impulses
 from pounding.framework.assembly import System, assemble
 from pounding.framework.model import Scene
 from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
@@ -173,6 +174,7 @@ class Driver:
         self.V = np.zeros((n_out, n))
         self.E = np.zeros((len(self.model.systems), 3))  # ground work, damping work, contact-force work [J]
         self.impacts: list[Impact] = []
+        self.event_states: list[tuple[float, np.ndarray, np.ndarray]] = []  # (t, q, q' before the impulses)
         self.sustained: set[int] = set()
         self.held = False  # a rigid constraint force acted at the end of the last step
         self.events_in_step = 0
@@ -334,12 +336,12 @@ class Driver:
         else:
             # A rigid constraint force is a correction sized for this step (it scales with
             # 1/h^2): the free step is booked as usual, the constraint's work is the energy
-            # change it causes, and its load is taken out of the stored acceleration so
-            # the next step starts from equilibrium without it.
+            # change it causes, and the acceleration is taken from equilibrium without it so
+            # the next step starts from a consistent state.
             self.accumulate(self.z, zf, t, h, self.fc, np.zeros_like(f1))
             np.add.at(self.E[:, 2], self.model.bidx, self.mode_energy(z1) - self.mode_energy(zf))
             z1 = z1.copy()
-            z1[:, 2] -= f1
+            z1[:, 2] = self.load(t + h) - self.model.c2 * z1[:, 1] - self.model.omega**2 * z1[:, 0]
             self.fc = np.zeros_like(f1)
             self.held = True
         self.z = z1
@@ -374,10 +376,21 @@ class Driver:
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
         if self.law.kind == "force":
             lam = self.law.forces(gap, rate, S_q, S_v, Wr @ Wr.T)
-        else:
-            lam = rigid_forces(gap, S_q)
+            f1 = Wr.T @ lam
+            return zf + tr.B[:, :, 1] * f1[:, None], f1, zf
+        lam = rigid_forces(gap, S_q)
         f1 = Wr.T @ lam
-        return zf + tr.B[:, :, 1] * f1[:, None], f1, zf
+        z1 = zf + tr.B[:, :, 1] * f1[:, None]
+        # Hold the contact at velocity level too: a closing rate left at the end of the step
+        # would re-open the penetration in the next one. A plastic impulse removes it.
+        active = lam > 0
+        if np.any(active):
+            Wa = Wr[active]
+            b = -(Wa @ z1[:, 1])
+            if np.any(b > 0):
+                I = newton_impulses(Wa @ Wa.T, b, 0.0)
+                z1[:, 1] += Wa.T @ I
+        return z1, f1, zf
 
     def release_sustained(self) -> None:
         if not self.sustained:
@@ -439,6 +452,8 @@ class Driver:
             if not np.any(I > 0):
                 continue
             after = b - W @ I
+            if not self.event_states or self.event_states[-1][0] != t:
+                self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
             self.z[:, 1] += Wr.T @ I
             if self.law.after_impact == "equilibrium":
                 self.z[:, 2] = self.load(t) + self.fc - self.model.c2 * self.z[:, 1] - self.model.omega**2 * self.z[:, 0]

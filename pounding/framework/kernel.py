@@ -118,10 +118,10 @@ def advance(
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
                 return k, OVERLAP, p
-            if g <= tol:
+            if g <= tol and status == DONE:
+                # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
                 hit = p
-                break
         _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, bidx)
         _record(z, k + 1, every, Q, V)
         if status == CONTACT:

@@ -87,6 +87,10 @@ class Result:
     ground_motion: dict
     info: dict = field(default_factory=dict)
     energy_tolerance: float = 0.02
+    #: the driver's own states at impact instants: times (ne,), q and q' just before the impulses (ne, n)
+    event_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    event_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    event_qd: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     @classmethod
     def from_run(cls, d, runtime: float) -> "Result":
@@ -122,6 +126,9 @@ class Result:
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
             info={"located_events": d.n_located, "sustained_pairs_at_end": sorted(d.sustained)},
             energy_tolerance=d.scene.analysis.energy_tolerance,
+            event_t=np.array([e[0] for e in d.event_states]),
+            event_q=np.array([e[1] for e in d.event_states]).reshape(len(d.event_states), m.n),
+            event_qd=np.array([e[2] for e in d.event_states]).reshape(len(d.event_states), m.n),
         )
 
     # ------------------------------------------------------------- physical histories

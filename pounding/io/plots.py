@@ -76,11 +76,20 @@ def facing_vertices(slab, other, frac: float = 0.25) -> list[int]:
     return [int(i) for i in np.flatnonzero(d <= d.min() + frac * slab.radius)]
 
 
+def pairs_of(result) -> list:
+    """The run's slab pairs; for a run without contact (no pairs kept), the slabs at a common level."""
+    if result.pairs:
+        return list(result.pairs)
+    from pounding.io.vtk import level_pairs
+
+    return level_pairs(result.systems)
+
+
 def default_points(result) -> list[tuple[str, int, int, str]]:
     """(building, storey 1-based, vertex, "x") of each common-storey corner of the lower building facing the other."""
     low = lower_building(result)
     out = []
-    for a, fa, b, fb, _ in result.pairs:
+    for a, fa, b, fb, _ in pairs_of(result):
         if low not in (a, b):
             continue
         f, other = (fa, result.systems[b].slabs[fb]) if a == low else (fb, result.systems[a].slabs[fa])
@@ -182,7 +191,7 @@ def plot_impact_timeline(result, path) -> Path:
     """Impacts: time vs storey, a marker per striking (building, vertex), area ~ impulse."""
     fig = _figure(9.0, 4.0)
     ax = fig.add_subplot(1, 1, 1)
-    storeys = sorted({result.pairs[p][1] + 1 for p in range(len(result.pairs))}) or [1]
+    storeys = sorted({p[1] + 1 for p in pairs_of(result)}) or [1]
     if not result.impacts:
         ax.text(0.5, 0.5, "no impacts", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
     else:
@@ -222,22 +231,24 @@ def plot_gap_histories(result, path, *, gaps: np.ndarray | None = None, toleranc
 
     fig = _figure(9.0, 4.0)
     ax = fig.add_subplot(1, 1, 1)
-    if not result.pairs:
+    pairs = pairs_of(result)
+    if not pairs:
         ax.text(0.5, 0.5, "no slab pairs at a common level", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
     else:
-        g = pair_gaps(result) if gaps is None else gaps
+        g = pair_gaps(result, pairs) if gaps is None else gaps
         tol = contact_tolerance(result) if tolerance is None else tolerance
-        for p, (a, fa, b, fb, rest) in enumerate(result.pairs):
+        for p, (a, fa, b, fb, rest) in enumerate(pairs):
             lab = f"storey {fa + 1}" if fa == fb else f"{result.names[a]} {fa + 1} / {result.names[b]} {fb + 1}"
             c = COLOURS[p % len(COLOURS)]
             ax.plot(result.t, g[:, p] * 1e3, lw=1.0, color=c, label=f"{lab} (rest {rest * 1e3:.4g} mm)")
-            ti = np.array([i.time for i in result.impacts if i.pair == p])
+            ti = np.array([i.time for i in result.impacts if i.pair == p]) if result.pairs else np.array([])
             if ti.size:
                 ax.plot(ti, np.zeros_like(ti), "|", color=c, ms=10, mew=1.2)
         ax.axhline(0.0, color="k", lw=0.6)
         ax.axhspan(-tol * 1e3, tol * 1e3, color="0.85", zorder=0)
         ax.legend(fontsize=8, loc="upper right")
-        ax.text(0.01, 0.02, "ticks on 0: impacts; grey band: contact tolerance", transform=ax.transAxes, fontsize=8, color="0.3")
+        note = "ticks on 0: impacts; grey band: contact tolerance" if result.pairs else "no contact in this run: negative = the slabs overlap"
+        ax.text(0.01, 0.02, note, transform=ax.transAxes, fontsize=8, color="0.3")
     ax.set_xlabel("time [s]")
     ax.set_ylabel("signed gap [mm]")
     ax.set_title("Clear distance between the slabs of each common storey")
@@ -345,7 +356,8 @@ def plot_plan(result, path, *, scene=None) -> Path:
     span = np.ptp(allv, axis=0) + 1e-9
     fig = _figure(9.0, float(np.clip(1.6 + 7.4 * span[1] / span[0], 3.5, 9.0)))
     ax = fig.add_subplot(1, 1, 1)
-    paired = {(a, fa) for a, fa, _, _, _ in result.pairs} | {(b, fb) for _, _, b, fb, _ in result.pairs}
+    pairs = pairs_of(result)
+    paired = {(a, fa) for a, fa, _, _, _ in pairs} | {(b, fb) for _, _, b, fb, _ in pairs}
     for i, s in enumerate(result.systems):
         c = COLOURS[i % len(COLOURS)]
         labelled = set()

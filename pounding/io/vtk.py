@@ -21,7 +21,8 @@ from the geometry) and ``gap`` (the smallest signed gap of the slab's pairs
 ``impact_instant`` (1 when the frame is an impact instant).
 
 Instants written: every ``every``-th output step, plus every impact instant at
-its *exact* time. The state at an impact time is reconstructed from the last
+its *exact* time, with the driver's own state at that instant (kept in the
+Result). For other requested times the state is reconstructed from the last
 output step at or before it by integrating the modal equations
 ``q'' + 2 zeta omega q' + omega^2 q = -L a_g(t)`` (RK4, sub-steps <= dt/8)
 and applying the logged impulses of the impacts in between; the velocity
@@ -148,10 +149,15 @@ def contact_tolerance(result=None, scene=None) -> float:
 
 def scene_pairs(scene) -> list:
     """Slab pairs at a common level, as the analysis builds them: (a, storey a, b, storey b, rest gap)."""
+    return level_pairs(scene.buildings)
+
+
+def level_pairs(buildings) -> list:
+    """Slab pairs at a common level of objects with ``.slabs`` (Buildings or Systems), as the analysis builds them."""
     from pounding.contact.geometry import signed_gap
 
     out = []
-    bs = scene.buildings
+    bs = list(buildings)
     for a in range(len(bs)):
         for b in range(a + 1, len(bs)):
             for fa, sa in enumerate(bs[a].slabs):
@@ -187,9 +193,11 @@ def pair_gap_history(slabs: Sequence, cm: Sequence[np.ndarray], pairs: Sequence)
     return out
 
 
-def pair_gaps(result) -> np.ndarray:
-    """Signed gap of every pair of ``result.pairs`` at every output step [m], shape (nt, n_pairs)."""
-    return Motion.from_result(result).pair_gaps()
+def pair_gaps(result, pairs: Sequence | None = None) -> np.ndarray:
+    """Signed gap of every pair (default ``result.pairs``) at every output step [m], shape (nt, n_pairs)."""
+    slabs = [tuple(s.slabs) for s in result.systems]
+    cm = [result.cm(n) for n in result.names]
+    return pair_gap_history(slabs, cm, result.pairs if pairs is None else pairs)
 
 
 # =============================================================================
@@ -453,6 +461,12 @@ class StateAt:
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray]:
         """(q, q') at time t; q' just before the impulses of impacts at exactly t."""
         r = self.r
+        # The driver keeps its own state at every impact instant: use it, exactly.
+        ev_t = getattr(r, "event_t", np.zeros(0))
+        if len(ev_t):
+            j = int(np.argmin(np.abs(ev_t - t)))
+            if abs(ev_t[j] - t) <= 1e-12 * max(1.0, abs(t)):
+                return r.event_q[j].astype(float), r.event_qd[j].astype(float)
         tt = r.t
         k = int(np.searchsorted(tt, t + 1e-12, side="right")) - 1
         k = min(max(k, 0), len(tt) - 1)

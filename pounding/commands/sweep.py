@@ -1,0 +1,83 @@
+"""``pounding sweep``: a grid of analyses of one scene on Dask, summarised in one table and two plots."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from pounding.errors import InputError
+
+
+def add_parser(sub) -> None:
+    p = sub.add_parser(
+        "sweep",
+        help="parameter study: gaps, PGA scales, records, restitution, integrators",
+        description=(
+            "Run a grid of analyses of a scene (the Cartesian product of the lists given; the scene's own value for a "
+            "parameter not given) and write one table, OUT/sweep.csv (a row appended as each run completes, rewritten "
+            "in run order at the end) and OUT/sweep.parquet (with pyarrow), with per run the parameters, the number of "
+            "impacts, impacts per storey, peak responses of both buildings, the largest impulse and the energy lost; "
+            "plus OUT/impacts_vs_gap.png and OUT/drift_vs_gap.png. A failing run is reported in its row. Runs execute "
+            "on a local Dask cluster of worker processes (one per core) unless --scheduler or --serial is given. "
+            "Lists: 0,0.01,0.05 or a range a:b:n (n values from a to b), or both, comma-separated."
+        ),
+    )
+    p.add_argument("scene", type=Path, help="scene file (TOML)")
+    p.add_argument("--out", type=Path, default=None, help="output folder (default: the scene's name + '_sweep', beside it)")
+    p.add_argument("--gaps", default=None, metavar="LIST", help="clear distances at rest along --direction [m]; the second building is moved")
+    p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
+    p.add_argument("--pga-scale", default=None, metavar="LIST", help="factors on the scene's ground motion (after its pga/scale)")
+    p.add_argument("--records", type=Path, default=None, metavar="FOLDER", help="run every .AT2 file of FOLDER in place of the scene's record (scaled as the scene says)")
+    p.add_argument("--restitution", default=None, metavar="LIST", help="coefficients of restitution in [0, 1]")
+    p.add_argument("--integrator", default=None, metavar="NAMES", help="integrator names, comma-separated (default parameters)")
+    p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
+    p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
+    p.add_argument("--keep", action="store_true", help="also write every run's result folder (OUT/runs/run_NNNN)")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes of the local cluster (default: the number of cores)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use an existing dask.distributed scheduler (tcp://host:port)")
+    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    p.add_argument("--no-plots", action="store_true", help="do not draw the plots")
+    p.add_argument("--quiet", action="store_true", help="no progress lines")
+    p.set_defaults(func=cmd_sweep)
+
+
+def cmd_sweep(args: argparse.Namespace) -> int:
+    from pounding.framework.sweep import parse_values, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise InputError(f"expected a positive number of workers, got {args.workers}", field="--workers")
+    if args.serial and (args.scheduler or args.workers):
+        raise InputError("--serial runs without Dask: drop --scheduler/--workers", field="--serial")
+    if args.scheduler and args.workers:
+        raise InputError("--workers sizes the local cluster; an existing cluster (--scheduler) has its own workers", field="--workers")
+    gaps = parse_values(args.gaps, "--gaps", minimum=0.0) if args.gaps is not None else None
+    scales = parse_values(args.pga_scale, "--pga-scale") if args.pga_scale is not None else None
+    if scales and any(s <= 0 for s in scales):
+        raise InputError(f"expected factors > 0, got {scales}", field="--pga-scale")
+    rest = parse_values(args.restitution, "--restitution", minimum=0.0, maximum=1.0) if args.restitution is not None else None
+    integrators = [s.strip() for s in args.integrator.split(",") if s.strip()] if args.integrator is not None else None
+    if integrators is not None and not integrators:
+        raise InputError("expected integrator names", field="--integrator")
+    overrides = {k: getattr(args, k) for k in ("dt", "duration") if getattr(args, k) is not None}
+    out = args.out or args.scene.with_name(args.scene.stem + "_sweep")
+
+    def progress(done, total, row):
+        if args.quiet:
+            return
+        what = f"{row['n_impacts']} impacts" if row["status"] == "ok" else f"ERROR {row['error']}"
+        gap = "-" if row["gap"] is None else f"{row['gap']:.4g} m"
+        print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, "
+              f"k {row['restitution']}, {row['integrator']}: {what} ({row['runtime_s']:.2f} s)", file=sys.stderr, flush=True)
+
+    res = run_sweep(args.scene, out, gaps=gaps, pga_scales=scales, records=args.records, restitutions=rest, integrators=integrators,
+                    direction=args.direction, overrides=overrides, keep=args.keep, workers=args.workers, scheduler=args.scheduler,
+                    serial=args.serial, plots=not args.no_plots, progress=progress)
+    where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
+    print(f"{len(res.rows)} runs ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
+    print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
+    if res.plots:
+        print("plots: " + ", ".join(str(p) for p in res.plots))
+    if args.keep:
+        print(f"run results: {out / 'runs'}/")
+    return 0
