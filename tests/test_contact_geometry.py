@@ -57,7 +57,10 @@ def test_rectangle_properties():
 
 
 def test_l_shape_properties():
-    """L = [0,4]x[0,1] + [0,1]x[1,3]: A = 6, centroid (1.5, 1), J = 68/12 + 4*0.5 + 10/12 + 2*2 = 12.5."""
+    """L = [0,4]x[0,1] + [0,1]x[1,3]: A = 6, centroid (1.5, 1).
+
+    J by parallel axes = 68/12 + 4*0.5 + 10/12 + 2*2 = 12.5.
+    """
     area, c, J = geo.polygon_properties(L_SHAPE)
     assert area == pytest.approx(6.0, rel=1e-14)
     np.testing.assert_allclose(c, [1.5, 1.0], rtol=1e-14)
@@ -69,7 +72,9 @@ def test_l_shape_properties():
 
 
 def test_rotated_rectangle_properties_invariant():
-    """Rotating the 4 x 2 rectangle by 0.7 rad about (-2, 5): A = 8 and J = 40/3 unchanged, centroid rotated."""
+    """Rotating the 4 x 2 rectangle by 0.7 rad about (-2, 5): A = 8 and J = 40/3 unchanged, centroid
+    rotated.
+    """
     P = rotate(rect(1, 3, 4, 2), 0.7, about=(-2.0, 5.0))
     area, c, J = geo.polygon_properties(P)
     assert area == pytest.approx(8.0, rel=1e-13)
@@ -78,7 +83,9 @@ def test_rotated_rectangle_properties_invariant():
 
 
 def test_vertex_order_does_not_matter():
-    """The clockwise L-shape has the same A = 6, centroid (1.5, 1), J = 12.5; ccw() keeps vertex 0 first."""
+    """The clockwise L-shape has the same A = 6, centroid (1.5, 1), J = 12.5; ccw() keeps vertex 0
+    first.
+    """
     cw = L_SHAPE[::-1]
     area, c, J = geo.polygon_properties(cw)
     assert area == pytest.approx(6.0) and J == pytest.approx(12.5)
@@ -104,7 +111,9 @@ def test_vertex_order_does_not_matter():
     ],
 )
 def test_is_simple(vertices, ok, word):
-    """Simple polygons pass; a bow tie, a repeated vertex, zero area, a spike or a touching vertex fail."""
+    """Simple polygons pass; a bow tie, a repeated vertex, zero area, a spike or a touching vertex
+    fail.
+    """
     got, reason = geo.is_simple(vertices)
     assert got is ok
     assert word in reason
@@ -114,7 +123,9 @@ def test_is_simple(vertices, ok, word):
 
 
 def test_displaced_is_the_linearised_rigid_map():
-    """Vertex (3, 1) of a slab with c = (1, 1), u = 0.01, v = -0.02, phi = 0.001 moves to (3.01, 0.982)."""
+    """Vertex (3, 1) of a slab with c = (1, 1), u = 0.01, v = -0.02, phi = 0.001 moves to (3.01,
+    0.982).
+    """
     P = np.array([[3.0, 1.0], [1.0, 4.0], [0.0, 0.0]])
     out = geo.displaced(P, np.array([1.0, 1.0]), 0.01, -0.02, 0.001)
     np.testing.assert_allclose(out[0], [3.01, 1.0 - 0.02 + 0.002], rtol=0, atol=1e-15)
@@ -129,7 +140,9 @@ def test_two_squares_apart():
 
 
 def test_rotated_corner_approaching_an_edge():
-    """Unit square rotated 30°, centred at (3, 0.5): nearest corner at x = 3 - cos(15°)/sqrt(2), gap = 2 - cos(15°)/sqrt(2)."""
+    """Unit square rotated 30°, centred at (3, 0.5): nearest corner at x = 3 - cos(15°)/sqrt(2),
+    gap = 2 - cos(15°)/sqrt(2).
+    """
     B = square_at((3.0, 0.5), 1.0, math.radians(30))
     xmin = 3.0 - math.sqrt(0.5) * math.cos(math.radians(15))  # the corner at 165° from the centre
     assert B[:, 0].min() == pytest.approx(xmin)
@@ -138,24 +151,29 @@ def test_rotated_corner_approaching_an_edge():
 
 def test_overlap_depth():
     """Unit squares overlapping by 0.02 along x (offset 0.3 along y): gap -0.02."""
-    assert geo.signed_gap(rect(0, 0, 1, 1), rect(0.98, 0.3, 1, 1)) == pytest.approx(-0.02, abs=1e-14)
+    gap = geo.signed_gap(rect(0, 0, 1, 1), rect(0.98, 0.3, 1, 1))
+    assert gap == pytest.approx(-0.02, abs=1e-14)
 
 
 @pytest.mark.parametrize("dy", [0.0, 1e-9, -1e-9])
 def test_overlap_depth_collinear_facades(dy):
-    """Equal-depth slabs side by side (facades collinear, or off by 1e-9) overlapping by 0.02: gap -0.02, not ~0."""
+    """Equal-depth slabs side by side (facades collinear, or off by 1e-9) overlapping by 0.02: gap
+    -0.02, not ~0.
+    """
     assert geo.signed_gap(rect(0, 0, 1, 1), rect(0.98, dy, 1, 1)) == pytest.approx(-0.02, abs=1e-12)
 
 
 def test_square_in_u_notch():
-    """Square [2.8,3.6]x[1.7,2.5] in the notch of the U (walls at x = 1, 4, floor y = 1): gap = 4 - 3.6 = 0.4."""
+    """Square [2.8,3.6]x[1.7,2.5] in the U's notch (walls x = 1, 4; floor y = 1): gap 4 - 3.6 = 0.4."""
     S = rect(2.8, 1.7, 0.8, 0.8)
     assert geo.signed_gap(U_SHAPE, S) == pytest.approx(0.4, abs=1e-14)
     assert geo.signed_gap(S, U_SHAPE) == pytest.approx(0.4, abs=1e-14)
 
 
 def test_plus_sign_overlap_is_negative():
-    """Bars [-2,2]x[-0.5,0.5] and [-0.3,0.3]x[-2,2] cross with no vertex inside: gap -0.5 (midpoint rule)."""
+    """Bars [-2,2]x[-0.5,0.5] and [-0.3,0.3]x[-2,2] cross with no vertex inside: gap -0.5 (midpoint
+    rule).
+    """
     A = rect(-2, -0.5, 4, 1)
     B = rect(-0.3, -2, 0.6, 4)
     assert geo.signed_gap(A, B) == pytest.approx(-0.5)
@@ -181,7 +199,9 @@ def test_gap_is_linear_through_contact(B0):
 
 
 def test_vertex_edge_contact_of_b():
-    """Diamond corner (vertex 1 of B) 5e-4 from A's right edge x = 1: Q = (1.0005, 0.5), n = (1, 0), who 1."""
+    """Diamond corner (vertex 1 of B) 5e-4 from A's right edge x = 1: Q = (1.0005, 0.5), n = (1, 0),
+    who 1.
+    """
     B = square_at((1.0005 + math.sqrt(0.5), 0.5), 1.0, math.radians(45 + 180))
     n, Q, N, gap, who, idx, pair = geo.contact_points(rect(0, 0, 1, 1), B, 1e-3)
     assert n == 1
@@ -193,7 +213,9 @@ def test_vertex_edge_contact_of_b():
 
 
 def test_vertex_edge_contact_of_a_penetrating():
-    """A diamond's corner (vertex of A) 2e-4 past B's left edge x = 2: who 0, n = (1, 0) (minus B's normal), gap -2e-4."""
+    """A diamond's corner (vertex of A) 2e-4 past B's left edge x = 2: who 0, n = (1, 0) (minus B's
+    normal), gap -2e-4.
+    """
     A = square_at((2.0002 - math.sqrt(0.5), 0.5), 1.0, math.radians(45))
     n, Q, N, gap, who, idx, pair = geo.contact_points(A, rect(2, 0, 1, 1), 1e-3)
     assert n == 1 and who[0] == 0
@@ -204,7 +226,9 @@ def test_vertex_edge_contact_of_a_penetrating():
 
 
 def test_vertex_vertex_contact():
-    """Unit squares corner to corner at (1, 1): one feature, B's vertex 0, normal the bisector (1, 1)/sqrt(2)."""
+    """Unit squares corner to corner at (1, 1): one feature, B's vertex 0, normal the bisector (1,
+    1)/sqrt(2).
+    """
     n, Q, N, gap, who, idx, pair = geo.contact_points(rect(0, 0, 1, 1), rect(1, 1, 1, 1), 1e-6)
     assert n == 1 and who[0] == 1 and idx[0] == 0
     np.testing.assert_allclose(Q[0], [1.0, 1.0])
@@ -213,8 +237,11 @@ def test_vertex_vertex_contact():
 
 
 def test_face_to_face_reports_overlap_end_points():
-    """A = [0,1]^2, B = [1.0005,2]x[0.4,1.6]: faces overlap for y in [0.4, 1]; ends B's vertex 0 and A's vertex 2."""
-    n, Q, N, gap, who, idx, pair = geo.contact_points(rect(0, 0, 1, 1), rect(1.0005, 0.4, 0.9995, 1.2), 1e-3)
+    """A = [0,1]^2, B = [1.0005,2]x[0.4,1.6]: faces overlap for y in [0.4, 1]; ends B's vertex 0 and
+    A's vertex 2.
+    """
+    B = rect(1.0005, 0.4, 0.9995, 1.2)
+    n, Q, N, gap, who, idx, pair = geo.contact_points(rect(0, 0, 1, 1), B, 1e-3)
     assert n == 2
     assert list(pair[:2]) == [0, 0]
     assert (who[0], idx[0]) == (1, 0)
@@ -231,7 +258,9 @@ def test_no_features_beyond_tolerance():
 
 
 def test_features_agree_with_signed_gap():
-    """Square squeezed into the U notch (0.02 into both walls): four face-to-face ends, gaps -0.02 = signed_gap."""
+    """Square squeezed into the U notch (0.02 into both walls): four face-to-face ends, gaps -0.02 =
+    signed_gap.
+    """
     S = rect(0.98, 1.5, 3.04, 1.0)
     g0 = geo.signed_gap(U_SHAPE, S)
     n, Q, N, gap, who, idx, pair = geo.contact_points(U_SHAPE, S, 1e-3)
@@ -245,7 +274,9 @@ def test_features_agree_with_signed_gap():
 
 
 def test_clearance_bound_is_below_gap():
-    """1000 random small motions (seed 0) of rectangle/L pairs 0.05 apart: clearance_bound <= signed_gap."""
+    """1000 random small motions (seed 0) of rectangle/L pairs 0.05 apart: clearance_bound <=
+    signed_gap.
+    """
     rng = np.random.default_rng(0)
     A = rect(0, 0, 12, 8)
     shapes = [rect(12.05, 1.0, 10, 6), L_SHAPE * 3 + [12.05, 0.0], rect(12.05, 0.0, 10, 8)]
@@ -279,14 +310,14 @@ def _random_cases(n, seed=1):
 
 
 def test_numba_and_python_agree(pure_python):
-    """signed_gap, contact_points and displaced: bit-identical compiled and in pure Python (.py_func)."""
+    """signed_gap, contact_points, displaced: bit-identical compiled and in pure Python (py_func)."""
     if COMPILED["signed_gap"] is COMPILED["signed_gap"].py_func:
         pytest.skip("numba is not compiling here (missing or NUMBA_DISABLE_JIT): a single path")
     for A, B in _random_cases(200):
         assert pure_python.signed_gap(A, B) == COMPILED["signed_gap"](A, B)
-        for a, b in zip(pure_python.contact_points(A, B, 1e-2), COMPILED["contact_points"](A, B, 1e-2)):
+        py = pure_python.contact_points(A, B, 1e-2)
+        for a, b in zip(py, COMPILED["contact_points"](A, B, 1e-2)):
             np.testing.assert_array_equal(a, b)
     A, c = rect(0, 0, 3, 2), np.array([1.5, 1.0])
-    np.testing.assert_array_equal(
-        pure_python.displaced(A, c, 0.01, 0.02, 0.003), COMPILED["displaced"](A, c, 0.01, 0.02, 0.003)
-    )
+    args = (A, c, 0.01, 0.02, 0.003)
+    np.testing.assert_array_equal(pure_python.displaced(*args), COMPILED["displaced"](*args))

@@ -207,8 +207,18 @@ def test_cli_json_has_the_documented_keys():
     assert data["check"]["ok"] is True and data["check"]["above"]["n_impacts"] == 0
 
 
-def test_cli_text_and_bad_direction():
-    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(PAPER), "--duration", "2", "--no-check", "--direction", "x"],
+def test_cli_text_history_and_bad_direction(tmp_path):
+    """The clear-distance history (--history) closes exactly to the minimum gap: min clearance = current gap - min gap."""
+    hist = tmp_path / "clearance.csv"
+    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(PAPER), "--duration", "2", "--no-check", "--direction", "x",
+                           "--history", str(hist), "--json"], capture_output=True, text=True, timeout=120)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads(proc.stdout)
+    table = np.loadtxt(hist, delimiter=",", skiprows=1)
+    assert table.shape == (401, 4) and table[1, 0] == 0.005
+    assert np.min(table[:, 1:]) == pytest.approx(data["current_gap"] - data["min_gap"], abs=1e-15)
+    assert np.argmin(np.min(table[:, 1:], axis=0)) + 1 == data["storey"]
+    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(PAPER), "--duration", "2", "--no-check"],
                           capture_output=True, text=True, timeout=120)
     assert proc.returncode == 0, proc.stderr
     assert "minimum gap" in proc.stdout and "DDC" in proc.stdout and "SRSS" in proc.stdout

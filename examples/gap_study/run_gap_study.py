@@ -38,6 +38,7 @@ def annotated_plot(rows, report, path: Path) -> Path:
     ax.set_xlabel("clear distance at rest between the facing slab edges [m]")
     ax.set_ylabel("number of impacts")
     ax.set_yscale("symlog", linthresh=1)
+    ax.set_ylim(bottom=0)
     ax.set_title("Paper pair, El Centro 1940 NS at 0.32 g")
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=8)

@@ -28,6 +28,8 @@ def add_parser(sub) -> None:
                         "Default: the normal of the facing edges (shortest segment between the slabs at rest)")
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--no-check", action="store_true", help="skip the two verification runs")
+    p.add_argument("--history", type=Path, default=None, metavar="CSV",
+                   help="also write the clear distance along the direction at every common storey over time (scene as given) to CSV")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
     p.set_defaults(func=cmd_gap)
@@ -49,6 +51,8 @@ def cmd_gap(args: argparse.Namespace) -> int:
     if overrides:
         scene = scene.with_analysis(**overrides)
     report = minimum_gap(scene, direction)
+    if args.history is not None:
+        write_history(report, args.history)
     if not args.no_check:
         verify_gap(scene, report)
     if args.json:
@@ -60,6 +64,20 @@ def cmd_gap(args: argparse.Namespace) -> int:
         print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
         return 1
     return 0
+
+
+def write_history(report, path: Path) -> Path:
+    """t and the clear distance along the direction per common storey [m] (negative: overlapping; empty: never facing)."""
+    import csv
+    import math
+
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["time"] + [f"clearance_storey_{fa}" for fa, _, _, _ in report.required])
+        for t, row in zip(report.t, report.clearance):
+            w.writerow([repr(float(t))] + [repr(float(c)) if math.isfinite(c) else "" for c in row])
+    return path
 
 
 def format_report(r) -> str:

@@ -239,7 +239,7 @@ def _segments_touch(a0, a1, b0, b1, eps) -> bool:
 
     o1, o2 = orient(a0, a1, b0), orient(a0, a1, b1)
     o3, o4 = orient(b0, b1, a0), orient(b0, b1, a1)
-    if ((o1 > 0) != (o2 > 0)) and ((o3 > 0) != (o4 > 0)) and o1 * o2 < 0 and o3 * o4 < 0:
+    if o1 * o2 < 0.0 and o3 * o4 < 0.0:
         return True  # proper crossing
     # otherwise they touch only if an end point lies on the other segment
     closest = getattr(_closest_on_segment, "py_func", _closest_on_segment)  # no compile for validation

@@ -581,7 +581,7 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
         for i, name in enumerate(names):
             lab = ", ".join(x for x in (name, label(key)) if x)
             ax.plot([r["gap"] for r in rs], [100.0 * r[f"{name}_peak_drift"] for r in rs], linestyle=styles[i % len(styles)],
-                    marker="o", color=f"C{j % 10}", label=lab)
+                    marker="o", color=f"C{(j if len(groups) > 1 else i) % 10}", label=lab)
     ax.set_xlabel("gap at rest [m]")
     ax.set_ylabel("peak inter-storey drift [%]")
     ax.set_title("Peak drift (centres of mass) against the separation gap")
