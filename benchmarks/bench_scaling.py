@@ -27,7 +27,7 @@ from common import HERE, PYTHON, log, loglog_fit, write_csv, write_json
 
 def settings(quick: bool) -> dict:
     if quick:
-        return dict(storeys=[3, 10, 30], times=[1, 2, 4], reps=3, budget=5.0, timeout=120)
+        return dict(storeys=[3, 10, 30], times=[1, 2, 4], reps=1, budget=0.0, timeout=120)
     return dict(storeys=[3, 10, 30, 60, 100], times=[1, 2, 4, 8], reps=5, budget=12.0, timeout=600)
 
 

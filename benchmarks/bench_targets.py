@@ -65,18 +65,18 @@ def cli_phases(env: dict) -> dict:
 def run(quick: bool = False) -> dict:
     out: dict = {}
     s = load("paper")
-    r, solver, wall = timed_runs(s, 11)
+    r, solver, wall = timed_runs(s, 5 if quick else 11)
     out["paper_pounding"] = dict(solver_median_s=med(solver), solver_min_s=min(solver), wall_median_s=med(wall), runs=len(solver),
                                  n_impacts=r.n_impacts, located_events=r.info.get("located_events"), steps=r.steps)
     log(f"  paper, pounding, dt=0.005: solver {med(solver) * 1e3:.1f} ms (min {min(solver) * 1e3:.1f}), run() wall {med(wall) * 1e3:.1f} ms, "
         f"{r.n_impacts} impacts")
-    r, solver, wall = timed_runs(no_pounding(s), 11)
+    r, solver, wall = timed_runs(no_pounding(s), 5 if quick else 11)
     out["paper_no_pounding"] = dict(solver_median_s=med(solver), solver_min_s=min(solver), wall_median_s=med(wall), runs=len(solver))
     log(f"  paper, contact off, dt=0.005: solver {med(solver) * 1e3:.2f} ms (min {min(solver) * 1e3:.2f})")
 
     pinned = dict(USER_ENV, OPENBLAS_NUM_THREADS="1", OMP_NUM_THREADS="1", MKL_NUM_THREADS="1")
     for label, env in (("user_env", USER_ENV), ("blas_1_thread", pinned)):
-        times = cli_time(env)
+        times = cli_time(env, reps=3 if quick else 5)
         out[f"cli_{label}"] = dict(median_s=statistics.median(times), min_s=min(times), runs=len(times),
                                    OPENBLAS_NUM_THREADS=env.get("OPENBLAS_NUM_THREADS", "(unset)"))
         log(f"  pounding run ({label}): median {statistics.median(times):.2f} s, min {min(times):.2f} s")

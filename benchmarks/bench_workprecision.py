@@ -38,10 +38,10 @@ LOCATORS = ["halving", "root"]
 
 def settings(quick: bool) -> dict:
     if quick:
-        return dict(scenes=["paper"], dts=[0.01, 0.005, 0.0025], reps=1, budget=0.0, dt_ref=0.000625, dt_ref2=0.00125,
-                    ref_duration=6.0)
+        return dict(scenes=["paper"], dts=[0.01, 0.005], reps=1, budget=0.0, dt_ref=0.00125, dt_ref2=0.0025,
+                    ref_duration=3.5, extra=[])
     return dict(scenes=["paper", "lshape"], dts=[0.02, 0.01, 0.005, 0.0025, 0.00125], reps=5, budget=2.5,
-                dt_ref=0.0003125, dt_ref2=0.000625, ref_duration=None)
+                dt_ref=0.0003125, dt_ref2=0.000625, ref_duration=None, extra=[("exact", "root", 1e-6)])
 
 
 def run(quick: bool = False) -> dict:
@@ -62,37 +62,41 @@ def run(quick: bool = False) -> dict:
             c.update(scene=name, pounding=pounding, window_end_s=tw if pounding else None, tolerance=REF_TOL)
             conv.append(c)
             base = load(name) if pounding else no_pounding(load(name))
-            for integ in INTEGRATORS:
-                for locate in (LOCATORS if pounding else [None]):
-                    for dt in cfg["dts"]:
-                        row = dict(scene=name, pounding=pounding, integrator=integ, locate=locate or "-", dt=dt)
-                        s = with_method(base, integ, dt, locate=locate)
-                        try:
-                            r, solver, wall = timed_runs(s, cfg["reps"], budget_s=cfg["budget"], min_reps=3 if cfg["reps"] >= 3 else 1)
-                        except InputError as exc:  # central differences beyond their stability limit
-                            row.update(status="unstable: " + str(exc).split(" = ")[0][:60])
-                            rows.append(row)
-                            continue
-                        D = result_corners(r, s)
-                        R = subsample(ref.corners, ref.dt, dt, len(r.t)) if dur is None else None
-                        if dur is not None:  # quick mode: the reference covers the window only
-                            nw = int(np.sum(r.t <= dur + 1e-9))
-                            R = subsample(ref.corners, ref.dt, dt, nw)
-                            e = errors(D[:nw], R, r.t[:nw], tw)
-                            e["l2_full"] = e["peak"] = float("nan")
-                        else:
-                            e = errors(D, R, r.t, tw if pounding else None)
-                        row.update(
-                            status="ok", steps=r.steps, reps=len(solver), solver_median_s=med(solver), solver_min_s=min(solver),
-                            wall_median_s=med(wall), n_impacts=r.n_impacts, located_events=r.info.get("located_events"),
-                            err_l2_window=e.get("l2_window", e["l2_full"]), err_peak=e["peak"],
-                            err_peak_window=e.get("peak_window", e["peak"]), err_l2_full=e["l2_full"],
-                            error_window_end_s=tw if pounding else r.t[-1],
-                        )
+            series = [(i, loc, None) for i in INTEGRATORS for loc in (LOCATORS if pounding else [None])]
+            if pounding:
+                series += cfg["extra"]  # a tighter contact tolerance: shows what limits the error with pounding
+            for integ, locate, tol in series:
+                for dt in cfg["dts"]:
+                    label = (locate or "-") + ("" if tol is None else f" tol={tol:g}")
+                    row = dict(scene=name, pounding=pounding, integrator=integ, locate=label, dt=dt,
+                               tolerance=tol if tol is not None else (base.analysis.contact_params.get("tolerance", 1e-4) if pounding else ""))
+                    s = with_method(base, integ, dt, locate=locate, tolerance=tol)
+                    try:
+                        r, solver, wall = timed_runs(s, cfg["reps"], budget_s=cfg["budget"], min_reps=3 if cfg["reps"] >= 3 else 1)
+                    except InputError as exc:  # central differences beyond their stability limit
+                        row.update(status="unstable: " + str(exc).split(" = ")[0][:60])
                         rows.append(row)
-                        log(f"  {name:6s} {'pound' if pounding else 'free ':5s} {integ:18s} {locate or '-':7s} dt={dt:<8g} "
-                            f"{row['solver_median_s'] * 1e3:8.1f} ms  L2w={row['err_l2_window']:.2e} peak={row['err_peak']:.2e} "
-                            f"impacts={r.n_impacts}")
+                        continue
+                    D = result_corners(r, s)
+                    R = subsample(ref.corners, ref.dt, dt, len(r.t)) if dur is None else None
+                    if dur is not None:  # quick mode: the reference covers the window only
+                        nw = int(np.sum(r.t <= dur + 1e-9))
+                        R = subsample(ref.corners, ref.dt, dt, nw)
+                        e = errors(D[:nw], R, r.t[:nw], tw)
+                        e["l2_full"] = e["peak"] = float("nan")
+                    else:
+                        e = errors(D, R, r.t, tw if pounding else None)
+                    row.update(
+                        status="ok", steps=r.steps, reps=len(solver), solver_median_s=med(solver), solver_min_s=min(solver),
+                        wall_median_s=med(wall), n_impacts=r.n_impacts, located_events=r.info.get("located_events"),
+                        err_l2_window=e.get("l2_window", e["l2_full"]), err_peak=e["peak"],
+                        err_peak_window=e.get("peak_window", e["peak"]), err_l2_full=e["l2_full"],
+                        error_window_end_s=tw if pounding else r.t[-1],
+                    )
+                    rows.append(row)
+                    log(f"  {name:6s} {'pound' if pounding else 'free ':5s} {integ:18s} {label:7s} dt={dt:<8g} "
+                        f"{row['solver_median_s'] * 1e3:8.1f} ms  L2w={row['err_l2_window']:.2e} peak={row['err_peak']:.2e} "
+                        f"impacts={r.n_impacts}")
     tag = "_quick" if quick else ""
     write_csv(f"workprecision{tag}.csv", rows)
     write_csv(f"reference_convergence{tag}.csv", conv)
@@ -115,8 +119,9 @@ def plot(rows, tag=""):
         for i, pounding in enumerate((False, True)):
             for j, (key, label) in enumerate((("err_l2_window", "relative L2 error of corner histories"), ("err_peak", "relative error of peak corner displacement"))):
                 ax = axes[i, j]
+                labels = sorted({r["locate"] for r in rows if r["pounding"] == pounding}, key=lambda x: (len(x), x))
                 for integ in INTEGRATORS:
-                    for locate in (LOCATORS if pounding else ["-"]):
+                    for locate in labels:
                         pts = [r for r in rows if r["scene"] == name and r["pounding"] == pounding and r["integrator"] == integ
                                and r["locate"] == locate and r.get("status") == "ok"]
                         if not pts:
@@ -127,7 +132,7 @@ def plot(rows, tag=""):
                             key_used = key
                         x = np.maximum([p[key_used] for p in pts], 1e-16)
                         y = [p["solver_median_s"] for p in pts]
-                        ax.loglog(x, y, marker="o", ms=4, color=colors[integ], ls="--" if locate == "root" else "-",
+                        ax.loglog(x, y, marker="o", ms=4, color=colors[integ], ls="--" if locate == "root" else ":" if "tol" in locate else "-",
                                   label=integ + ("" if locate == "-" else f" / {locate}"))
                         for p, xx, yy in zip(pts, x, y):
                             if p["dt"] in (0.02, 0.00125, 0.01) and integ == "newmark" and locate in ("-", "halving"):

@@ -166,7 +166,7 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
 
             write_vtk_series(scene, result, folder / "vtk", every=vtk_every, scale=scale)
 
-    write_results(result, out, scene_path.read_text(), extra=extra)
+    write_results(result, out, scene_path.read_text(), extra=extra, scene_path=scene_path)
     return scene, result
 
 
@@ -264,7 +264,7 @@ def cmd_demo(args) -> int:
     for label, path in (("gap_0.5", far), ("gap_0.03", near)):
         scene = load_scene(path)
         results[label] = (scene, run(scene))
-        write_results(results[label][1], out / label, path.read_text())
+        write_results(results[label][1], out / label, path.read_text(), scene_path=path)
         print(f"== {scene_title(path)}")
         print(human_summary(results[label][1], out / label))
     print("impacts per storey and corner at gap 0.03 m:")

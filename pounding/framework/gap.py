@@ -498,7 +498,7 @@ def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapChec
     for f in factors:
         g = float(f) * report.min_gap
         shifted = scene.with_building_shifted(report.buildings[1], (g - report.current_gap) * report.direction)
-        counts.append(run(shifted.with_analysis(output_every=max(1, scene.analysis.output_every))).n_impacts)
+        counts.append(run(shifted).n_impacts)
         gaps.append(g)
     check = GapCheck(tuple(float(f) for f in factors), tuple(gaps), tuple(counts), float(getattr(law, "tolerance", 0.0)))
     report.check = check

@@ -456,6 +456,11 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     scheduler : address of an existing dask.distributed scheduler (``tcp://host:port``)
     serial : run in this process, without Dask
     progress : callable(done, total, row), optional
+
+    Notes
+    -----
+    The local cluster starts worker processes with ``spawn``: a script that
+    calls this must do so under ``if __name__ == "__main__":``.
     """
     out = Path(out)
     spec, cases, texts = prepare(scene_path, gaps=gaps, pga_scales=pga_scales, records=records, restitutions=restitutions,

@@ -13,6 +13,9 @@ previous results or nothing, never a half-written folder.
   building periods and peak |u|, |v|, |phi| per storey, n_impacts, impacts per
   storey, energy terms and balance.
 * ``impacts.csv``: one row per impact (header only while there is none).
+* ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
+  the full :class:`Result` (modal histories, impact log, states at impact
+  instants) for ``pounding plot`` and ``pounding render``.
 """
 
 from __future__ import annotations
@@ -97,7 +100,7 @@ def impact_rows(result: Result) -> list[list]:
 
 
 def write_files(result: Result, folder: Path, scene_text: str | None = None) -> None:
-    """Write the three result files (and a copy of the scene) into an existing folder."""
+    """Write the result files (and a copy of the scene) into an existing folder."""
     arrays = {"t": result.t}
     for name in result.names:
         arrays[f"{name}_cm"] = result.cm(name)
@@ -108,12 +111,73 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
         w = csv.writer(fh)
         w.writerow(IMPACT_COLUMNS)
         w.writerows(impact_rows(result))
+    imp = result.impacts
+    np.savez_compressed(
+        folder / "modal.npz",
+        t=result.t, q=result.q, qd=result.qd, mode_start=result.mode_start,
+        pairs=np.array([p[:4] for p in result.pairs], dtype=np.int64).reshape(-1, 4),
+        pair_rest_gap=np.array([p[4] for p in result.pairs], dtype=float),
+        event_t=result.event_t, event_q=result.event_q, event_qd=result.event_qd,
+        impact_time=np.array([i.time for i in imp]), impact_pair=np.array([i.pair for i in imp], dtype=np.int64),
+        impact_striker=np.array([i.striker for i in imp], dtype=np.int64), impact_vertex=np.array([i.vertex for i in imp], dtype=np.int64),
+        impact_impulse=np.array([i.impulse for i in imp]), impact_normal=np.array([i.normal for i in imp]).reshape(-1, 2),
+        impact_b=np.array([i.approach_velocity for i in imp]), impact_loss=np.array([i.energy_loss for i in imp]),
+        impact_point=np.array([i.point for i in imp]).reshape(-1, 2),
+    )
     if scene_text is not None:
         (folder / "scene.toml").write_text(scene_text)
 
 
-def write_results(result: Result, out: str | Path, scene_text: str | None = None, extra=None) -> Path:
+def load_result(folder: str | Path):
+    """Rebuild (scene, Result) from a run folder written by ``pounding run``.
+
+    Raises
+    ------
+    InputError
+        If the folder lacks scene.toml, modal.npz or summary.json.
+    """
+    import tomllib
+
+    from pounding.errors import InputError
+    from pounding.framework.assembly import assemble
+    from pounding.framework.results import Impact
+    from pounding.io.scene import parse_scene
+
+    folder = Path(folder)
+    for name in ("scene.toml", "modal.npz", "summary.json"):
+        if not (folder / name).is_file():
+            raise InputError(f"not a run folder: {name} is missing (write one with `pounding run SCENE --out DIR`)", file=str(folder))
+    summ = json.loads((folder / "summary.json").read_text())
+    source = Path(summ.get("scene_path") or folder / "scene.toml")
+    try:
+        scene = parse_scene(tomllib.loads((folder / "scene.toml").read_text()), source=source)
+    except InputError as exc:
+        raise InputError(exc.message, file=str(folder / "scene.toml"), field=exc.field) from None
+    data = np.load(folder / "modal.npz")
+    impacts = [
+        Impact(float(t), int(p), int(s), int(v), float(i), n.copy(), float(b), float(l), pt.copy())
+        for t, p, s, v, i, n, b, l, pt in zip(
+            data["impact_time"], data["impact_pair"], data["impact_striker"], data["impact_vertex"], data["impact_impulse"],
+            data["impact_normal"], data["impact_b"], data["impact_loss"], data["impact_point"],
+        )
+    ]
+    pairs = [(int(a), int(fa), int(b), int(fb), float(g)) for (a, fa, b, fb), g in zip(data["pairs"], data["pair_rest_gap"])]
+    energy = {name: b["energy"] for name, b in summ["buildings"].items()}
+    result = Result(
+        t=data["t"], names=[b.name for b in scene.buildings], q=data["q"], qd=data["qd"],
+        systems=[assemble(b) for b in scene.buildings], mode_start=data["mode_start"], pairs=pairs, impacts=impacts,
+        energy=energy, runtime_s=summ["runtime_s"], dt=summ["dt"], steps=summ["steps"], integrator=summ["integrator"],
+        contact=summ["contact"], ground_motion=summ["ground_motion"],
+        energy_tolerance=summ["energy_balance"].get("tolerance", 0.02),
+        event_t=data["event_t"], event_q=data["event_q"], event_qd=data["event_qd"],
+    )
+    return scene, result
+
+
+def write_results(result: Result, out: str | Path, scene_text: str | None = None, extra=None, scene_path=None) -> Path:
     """Write all result files into ``out`` atomically; ``extra(folder)`` may add more (VTK, plots)."""
+    if scene_path is not None:
+        result.info["scene_path"] = str(Path(scene_path).resolve())
     with atomic_dir(out) as tmp:
         write_files(result, tmp, scene_text)
         if extra is not None:

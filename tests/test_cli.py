@@ -1,0 +1,90 @@
+"""The command line: every command has --help, runs stay light, pictures work from a run folder."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "examples" / "paper"
+HEAVY = ("vtk", "pyvista", "matplotlib")
+
+
+def pounding(*args, check=True):
+    proc = subprocess.run([sys.executable, "-m", "pounding", *map(str, args)], capture_output=True, text=True)
+    if check:
+        assert proc.returncode == 0, proc.stderr
+    return proc
+
+
+@pytest.mark.parametrize("command", ["info", "run", "demo", "plot", "render", "gap", "sweep"])
+def test_every_command_explains_its_options(command):
+    proc = pounding(command, "--help")
+    assert "usage: pounding " + command in proc.stdout
+    assert "--help" in proc.stdout
+
+
+def test_version():
+    assert pounding("--version").stdout.startswith("pounding ")
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["info", str(PAPER / "pair_gap_0.03.toml")],
+        ["run", str(PAPER / "pair_gap_0.03.toml"), "--duration", "2", "--quiet", "--out", "{tmp}/o"],
+    ],
+    ids=["info", "run"],
+)
+def test_info_and_run_import_no_drawing_library(argv, tmp_path):
+    """Start-up stays light: without --vtk neither vtk, pyvista nor matplotlib is imported."""
+    argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
+    code = (
+        "import sys; from pounding.cli import main; rc = main(%r); "
+        "heavy = [m for m in sys.modules if m.split('.')[0] in %r]; print('HEAVY', heavy); sys.exit(rc)" % (argv, HEAVY)
+    )
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    assert "HEAVY []" in proc.stdout
+
+
+@pytest.fixture(scope="module")
+def run_dirs(tmp_path_factory):
+    base = tmp_path_factory.mktemp("cli")
+    pounding("run", PAPER / "pair_gap_0.03.toml", "--out", base / "near", "--duration", "4", "--quiet")
+    pounding("run", PAPER / "pair_gap_0.5.toml", "--out", base / "far", "--duration", "4", "--quiet")
+    return base
+
+
+def test_run_prints_a_human_summary(tmp_path):
+    out = pounding("run", PAPER / "pair_gap_0.03.toml", "--out", tmp_path / "o", "--duration", "3").stdout
+    assert "impacts:" in out and "storey 3" in out and "peak |u|" in out and str(tmp_path / "o") in out
+
+
+def test_load_result_rebuilds_the_run(run_dirs):
+    """A run folder holds everything to rebuild the Result: same physical histories and impacts."""
+    import numpy as np
+
+    from pounding.io.results import load_result
+
+    scene, result = load_result(run_dirs / "near")
+    data = np.load(run_dirs / "near" / "response.npz")
+    assert np.allclose(result.cm("low"), data["low_cm"], rtol=0, atol=1e-15)
+    summary = json.loads((run_dirs / "near" / "summary.json").read_text())
+    assert result.n_impacts == summary["n_impacts"] > 0
+
+
+def test_plot_writes_pngs_from_a_run_folder(run_dirs):
+    out = pounding("plot", run_dirs / "near", "--reference", run_dirs / "far").stdout.split()
+    assert len(out) >= 4
+    for p in out:
+        assert Path(p).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_plot_of_a_folder_that_is_not_a_run_is_a_clear_error(tmp_path):
+    proc = pounding("plot", tmp_path, check=False)
+    assert proc.returncode == 2 and "not a run folder" in proc.stderr and "Traceback" not in proc.stderr
