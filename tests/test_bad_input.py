@@ -170,6 +170,16 @@ def test_cli_reports_bad_input_in_one_line_with_exit_code_2_and_no_output(tmp_pa
     assert [p.name for p in tmp_path.iterdir()] == ["scene.toml"]
 
 
+def test_coincident_buildings_are_rejected(tmp_path):
+    """Two identical buildings at the same place: their slabs have zero clear distance yet lie on top of each other."""
+    first = BASE[: BASE.index("[[building]]\nname = \"B\"")]
+    a_block = first[first.index("[[building]]"):]
+    path = tmp_path / "scene.toml"
+    path.write_text(first + a_block.replace('name = "A"', 'name = "A2"'))
+    with pytest.raises(InputError, match="on top of each other"):
+        load_scene(path)
+
+
 def test_base_scene_toml_is_what_the_cases_edit():
     """Guard: the base text parses as TOML (a broken base would make every case pass for the wrong reason)."""
     tomllib.loads(BASE)

@@ -254,6 +254,13 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
                 for fb, sb in enumerate(b.slabs):
                     if abs(sa.elevation - sb.elevation) < LENGTH_TOL:
                         g = signed_gap(sa.vertices, sb.vertices)
+                        # a slab lying over another (even coincident) has its centroid inside the other
+                        nested = distance_to_polygon(sb.vertices, sa.vertices.mean(axis=0)) == 0.0 or distance_to_polygon(sa.vertices, sb.vertices.mean(axis=0)) == 0.0
+                        if nested and g >= -LENGTH_TOL:
+                            raise InputError(
+                                f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} lie on top of each other at rest",
+                                field=_path(["building", j, "slab"]),
+                            )
                         if g < -LENGTH_TOL:
                             raise InputError(
                                 f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} overlap by {-g:.4g} m at rest",
