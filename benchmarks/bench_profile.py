@@ -55,7 +55,7 @@ def profile(scene, runs: int, name: str, top: int = 30) -> dict:
 
 
 def run(quick: bool = False) -> dict:
-    out = {"paper_pounding": profile(load("paper"), 5 if not quick else 3, "paper_pounding")}
+    out = {"paper_pounding": profile(load("paper"), 5 if not quick else 3, "paper_pounding" + ("_quick" if quick else ""))}
     if not quick:
         out["uniform_60_pounding"] = profile(uniform_pair(60), 1, "uniform_60_pounding")
     return out

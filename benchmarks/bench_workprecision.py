@@ -137,14 +137,21 @@ def plot(rows, tag=""):
                         for p, xx, yy in zip(pts, x, y):
                             if p["dt"] in (0.02, 0.00125, 0.01) and integ == "newmark" and locate in ("-", "halving"):
                                 ax.annotate(f"dt={p['dt']:g}", (xx, yy), fontsize=7, xytext=(3, 3), textcoords="offset points")
-                win = "" if not pounding else f", t <= first impact + {WINDOW_AFTER_FIRST_IMPACT:g} s" if key == "err_l2_window" else ", whole record"
-                ax.set_xlabel(label + (win if pounding else ", whole record"))
+                window = f", t <= first impact + {WINDOW_AFTER_FIRST_IMPACT:g} s"
+                if pounding:
+                    whole = all(np.isfinite(r[key]) for r in rows if r["pounding"] and r.get("status") == "ok")
+                    win = window if key == "err_l2_window" or not whole else ", whole record"
+                else:
+                    win = ", whole record"
+                ax.set_xlabel(label + win)
                 ax.set_ylabel("solver time [s] (median of warm runs)")
                 ax.set_title(("with pounding" if pounding else "no pounding") + f" - {SCENE_TITLES[name]}", fontsize=10)
                 ax.grid(True, which="both", alpha=0.3)
                 if j == 0:
                     ax.legend(fontsize=7, ncol=2)
-        fig.suptitle("Work-precision: El Centro 1940 NS, 0.32 g, dt = 0.02 ... 0.00125 s (points), reference: exact + root, tol 1e-8 m")
+        dts = sorted({r["dt"] for r in rows}, reverse=True)
+        fig.suptitle(f"Work-precision: El Centro 1940 NS, 0.32 g, dt = {', '.join(f'{d:g}' for d in dts)} s (points), "
+                     "reference: exact + root, tol 1e-8 m")
         fig.tight_layout()
         path = RESULTS / f"workprecision_{name}{tag}.png"
         fig.savefig(path, dpi=110)

@@ -88,3 +88,23 @@ def test_plot_writes_pngs_from_a_run_folder(run_dirs):
 def test_plot_of_a_folder_that_is_not_a_run_is_a_clear_error(tmp_path):
     proc = pounding("plot", tmp_path, check=False)
     assert proc.returncode == 2 and "not a run folder" in proc.stderr and "Traceback" not in proc.stderr
+
+
+def test_run_with_vtk_writes_a_paraview_series(tmp_path):
+    """`pounding run --vtk --vtk-every 40` over 3 s at dt 0.005: the .pvd lists every 40th step
+    (t = 0, 0.2, ..., 3.0: 16 frames) plus one frame at each distinct impact instant, every file present."""
+    import csv
+    import xml.etree.ElementTree as ET
+
+    out = tmp_path / "o"
+    pounding("run", PAPER / "pair_gap_0.03.toml", "--out", out, "--duration", "3", "--vtk", "--vtk-every", "40", "--quiet")
+    pvd = out / "vtk" / "pounding.pvd"
+    sets = list(ET.parse(pvd).getroot().iter("DataSet"))
+    times = sorted(float(d.get("timestep")) for d in sets)
+    impact_times = {float(r["time"]) for r in csv.DictReader(open(out / "impacts.csv"))}
+    grid = {round(0.2 * k, 12) for k in range(16)}
+    assert impact_times, "the scene pounds within 3 s"
+    assert len(times) == len(grid | impact_times)
+    assert all(any(abs(t - g) < 1e-12 for t in times) for g in grid)
+    assert all(any(abs(t - i) < 1e-12 for t in times) for i in impact_times)
+    assert all((pvd.parent / d.get("file")).is_file() for d in sets)

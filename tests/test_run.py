@@ -119,3 +119,27 @@ def test_existing_output_survives_a_failed_run(tmp_path):
         write_results(result, out, extra=boom)
     assert [p.name for p in tmp_path.iterdir()] == ["res"]
     assert (out / "keep.txt").read_text() == "old"
+
+
+def test_ctrl_c_leaves_no_half_written_folder(tmp_path):
+    """SIGINT while the results are being written: exit code 130, no output folder, no temporary folder."""
+    import os
+    import signal
+    import time
+
+    out = tmp_path / "res"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "pounding", "run", str(PAPER / "pair_gap_0.03.toml"), "--out", str(out), "--vtk", "--quiet"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+    )
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if any(p.name.startswith(".res.tmp-") for p in tmp_path.iterdir()):
+            break  # the writer has started: interrupt it mid-way
+        time.sleep(0.01)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130, err
+    assert "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []

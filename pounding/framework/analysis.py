@@ -289,6 +289,7 @@ class Driver:
         return advance(
             tr.A, tr.B, m.L, m.c2, self.dt, self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, GA, GB, gc, gw,
             m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, self.tol,
+            0.0 if self.law.kind == "force" else -self.tol,
         )
 
     def _record(self, k: int) -> None:

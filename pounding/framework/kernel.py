@@ -37,7 +37,7 @@ def _slab_dofs(rows, q, out):
 def advance(
     A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
     bidx, pair_a, pair_b, rows, off, n_modes,
-    verts, nvert, centres, radii, rest_gap, tol,
+    verts, nvert, centres, radii, rest_gap, tol, overlap,
 ):
     """Advance z from step k0 towards k1 (exclusive of events).
 
@@ -77,6 +77,11 @@ def advance(
         the first mode index of each building in ``n_modes[:, 0]`` and the
         count in ``n_modes[:, 1]``, ``verts`` (S, kmax, 2) rest polygons,
         ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,), ``rest_gap`` (P,).
+    tol : float
+        Contact tolerance [m]: a step ending with a gap <= tol is reported.
+    overlap : float
+        Gap [m] below which a step is rejected: -tol for impulse laws (touching within
+        the tolerance is contact), 0 for force laws (any penetration needs the force).
 
     Returns
     -------
@@ -112,7 +117,7 @@ def advance(
             if bound > tol:
                 continue
             g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
-            if g < -tol:
+            if g < overlap:
                 for i in range(n):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]

@@ -509,8 +509,9 @@ def _run_dask(spec, cases, texts, done, *, workers=None, scheduler=None) -> int:
             raise InputError(f"cannot reach the scheduler {scheduler!r}: {exc}", field="--scheduler") from None
     else:
         n = workers or os.cpu_count() or 1
+        # no dashboard; the scheduler's HTTP server (metrics) on a free port, not on a possibly taken 8787
         cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               silence_logs=logging.CRITICAL)
+                               scheduler_kwargs={"dashboard_address": ":0"}, silence_logs=logging.CRITICAL)
         client = Client(cluster)
     try:
         n_workers = len(client.nthreads())
