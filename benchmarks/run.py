@@ -59,15 +59,22 @@ def main(argv=None) -> int:
                f"{' + uncommitted changes in ' + str(len(info['git_dirty_files'])) + ' files' if info['git_dirty_files'] else ''}")
     t_all = time.perf_counter()
     common.warm_up()
-    outputs, timings = {}, {}
+    outputs, timings, failed = {}, {}, []
     for name in only:
         common.log(f"\n== {name}")
         t0 = time.perf_counter()
         mod = __import__(f"bench_{name}")
-        outputs[name] = mod.run(quick=args.quick)
+        try:
+            outputs[name] = mod.run(quick=args.quick)
+        except Exception:  # one failing benchmark must not lose the others
+            import traceback
+
+            traceback.print_exc()
+            failed.append(name)
         timings[name] = time.perf_counter() - t0
         common.log(f"   ({timings[name]:.0f} s)")
     info["benchmark_seconds"] = timings
+    info["failed"] = failed
     info["load_average_at_end"] = [round(x, 2) for x in os.getloadavg()]
     info["total_seconds"] = time.perf_counter() - t_all
     tag = "_quick" if args.quick else ""
@@ -80,8 +87,8 @@ def main(argv=None) -> int:
     common.log("\n" + table)
     if not args.quick and not args.no_readme:
         update_readme(here / "README.md", table, info)
-    common.log(f"\ntotal {time.perf_counter() - t_all:.0f} s")
-    return 0
+    common.log(f"\ntotal {time.perf_counter() - t_all:.0f} s" + (f"; FAILED: {', '.join(failed)}" if failed else ""))
+    return 1 if failed else 0
 
 
 def update_readme(path: Path, table: str, info: dict) -> None:

@@ -202,18 +202,24 @@ def _add_run(sub):
     p.set_defaults(func=cmd_run)
 
 
+def time_overrides(args) -> dict:
+    """The --dt / --duration options of a command as Analysis overrides (checked positive)."""
+    overrides = {}
+    for key in ("dt", "duration"):
+        val = getattr(args, key, None)
+        if val is not None:
+            if not val > 0:
+                raise InputError(f"expected a positive number, got {val}", field=f"--{key}")
+            overrides[key] = val
+    return overrides
+
+
 def cmd_run(args) -> int:
     if args.vtk_every < 1:
         raise InputError(f"expected a positive integer, got {args.vtk_every}", field="--vtk-every")
     if args.scale <= 0:
         raise InputError(f"expected a positive scale, got {args.scale}", field="--scale")
-    overrides = {}
-    for key in ("dt", "duration"):
-        val = getattr(args, key)
-        if val is not None:
-            if not val > 0:
-                raise InputError(f"expected a positive number, got {val}", field=f"--{key}")
-            overrides[key] = val
+    overrides = time_overrides(args)
     if args.integrator:
         from pounding.framework.registry import INTEGRATORS
 

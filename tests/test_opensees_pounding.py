@@ -64,7 +64,7 @@ tests the law and the driver's implicit solve apart from that hand-over; the
 tolerance test ties the default back to it.
 
 Runtime: OpenSees 5000 Newton steps (2.01 iterations a step on average),
-~25 s on a loaded 2-core machine; each pounding run < 0.5 s.
+15-25 s on a shared 2-core machine (the whole file: 17-32 s); each pounding run < 0.5 s.
 """
 
 from __future__ import annotations

@@ -41,13 +41,9 @@ def cmd_gap(args: argparse.Namespace) -> int:
 
     direction = direction_vector(args.direction)
     scene = load_scene(args.scene)
-    overrides = {}
-    for key in ("dt", "duration"):
-        val = getattr(args, key)
-        if val is not None:
-            if not val > 0:
-                raise InputError(f"expected a positive number, got {val}", field=f"--{key}")
-            overrides[key] = val
+    from pounding.cli import time_overrides
+
+    overrides = time_overrides(args)
     if overrides:
         scene = scene.with_analysis(**overrides)
     report = minimum_gap(scene, direction)
