@@ -9,14 +9,20 @@ The public Python API is small:
 Heavy modules (vtk, pyvista, matplotlib) are never imported from here.
 """
 
-from importlib.metadata import PackageNotFoundError, version as _version
-
-try:
-    __version__ = _version("pounding")
-except PackageNotFoundError:  # running from a source tree that is not installed
-    __version__ = "0.0.0+src"
-
 from pounding.errors import InputError
+
+
+def __getattr__(name):
+    # The version is read from the installed metadata only when asked (--version): reading it
+    # costs tens of milliseconds that every other command would pay at start-up.
+    if name == "__version__":
+        from importlib.metadata import PackageNotFoundError, version
+
+        try:
+            return version("pounding")
+        except PackageNotFoundError:  # running from a source tree that is not installed
+            return "0.0.0+src"
+    raise AttributeError(name)
 
 __all__ = ["InputError", "__version__", "load_scene", "assemble", "run"]
 

@@ -56,13 +56,11 @@ def format_info(name: str, s: dict) -> str:
 
 # --------------------------------------------------------------------------- parser
 def build_parser() -> argparse.ArgumentParser:
-    from pounding import __version__
-
     p = argparse.ArgumentParser(
         prog="pounding",
         description="Earthquake response of two adjacent non-symmetric buildings and the pounding between their slabs.",
     )
-    p.add_argument("--version", action="version", version=f"pounding {__version__}")
+    p.add_argument("--version", action=_Version, nargs=0, help="show the version and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
 
     info = sub.add_parser("info", help="modal summary of every building in a scene", description="Print per building: storey masses, centres of mass and rigidity, eccentricities, periods, damping ratios and modal participation.")
@@ -86,6 +84,16 @@ def build_parser() -> argparse.ArgumentParser:
             continue  # a command module not written yet
         module.add_parser(sub)
     return p
+
+
+class _Version(argparse.Action):
+    """--version that reads the installed version only when asked."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        import pounding
+
+        print(f"pounding {pounding.__version__}")
+        parser.exit()
 
 
 _EXTRA_COMMANDS: list = []

@@ -380,6 +380,7 @@ class InstrumentedDriver(Driver):
         self.trials = 0
         self.step_log: list[tuple[int, int, int, int]] = []  # (k, located events, trials, impacts)
         self.impulse_log: list[dict] = []
+        self.ever_sustained: set[int] = set()  # pairs ever held in sustained contact
 
     def trial(self, z, t, h):
         self.trials += 1
@@ -388,11 +389,13 @@ class InstrumentedDriver(Driver):
     def python_step(self, k):
         n0, t0, i0 = self.n_located, self.trials, len(self.impacts)
         super().python_step(k)
+        self.ever_sustained |= self.sustained
         self.step_log.append((k, self.n_located - n0, self.trials - t0, len(self.impacts) - i0))
 
     def contact_at(self, t, pairs=None):
         q, v0, n0 = self.z[:, 0].copy(), self.z[:, 1].copy(), len(self.impacts)
         acted = super().contact_at(t, pairs)
+        self.ever_sustained |= self.sustained
         if acted:
             self.impulse_log.append({"t": t, "q": q, "before": v0, "after": self.z[:, 1].copy(), "impacts": self.impacts[n0:]})
         return acted
