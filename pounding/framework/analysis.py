@@ -116,9 +116,25 @@ class Model:
         d = self.slab_dofs(q, building, storey)
         return geo.displaced(self.verts[s, : self.nvert[s]], self.centres[s], d[0], d[1], d[2])
 
-    def pair_gap(self, q: np.ndarray, p: int) -> float:
-        a, fa, b, fb, _ = self.pairs[p]
-        return float(geo.signed_gap(self.polygon(q, a, fa), self.polygon(q, b, fb)))
+    def pair_gap(self, q: np.ndarray, p: int, cutoff: float | None = None) -> float:
+        """Signed gap [m] of pair p for modal displacements q.
+
+        With ``cutoff``, a cheap lower bound (rest gap minus the largest displacement of
+        any point of either slab) is returned instead whenever it already exceeds the
+        cutoff: callers that only compare the gap with thresholds <= cutoff get the same
+        answers without the polygon test.
+        """
+        a, fa, b, fb, rest = self.pairs[p]
+        da, db = self.slab_dofs(q, a, fa), self.slab_dofs(q, b, fb)
+        if cutoff is not None:
+            ra, rb = self.radii[self.slab_index(a, fa)], self.radii[self.slab_index(b, fb)]
+            bound = rest - (np.hypot(da[0], da[1]) + abs(da[2]) * ra) - (np.hypot(db[0], db[1]) + abs(db[2]) * rb)
+            if bound > cutoff:
+                return float(bound)
+        sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
+        A = geo.displaced(self.verts[sa, : self.nvert[sa]], self.centres[sa], da[0], da[1], da[2])
+        B = geo.displaced(self.verts[sb, : self.nvert[sb]], self.centres[sb], db[0], db[1], db[2])
+        return float(geo.signed_gap(A, B))
 
     def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.
@@ -225,9 +241,10 @@ class Driver:
             np.add.at(self.E[:, 1], self.model.bidx, h * wj * self.model.c2 * v * v)
             np.add.at(self.E[:, 2], self.model.bidx, h * wj * v * f)
 
-    def gaps(self, q: np.ndarray, pairs=None) -> np.ndarray:
+    def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
+        """Signed gaps of the pairs [m] (lower bounds where they exceed ``cutoff``)."""
         pairs = range(len(self.model.pairs)) if pairs is None else pairs
-        return np.array([self.model.pair_gap(q, p) for p in pairs])
+        return np.array([self.model.pair_gap(q, p, cutoff) for p in pairs])
 
     # ---------------------------------------------------------------- the run
     def run(self) -> Result:
@@ -266,7 +283,7 @@ class Driver:
         if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
             return True
         if self.python_step_until_clear:
-            if self.model.pairs and np.all(self.gaps(self.z[:, 0]) > self.tol):
+            if self.model.pairs and np.all(self.gaps(self.z[:, 0], cutoff=self.tol) > self.tol):
                 self.python_step_until_clear = False
                 return False
             return True
@@ -275,22 +292,29 @@ class Driver:
     def advance(self, k0: int, k1: int):
         from pounding.framework.kernel import advance
 
-        m = self.model
-        tr = self.cache(self.dt)
-        trs, gc, gw = self.quadrature(self.dt)
-        n = m.n
-        GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
-        GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
-        pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
-        pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
-        rest = np.array([g for *_, g in m.pairs], dtype=float)
-        if self.law.kind == "none":
-            pa, pb, rest = pa[:0], pb[:0], rest[:0]
-        return advance(
-            tr.A, tr.B, m.L, m.c2, self.dt, self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, GA, GB, gc, gw,
-            m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, self.tol,
-            0.0 if self.law.kind == "force" else -self.tol,
-        )
+        args = self._kernel_args()
+        return advance(args[0], args[1], args[2], args[3], args[4], self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, *args[5:])
+
+    def _kernel_args(self):
+        """The kernel's read-only arguments, built once per run."""
+        if getattr(self, "_kargs", None) is None:
+            m = self.model
+            tr = self.cache(self.dt)
+            trs, gc, gw = self.quadrature(self.dt)
+            n = m.n
+            GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
+            GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+            pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
+            pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
+            rest = np.array([g for *_, g in m.pairs], dtype=float)
+            if self.law.kind == "none":
+                pa, pb, rest = pa[:0], pb[:0], rest[:0]
+            overlap = 0.0 if self.law.kind == "force" else -self.tol
+            self._kargs = (
+                tr.A, tr.B, m.L, m.c2, self.dt, GA, GB, gc, gw,
+                m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, self.tol, overlap,
+            )
+        return self._kargs
 
     def _record(self, k: int) -> None:
         if k % self.every == 0:
@@ -355,7 +379,7 @@ class Driver:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
         if self.law.kind != "impulse":
             return []
-        return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p) < -self.tol]
+        return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p, cutoff=self.tol) < -self.tol]
 
     def trial(self, z, t, h):
         """A step with implicit contact forces for the force-held pairs; returns (z1, f1)."""
@@ -365,8 +389,9 @@ class Driver:
             return zf, np.zeros(self.model.n), zf
         feats = []
         for p in held:
-            if self.model.pair_gap(zf[:, 0], p) < self.tol:
-                feats += [f for f in self.model.features(zf[:, 0], p, max(self.tol, -self.model.pair_gap(zf[:, 0], p) + self.tol)) if f.gap < 0]
+            g = self.model.pair_gap(zf[:, 0], p, cutoff=self.tol)
+            if g < self.tol:
+                feats += [f for f in self.model.features(zf[:, 0], p, max(self.tol, -g + self.tol)) if f.gap < 0]
         if not feats:
             return zf, np.zeros(self.model.n), zf
         Wr = np.stack([f.w for f in feats])  # (m, n)
@@ -398,7 +423,7 @@ class Driver:
             return
         q = self.z[:, 0]
         for p in list(self.sustained):
-            if self.model.pair_gap(q, p) > self.tol and not self.held:
+            if self.model.pair_gap(q, p, cutoff=self.tol) > self.tol and not self.held:
                 self.sustained.discard(p)
 
     # ---------------------------------------------------------------- impact location
@@ -439,7 +464,7 @@ class Driver:
         q, acted = self.z[:, 0], False
         candidates = range(len(self.model.pairs)) if pairs is None else pairs
         for p in candidates:
-            if p in self.sustained or self.model.pair_gap(q, p) > self.tol:
+            if p in self.sustained or self.model.pair_gap(q, p, cutoff=self.tol) > self.tol:
                 continue
             feats = self.model.features(q, p, self.tol)
             if not feats:
