@@ -295,8 +295,9 @@ def scenes(draw, max_steps=1500, storeys=None, contact=None, integrator=None):
     """A random valid scene of two adjacent buildings (see the module docstring)."""
     PA, cA = draw(star_polygons())
     PB, cB = draw(star_polygons())
-    n_a = draw(storeys or storey_counts())
-    n_b = draw(st.one_of(st.just(n_a), storeys or storey_counts()))
+    storeys = storey_counts() if storeys is None else storeys
+    n_a = draw(storeys)
+    n_b = draw(st.one_of(st.just(n_a), storeys))
     h = draw(st.sampled_from([3.0, 3.2, 3.5]))
     heights_a = [h] * n_a
     # mostly common storey heights (a pair at every common level); sometimes a different first storey
@@ -317,10 +318,10 @@ def scenes(draw, max_steps=1500, storeys=None, contact=None, integrator=None):
         "building": [A, B],
         "ground_motion": {"record": "elcentro", "pga": draw(st.floats(0.05, 1.0)), "angle": draw(st.floats(0.0, 360.0))},
         "analysis": {
-            "integrator": draw(integrator or integrators()),
+            "integrator": draw(integrators() if integrator is None else integrator),
             "dt": dt,
             "duration": duration,
-            "contact": draw(contact or contacts()),
+            "contact": draw(contacts() if contact is None else contact),
             "restitution": draw(RESTITUTIONS),
             "output_every": 1,
         },

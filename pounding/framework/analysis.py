@@ -265,10 +265,11 @@ class Driver:
             k_new, status, _ = self.advance(k, k_end)
             if status == 0:  # DONE
                 k = k_new
-            elif status == 1:  # CONTACT at the end of step k_new - 1
+            elif status == 1:  # CONTACT at the end of step k_new - 1 (a closing pair within the tolerance)
                 self.contact_at(self.t_grid[k_new])
                 k = k_new
-                self.python_step_until_clear = True
+                if self.law.kind == "force":
+                    self.python_step_until_clear = True
             else:  # OVERLAP in step k_new -> k_new + 1: the state is its start
                 self.python_step(k_new)
                 k = k_new + 1

@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.geometry import displaced, njit, signed_gap
+from pounding.contact.geometry import contact_points, displaced, njit, signed_gap
 
 DONE, CONTACT, OVERLAP = 0, 1, 2
 
@@ -83,6 +83,10 @@ def advance(
         Gap [m] below which a step is rejected: -tol for impulse laws (touching within
         the tolerance is contact), 0 for force laws (any penetration needs the force).
 
+    A step ending with a pair within the tolerance stops the kernel only if a touching
+    point approaches (the velocity condition, eq. 7 of the paper): the same decision
+    the driver's contact step takes, so a pair separating after an impact runs on.
+
     Returns
     -------
     (k, status, pair) : the grid index reached, DONE/CONTACT/OVERLAP, the pair index (or -1).
@@ -123,7 +127,9 @@ def advance(
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
                 return k, OVERLAP, p
-            if g <= tol and status == DONE:
+            if g <= tol and status == DONE and _approaching(
+                rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol
+            ):
                 # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
                 hit = p
@@ -152,6 +158,27 @@ def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, bidx):
                 vj = GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2] + GB[j, i, 1, 0] * L[i] * p0s + GB[j, i, 1, 1] * pj
                 E[bidx[i], 0] += dt * gw[j] * vj * pj
                 E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
+
+
+@njit
+def _approaching(rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol):
+    """Whether any touching point of the pair closes: n . (v_Q(a) - v_Q(b)) > 0, n from a to b."""
+    va = np.empty(3)
+    vb = np.empty(3)
+    _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 1], va)
+    _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 1], vb)
+    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
+    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    count, Q, N, gap, who, idx, pair = contact_points(A, B, tol)
+    cax, cay = centres[sa, 0] + da[0], centres[sa, 1] + da[1]
+    cbx, cby = centres[sb, 0] + db[0], centres[sb, 1] + db[1]
+    for j in range(count):
+        qx, qy = Q[j, 0], Q[j, 1]
+        vax, vay = va[0] - va[2] * (qy - cay), va[1] + va[2] * (qx - cax)
+        vbx, vby = vb[0] - vb[2] * (qy - cby), vb[1] + vb[2] * (qx - cbx)
+        if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > 0.0:
+            return True
+    return False
 
 
 @njit
