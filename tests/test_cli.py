@@ -85,6 +85,14 @@ def test_plot_writes_pngs_from_a_run_folder(run_dirs):
         assert Path(p).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_plot_takes_chosen_points(run_dirs, tmp_path):
+    """--point BUILDING:STOREY:VERTEX[:x|y] chooses the histories; a bad point is a clear error."""
+    out = pounding("plot", run_dirs / "near", "--point", "high:5:2:y", "--point", "low:1:0", "--out", tmp_path / "p").stdout
+    assert (tmp_path / "p" / "displacement_histories.png").is_file() and "displacement_histories.png" in out
+    bad = pounding("plot", run_dirs / "near", "--point", "low:4:0", check=False)
+    assert bad.returncode == 2 and "storey must be 1..3" in bad.stderr
+
+
 def test_plot_of_a_folder_that_is_not_a_run_is_a_clear_error(tmp_path):
     proc = pounding("plot", tmp_path, check=False)
     assert proc.returncode == 2 and "not a run folder" in proc.stderr and "Traceback" not in proc.stderr

@@ -15,6 +15,11 @@ def add_parser(sub) -> None:
     p.add_argument("run", type=Path, help="a folder written by `pounding run`")
     p.add_argument("--reference", type=Path, default=None, help="a second run folder (e.g. without pounding) to overlay")
     p.add_argument("--out", type=Path, default=None, help="where to write the PNGs (default: RUN/plots)")
+    p.add_argument(
+        "--point", action="append", default=None, metavar="BUILDING:STOREY:VERTEX[:x|y]",
+        help="a slab vertex whose displacement history to plot (storey 1-based, vertex 0-based as in impacts.csv, "
+        "component x by default); repeat for more (default: the lower building's corners facing the other)",
+    )
     p.set_defaults(func=cmd_plot)
 
     r = sub.add_parser("render", help="3-D pictures and an animation of a run (off-screen)", description="PNG snapshots (plan and 3-D view, displacements magnified) and an animated GIF of the pounding window, rendered off-screen with pyvista. Needs an OpenGL library for off-screen use (Debian: libegl1 and libgl1-mesa-dri, or libosmesa6); without it this command says so and exits 2.")
@@ -30,7 +35,8 @@ def cmd_plot(args) -> int:
 
     scene, result = load_result(args.run)
     reference = load_result(args.reference)[1] if args.reference else None
-    paths = plot_all(scene, result, args.out or args.run / "plots", reference=reference)
+    points = [parse_point(text, scene) for text in args.point] if args.point else None
+    paths = plot_all(scene, result, args.out or args.run / "plots", reference=reference, points=points)
     print("\n".join(str(p) for p in paths))
     return 0
 
@@ -48,3 +54,21 @@ def cmd_render(args) -> int:
         raise InputError(str(exc)) from None
     print("\n".join(str(p) for p in paths))
     return 0
+
+
+def parse_point(text: str, scene) -> tuple:
+    """'low:3:1' or 'low:3:1:y' -> (building, storey, vertex, component), checked against the scene."""
+    parts = text.split(":")
+    if len(parts) not in (3, 4) or (len(parts) == 4 and parts[3] not in ("x", "y")):
+        raise InputError(f"expected BUILDING:STOREY:VERTEX[:x|y], got {text!r}", field="--point")
+    name, storey, vertex = parts[0], parts[1], parts[2]
+    names = [b.name for b in scene.buildings]
+    if name not in names:
+        raise InputError(f"unknown building {name!r}; known: {', '.join(names)}", field="--point")
+    b = scene.building(name)
+    if not (storey.isdigit() and 1 <= int(storey) <= b.n_storeys):
+        raise InputError(f"storey must be 1..{b.n_storeys} for {name!r}, got {storey!r}", field="--point")
+    k = len(b.slabs[int(storey) - 1].vertices)
+    if not (vertex.isdigit() and int(vertex) < k):
+        raise InputError(f"vertex must be 0..{k - 1} for that slab, got {vertex!r}", field="--point")
+    return (name, int(storey), int(vertex), parts[3] if len(parts) == 4 else "x")
