@@ -106,7 +106,14 @@ def command(fn):
 
 
 def main(argv: list[str] | None = None) -> int:
+    import os
     import warnings
+
+    # The matrices here are small (3N <= a few hundred): one BLAS thread is faster, and a
+    # multi-threaded BLAS on a loaded machine was measured 1000x slower on a 300x300 Cholesky.
+    # setdefault: a user's own setting wins. numpy is not imported yet at this point.
+    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+        os.environ.setdefault(var, "1")
 
     from pounding.errors import AnalysisWarning
 

@@ -383,41 +383,71 @@ class Driver:
         return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p, cutoff=self.tol) < -self.tol]
 
     def trial(self, z, t, h):
-        """A step with implicit contact forces for the force-held pairs; returns (z1, f1)."""
+        """A step with implicit contact forces for the force-held pairs; returns (z1, f1, zf).
+
+        zf is the step without contact forces; f1 the modal contact force at its end
+        (for rigid sustained contact: the correction, see :meth:`commit`).
+        """
         zf = self.step(z, t, h, self.fc)
         held = list(self.sustained) if self.law.kind == "impulse" else (list(range(len(self.model.pairs))) if self.law.kind == "force" else [])
+        zero = np.zeros(self.model.n)
         if not held:
-            return zf, np.zeros(self.model.n), zf
-        feats = []
-        for p in held:
-            g = self.model.pair_gap(zf[:, 0], p, cutoff=self.tol)
-            if g < self.tol:
-                feats += [f for f in self.model.features(zf[:, 0], p, max(self.tol, -g + self.tol)) if f.gap < 0]
-        if not feats:
-            return zf, np.zeros(self.model.n), zf
-        Wr = np.stack([f.w for f in feats])  # (m, n)
-        tr = self.cache(h)
-        gap = np.array([f.gap for f in feats])
-        rate = Wr @ zf[:, 1]
-        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
-        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+            return zf, zero, zf
         if self.law.kind == "force":
-            lam = self.law.forces(gap, rate, S_q, S_v, Wr @ Wr.T)
+            feats = self._penetrating(zf, held)
+            if not feats:
+                return zf, zero, zf
+            Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
+            tr = self.cache(h)
+            S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+            S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+            lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
             f1 = Wr.T @ lam
             return zf + tr.B[:, :, 1] * f1[:, None], f1, zf
-        lam = rigid_forces(gap, S_q)
-        f1 = Wr.T @ lam
-        z1 = zf + tr.B[:, :, 1] * f1[:, None]
-        # Hold the contact at velocity level too: a closing rate left at the end of the step
-        # would re-open the penetration in the next one. A plastic impulse removes it.
-        active = lam > 0
-        if np.any(active):
-            Wa = Wr[active]
+        # Rigid sustained contact: end-of-step constraint forces closing the penetrations,
+        # features re-found on the corrected state (two faces may be pressed at once), then a
+        # plastic impulse so no held point keeps closing.
+        z1, correction = zf, zero.copy()
+        tr = self.cache(h)
+        for attempt in range(4):
+            feats = self._penetrating(z1, held)
+            # the first pass closes every penetration; later ones only what the first left
+            if not feats or (attempt > 0 and min(f.gap for f in feats) >= -1e-3 * self.tol):
+                break
+            Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
+            S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+            if np.max(np.abs(np.diag(S_q))) > 1e-12 * np.max(np.diag(Wr @ Wr.T)) * h * h:
+                f = Wr.T @ rigid_forces(gap, S_q)
+                z1 = z1 + tr.B[:, :, 1] * f[:, None]
+                correction += f
+            else:
+                # explicit scheme: the end displacement ignores the end load, so project it
+                mu = rigid_forces(gap, Wr @ Wr.T)
+                dq = Wr.T @ mu
+                z1 = z1.copy()
+                z1[:, 0] += dq
+                correction += dq
+        feats = self._penetrating(z1, held, closing_only=True)
+        if feats:
+            Wa = np.stack([f.w for f in feats])
             b = -(Wa @ z1[:, 1])
             if np.any(b > 0):
                 I = newton_impulses(Wa @ Wa.T, b, 0.0)
+                z1 = z1.copy()
                 z1[:, 1] += Wa.T @ I
-        return z1, f1, zf
+                correction += Wa.T @ I
+        return z1, correction, zf
+
+    def _penetrating(self, z, pairs, closing_only: bool = False) -> list[Feature]:
+        """Touching features of the given pairs in state z: penetrating ones, or (closing_only)
+        every feature within the tolerance, for the velocity condition."""
+        out = []
+        for p in pairs:
+            g = self.model.pair_gap(z[:, 0], p, cutoff=self.tol)
+            if g < self.tol:
+                feats = self.model.features(z[:, 0], p, max(self.tol, -g + self.tol))
+                out += feats if closing_only else [f for f in feats if f.gap < 0]
+        return out
 
     def release_sustained(self) -> None:
         if not self.sustained:

@@ -232,6 +232,31 @@ def distance_to_polygon(vertices: np.ndarray, p: np.ndarray) -> float:
     return 0.0 if np.count_nonzero(crosses) % 2 == 1 else d
 
 
+def interior_point(vertices: np.ndarray) -> np.ndarray:
+    """A point strictly inside a simple polygon (its centroid, unless that falls outside, as in
+    an L's notch: then the centroid of an ear triangle that contains no other vertex)."""
+    from pounding.contact.geometry import polygon_properties
+
+    c = polygon_properties(vertices)[1]
+    if _strictly_inside(vertices, c):
+        return c
+    k = len(vertices)
+    for i in range(k):
+        tri = vertices[[(i - 1) % k, i, (i + 1) % k]]
+        p = tri.mean(axis=0)
+        if _strictly_inside(vertices, p):
+            return p
+    return c
+
+
+def _strictly_inside(vertices: np.ndarray, p: np.ndarray) -> bool:
+    a, b = vertices, np.roll(vertices, -1, axis=0)
+    ab, ap = b - a, p - a
+    t = np.clip(np.einsum("ij,ij->i", ap, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
+    on_boundary = np.min(np.hypot(*(ap - t[:, None] * ab).T)) <= LENGTH_TOL
+    return not on_boundary and distance_to_polygon(vertices, p) == 0.0
+
+
 def _check_on_slabs(element, slabs, where: list) -> None:
     a, b = element.plan_segment()
     for f in element.floors:
@@ -255,7 +280,7 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
                     if abs(sa.elevation - sb.elevation) < LENGTH_TOL:
                         g = signed_gap(sa.vertices, sb.vertices)
                         # a slab lying over another (even coincident) has its centroid inside the other
-                        nested = distance_to_polygon(sb.vertices, sa.vertices.mean(axis=0)) == 0.0 or distance_to_polygon(sa.vertices, sb.vertices.mean(axis=0)) == 0.0
+                        nested = distance_to_polygon(sb.vertices, interior_point(sa.vertices)) == 0.0 or distance_to_polygon(sa.vertices, interior_point(sb.vertices)) == 0.0
                         if nested and g >= -LENGTH_TOL:
                             raise InputError(
                                 f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} lie on top of each other at rest",
