@@ -19,7 +19,19 @@ T_PROCESS = time.perf_counter()
 
 
 def maxrss_mb() -> float:
-    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0  # Linux: kB
+    """Peak resident set size of this process [MB].
+
+    VmHWM of /proc/self/status, not getrusage's ru_maxrss: Linux carries ru_maxrss over
+    execve from the forking parent, so a child of a big parent would report the parent's peak.
+    """
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("VmHWM:"):
+                    return float(line.split()[1]) / 1024.0  # kB
+    except OSError:
+        pass
+    return resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
 
 
 def case_scene(spec):
@@ -84,6 +96,8 @@ def run_case(spec) -> dict:
     out["response_bytes"] = int(first.q.nbytes + first.qd.nbytes)
     out["model_bytes"] = int(sum(s.K.nbytes + s.C.nbytes + s.modes.nbytes for s in model.systems) + model.rows.nbytes)
     del first, r
+    # one instrumented run: how many steps took the Python path, and the time spent there and in the kernel
+    out.update(split_run(scene))
     # one more run under tracemalloc: peak of the Python/numpy allocations of run() (model + driver + result)
     tracemalloc.start()
     r = quiet_run(scene)
@@ -92,6 +106,37 @@ def run_case(spec) -> dict:
     out["tracemalloc_peak_bytes"] = int(peak)
     out["rss_peak_mb"] = maxrss_mb()
     return out
+
+
+def split_run(scene) -> dict:
+    """Steps and time in Driver.python_step vs Driver.advance (the compiled kernel), one run."""
+    import warnings
+
+    try:
+        from pounding.framework.analysis import Driver
+
+        d = Driver(scene)
+        acc = {"python_steps": 0, "python_path_s": 0.0, "kernel_calls": 0, "kernel_s": 0.0}
+
+        def wrap(fn, n_key, t_key):
+            def inner(*a, **k):
+                t0 = time.perf_counter()
+                try:
+                    return fn(*a, **k)
+                finally:
+                    acc[n_key] += 1
+                    acc[t_key] += time.perf_counter() - t0
+            return inner
+
+        d.python_step = wrap(d.python_step, "python_steps", "python_path_s")
+        d.advance = wrap(d.advance, "kernel_calls", "kernel_s")
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            r = d.run()
+        acc["split_run_solver_s"] = r.runtime_s
+        return acc
+    except Exception as exc:  # the driver's internals may change; the split is optional
+        return {"split_error": repr(exc)[:200]}
 
 
 def cli_phases(spec) -> dict:

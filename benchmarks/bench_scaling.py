@@ -1,7 +1,7 @@
 """3. Scaling: run time, per-step cost and peak memory against storeys and record length.
 
 Every case runs in its own subprocess (benchmarks/_case.py), so its peak RSS
-(``resource.getrusage(...).ru_maxrss``) is its own; ``tracemalloc`` gives the peak
+(VmHWM from /proc/self/status) is its own; ``tracemalloc`` gives the peak
 of the Python/numpy allocations of one ``run()`` (model, driver, response arrays,
 result), measured in a separate run from the timed ones.
 
@@ -66,8 +66,14 @@ def run(quick: bool = False) -> dict:
                         peak_over_response_plus_model=res["tracemalloc_peak_bytes"] / (res["response_bytes"] + res["model_bytes"]),
                         rss_before_MB=res["rss_before_mb"], rss_peak_MB=res["rss_peak_mb"],
                         rss_growth_MB=res["rss_peak_mb"] - res["rss_before_mb"],
+                        python_steps=res.get("python_steps"), python_path_s=res.get("python_path_s"),
+                        kernel_calls=res.get("kernel_calls"), kernel_s=res.get("kernel_s"),
+                        us_per_python_step=(1e6 * res["python_path_s"] / res["python_steps"]) if res.get("python_steps") else None,
+                        kernel_us_per_step=(1e6 * res["kernel_s"] / max(1, res["steps"] - res["python_steps"])) if res.get("kernel_calls") else None,
                     )
-                    log(f"  {kind:7s} {v:>4} {contact:7s} {row['solver_median_s'] * 1e3:9.1f} ms  {row['per_step_us']:8.1f} us/step  "
+                    log(f"  {kind:7s} {v:>4} {contact:7s} {row['solver_median_s'] * 1e3:9.1f} ms (min {row['solver_min_s'] * 1e3:.1f})  "
+                        f"{row['per_step_us']:8.1f} us/step  python steps {row['python_steps']} "
+                        f"({(row['us_per_python_step'] or 0):.0f} us each), kernel {(row['kernel_us_per_step'] or 0):.1f} us/step  "
                         f"impacts {row['n_impacts']:5d}  tracemalloc {row['tracemalloc_peak_MB']:7.1f} MB  "
                         f"(response {row['response_MB']:.1f} + model {row['model_MB']:.1f})  rss {row['rss_peak_MB']:.0f} MB")
                 else:
@@ -95,6 +101,10 @@ def fit(rows) -> dict:
             "solver_time_exponent_all": loglog_fit(N, [r["solver_median_s"] for r in pts]),
             "solver_time_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["solver_median_s"] for r in big]),
             "per_step_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["per_step_us"] for r in big]),
+            "solver_min_time_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["solver_min_s"] for r in big]),
+            "kernel_per_step_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["kernel_us_per_step"] or float("nan") for r in big]),
+            "python_step_cost_exponent_N>=10": loglog_fit([r["storeys"] for r in pts if r["storeys"] >= 10],
+                                                          [r["us_per_python_step"] or float("nan") for r in pts if r["storeys"] >= 10]),
             "tracemalloc_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["tracemalloc_peak_MB"] for r in big]),
             "assemble_exponent_N>=30": loglog_fit([r["storeys"] for r in big], [r["assemble_s"] for r in big]),
         }
@@ -125,7 +135,12 @@ def plot(rows, fits, tag=""):
             lab = "with pounding" if contact == "impulse" else "contact off"
             p = fits[f"{kind}_{contact}"]["solver_time_exponent_N>=30" if kind == "storeys" else "solver_time_exponent"]
             axes[i, 0].loglog(x, [r["solver_median_s"] for r in pts], style, label=f"{lab} (slope {p:.2f})")
-            axes[i, 1].loglog(x, [r["per_step_us"] for r in pts], style, label=lab)
+            axes[i, 1].loglog(x, [r["per_step_us"] for r in pts], style, label=f"{lab}: solver time / steps")
+            if contact == "impulse":
+                k = [r["kernel_us_per_step"] or np.nan for r in pts]
+                py = [r["us_per_python_step"] or np.nan for r in pts]
+                axes[i, 1].loglog(x, k, "v-", color="C2", label="with pounding: compiled kernel, per step")
+                axes[i, 1].loglog(x, py, "^-", color="C3", label="with pounding: one step on the Python path")
             axes[i, 2].loglog(x, [r["tracemalloc_peak_MB"] for r in pts], style, label=f"{lab}: tracemalloc peak of run()")
             if contact == "none":
                 axes[i, 2].loglog(x, [r["response_MB"] + r["model_MB"] for r in pts], "k:", label="response arrays + K, C, modes, rows")

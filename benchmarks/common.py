@@ -89,6 +89,36 @@ def result_corners(result, scene) -> np.ndarray:
     return corner_history({n: result.cm(n) for n in result.names}, scene)
 
 
+def max_penetration(result, scene) -> float:
+    """Largest overlap [m] of any slab pair over the output steps (0 if none): the contact constraint's violation.
+
+    A cheap bound (rest gap minus the largest corner displacements) selects the instants
+    where the exact polygon gap is computed.
+    """
+    from pounding.contact.geometry import displaced, signed_gap
+    from pounding.framework.analysis import Model
+
+    if scene.analysis.contact == "none":
+        return 0.0
+    m = Model(scene, systems=result.systems)
+    worst = 0.0
+    for a, fa, b, fb, rest in m.pairs:
+        d = []
+        for bld, f in ((a, fa), (b, fb)):
+            s = m.slab_index(bld, f)
+            n = m.systems[bld].n_dof
+            i0 = m.mode_start[bld]
+            x = result.q[:, i0 : i0 + n] @ m.rows[s, :, :n].T  # (nt, 3)
+            d.append((s, x))
+        bound = rest - sum(np.hypot(x[:, 0], x[:, 1]) + np.abs(x[:, 2]) * m.radii[s] for s, x in d)
+        for k in np.flatnonzero(bound < 1e-3):
+            (sa, xa), (sb, xb) = d
+            pa = displaced(m.verts[sa, : m.nvert[sa]], m.centres[sa], xa[k, 0], xa[k, 1], xa[k, 2])
+            pb = displaced(m.verts[sb, : m.nvert[sb]], m.centres[sb], xb[k, 0], xb[k, 1], xb[k, 2])
+            worst = max(worst, -float(signed_gap(pa, pb)))
+    return worst
+
+
 def subsample(ref_corners: np.ndarray, dt_ref: float, dt: float, nt: int) -> np.ndarray:
     """Reference samples at the times k dt of a run with nt output rows (dt a multiple of dt_ref)."""
     m = int(round(dt / dt_ref))
