@@ -637,16 +637,7 @@ def test_face_to_face_contact_gets_coupled_impulses(case):
         "newmark",
         "hht",
         "generalized_alpha",
-        pytest.param(
-            "exact",
-            marks=pytest.mark.xfail(
-                strict=True,
-                reason="sustained contact with the exact integrator: the rigid constraint force is applied as an "
-                "end-of-step correction with a plastic velocity projection; the exact scheme has no acceleration state "
-                "to carry it, the pressed pair keeps a ~0.2 s oscillation and separates briefly every period: "
-                "38 (k=0) and 72 (k=0.5) impacts in 1200 steps (bound steps/50 = 24); no overlap beyond tol",
-            ),
-        ),
+        "exact",
     ],
 )
 @pytest.mark.parametrize("k", [0.0, 0.5])
