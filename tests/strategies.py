@@ -41,7 +41,7 @@ from pounding.errors import InputError
 # --------------------------------------------------------------------------- profiles
 settings.register_profile(
     "ci",
-    max_examples=24,
+    max_examples=40,
     derandomize=True,
     database=None,
     deadline=None,
@@ -50,7 +50,7 @@ settings.register_profile(
 )
 settings.register_profile(
     "dev",
-    max_examples=240,
+    max_examples=400,
     deadline=None,
     print_blob=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
@@ -416,8 +416,9 @@ def slab_states(model, x):
 def momentum_residuals(model, ev) -> list[dict]:
     """Per slab pair that got impulses at one contact_at call: the change of its linear momentum
     sum m (u', v') and of its angular momentum about the origin sum J phi' + m (c x v) (c the
-    current centre of mass), with their scales (the sums of the magnitudes of the jump terms and
-    of the state terms); and the largest velocity jump of any slab outside those pairs."""
+    current centre of mass), with their scales: sums of the magnitudes of the terms, m |v| and
+    m |c| |v| + J |phi'|, of the jumps and of the state before (rounding of z' + w I is relative to
+    the state); and the largest velocity jump of any slab outside those pairs."""
     x = slab_states(model, ev["q"])
     v0 = slab_states(model, ev["before"])
     dv = slab_states(model, ev["after"] - ev["before"])
@@ -436,10 +437,10 @@ def momentum_residuals(model, ev) -> list[dict]:
             dp += s.mass * j[:2]
             dL += orb + spin
             sp += s.mass * float(np.hypot(*j[:2]))
-            sL += abs(orb) + abs(spin)
+            sL += s.mass * float(np.hypot(*c)) * float(np.hypot(*j[:2])) + abs(spin)
             w = v0[key]
             state_p += s.mass * float(np.hypot(*w[:2]))
-            state_L += abs(s.mass * (c[0] * w[1] - c[1] * w[0])) + abs(s.polar_inertia * w[2])
+            state_L += s.mass * float(np.hypot(*c)) * float(np.hypot(*w[:2])) + abs(s.polar_inertia * w[2])
         out.append({"pair": p, "dp": float(np.hypot(*dp)), "dL": abs(dL), "scale_p": sp, "scale_L": sL,
                     "state_p": state_p, "state_L": state_L})
     others = [float(np.max(np.abs(dv[k][:2]))) for k in dv if k not in touched]

@@ -17,11 +17,10 @@ For every generated scene one run is checked against everything the package prom
 * impulse law: no grid step ends with a slab pair overlapping beyond the contact tolerance;
 * every impulse conserves the linear momentum sum m (u', v') and the angular momentum about the
   origin sum J phi' + m (c x v) of its slab pair, and leaves every other slab alone;
-* the energy balance closes, to a tolerance set by the integrator (see ``energy_bound``).
+* the energy balance closes, to a tolerance set by the integrator (see ``energy_class``).
 
-Bugs found are reported in the test ids / xfail reasons (see test_hard_cases.py for their
-minimal reproductions); known-bug configurations are excluded here by name so that the
-property still checks everything else.
+Bugs found here have their minimal reproductions in test_hard_cases.py (xfail(strict=True)
+while open, plain tests once fixed).
 """
 
 from __future__ import annotations
@@ -31,8 +30,11 @@ import warnings
 
 import numpy as np
 import pytest
-from hypothesis import assume, event, given, note, settings
+from hypothesis import assume, given, settings
+from hypothesis import event as _event
+from hypothesis import note as _note
 from hypothesis import strategies as st
+from hypothesis.errors import InvalidArgument
 
 from pounding.contact.geometry import MAX_FEATURES
 from pounding.errors import AnalysisWarning, InputError
@@ -40,6 +42,23 @@ from pounding.framework.analysis import Model
 from pounding.framework.assembly import assemble, rayleigh_coefficients
 
 from tests import strategies as S
+
+
+def event(text):
+    """hypothesis.event inside a property, nothing in a plain test."""
+    try:
+        _event(text)
+    except InvalidArgument:
+        pass
+
+
+def note(text):
+    """hypothesis.note inside a property, nothing in a plain test."""
+    try:
+        _note(text)
+    except InvalidArgument:
+        pass
+
 
 RTOL_MOMENTUM = 1e-10
 #: rounding of z' += w I is eps of the state, not of the jump: allowed on top, relative to the
@@ -99,8 +118,15 @@ def energy_class(sc, model) -> tuple[str, float]:
         return "exact-resolved", 1e-8
     if name == "exact":
         return "exact-unresolved", 1.0
-    tag = f"{name}{ip}" + ("" if consistent else "-keep")
-    return tag, 1.0
+    if name == "newmark":
+        family = "newmark-linear" if ip.get("preset") == "linear" else ("newmark-average" if ip.get("gamma", 0.5) == 0.5 else "newmark-gamma>1/2")
+    elif name == "hht":
+        family = f"hht(alpha={ip.get('alpha', -0.05):.3g})"
+    elif name == "generalized_alpha":
+        family = f"generalized_alpha(rho_inf={ip.get('rho_inf', 0.8):g})"
+    else:
+        family = name
+    return family + ("" if consistent else "-keep"), 1.0
 
 
 def exact_resolved(model, dt) -> bool:
@@ -110,6 +136,35 @@ def exact_resolved(model, dt) -> bool:
 
 #: (class, relative error, impacts, omega_max dt) of every run, for the report
 ENERGY_LOG: list[tuple[str, float, int, float]] = []
+
+
+@pytest.fixture(scope="module", autouse=True)
+def energy_distribution_report():
+    """After the module: the observed relative energy-balance errors per integrator class (pytest -s)."""
+    yield
+    if not ENERGY_LOG:
+        return
+    by = {}
+    for cls, err, _, _ in ENERGY_LOG:
+        by.setdefault(cls, []).append(err)
+    print("\nenergy-balance relative error by class: n, min, median |err|, max")
+    for cls in sorted(by):
+        v = np.asarray(by[cls])
+        print(f"  {cls:60s} {len(v):4d} {v.min():+.2e} {np.median(np.abs(v)):.2e} {v.max():+.2e}")
+
+
+# --------------------------------------------------------------------------- momentum
+def slab_momenta_ok(model, ev) -> bool:
+    """Linear and angular momentum (about the origin) of every slab pair that got impulses at one
+    contact check are unchanged to 1e-10 of the jumps (plus rounding of the state), and no other slab
+    changes velocity. Raises AssertionError with the numbers otherwise."""
+    per_pair, (others, jump, vel) = S.momentum_residuals(model, ev)
+    assert per_pair, "an impulse event with no impacts logged"
+    for x in per_pair:
+        assert x["dp"] <= RTOL_MOMENTUM * x["scale_p"] + STATE_ROUNDING * x["state_p"], (ev["t"], x)
+        assert x["dL"] <= RTOL_MOMENTUM * x["scale_L"] + STATE_ROUNDING * x["state_L"], (ev["t"], x)
+    assert others <= RTOL_MOMENTUM * jump + STATE_ROUNDING * vel, (ev["t"], others, jump)
+    return True
 
 
 # --------------------------------------------------------------------------- the stress property
@@ -125,7 +180,7 @@ def run_and_check(sc, *, check_energy=True, label=""):
             S.InstrumentedDriver(sc, model=model).run()
         return None, None
     if an.dt > limit * (1 - 1e-9):
-        assume(False)  # within rounding of the limit: either answer is right
+        assume(False)  # within rounding of the limit: either answer is right (properties only)
 
     d = S.InstrumentedDriver(sc, model=model)
     with warnings.catch_warnings():
@@ -157,24 +212,15 @@ def run_and_check(sc, *, check_energy=True, label=""):
     # no step ends overlapping beyond the tolerance (impulse law; penalty springs overlap by design)
     if an.contact == "impulse" and n_pairs:
         tol = d.tol
-        skip = set()
-        if an.integrator == "central_difference" and d.ever_sustained:
-            # BUG (test_hard_cases.py::test_central_difference_holds_a_sustained_contact): S_q = 0
-            event("known bug: central difference with sustained contact - overlap not checked")
-            skip = set(d.ever_sustained)
         for p, (idx, gaps) in S.step_end_gaps(r, d.model, tol=tol).items():
-            if p in skip or not len(gaps):
+            if not len(gaps):
                 continue
             worst = int(np.argmin(gaps))
             assert gaps[worst] >= -tol * (1 + 1e-9), f"pair {p} ends step {idx[worst]} overlapping by {-gaps[worst]:.3e} m > tol {tol:g}"
 
     # momentum at every impulse
     for ev in d.impulse_log:
-        per_pair, (others, jump, vel) = S.momentum_residuals(d.model, ev)
-        for x in per_pair:
-            assert x["dp"] <= RTOL_MOMENTUM * x["scale_p"] + STATE_ROUNDING * x["state_p"], (ev["t"], x)
-            assert x["dL"] <= RTOL_MOMENTUM * x["scale_L"] + STATE_ROUNDING * x["state_L"], (ev["t"], x)
-        assert others <= RTOL_MOMENTUM * jump + STATE_ROUNDING * vel, (ev["t"], others, jump)
+        assert slab_momenta_ok(d.model, ev)
     if d.impulse_log:
         event("impulses")
 
@@ -183,6 +229,10 @@ def run_and_check(sc, *, check_energy=True, label=""):
     cls, bound_e = energy_class(sc, model)
     ENERGY_LOG.append((cls, eb["relative_error"], r.n_impacts, omega_max * an.dt))
     event(f"energy class {cls.split('{')[0]}")
+    if an.integrator == "central_difference" and d.ever_sustained:
+        # KNOWN BUG, test_hard_cases.py::test_central_difference_sustained_contact_is_static_and_balanced
+        event("known bug: central difference with sustained contact, energy not checked")
+        check_energy = False
     if check_energy and eb["input"] > 0:
         note(f"energy class {cls}: relative error {eb['relative_error']:.3e}")
         assert abs(eb["relative_error"]) <= bound_e, (cls, eb)
