@@ -37,7 +37,7 @@ def _slab_dofs(rows, q, out):
 def advance(
     A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
     bidx, pair_a, pair_b, rows, off, n_modes,
-    verts, nvert, centres, radii, rest_gap, tol, overlap,
+    verts, nvert, centres, radii, rest_gap, tol, overlap, v_min, slab_building, peak,
 ):
     """Advance z from step k0 towards k1 (exclusive of events).
 
@@ -82,6 +82,11 @@ def advance(
     overlap : float
         Gap [m] below which a step is rejected: -tol for impulse laws (touching within
         the tolerance is contact), 0 for force laws (any penetration needs the force).
+    v_min : float
+        Closing speed [m/s] below which a touching point is not approaching (rounding).
+    slab_building : (S,) int, peak : (S, 3)
+        Building of every slab, and the running peak |u|, |v|, |phi| of every slab,
+        updated at every step when the output is thinned (every > 1).
 
     A step ending with a pair within the tolerance stops the kernel only if a touching
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
@@ -128,12 +133,14 @@ def advance(
                     z[i, 2] = z0[i, 2]
                 return k, OVERLAP, p
             if g <= tol and status == DONE and _approaching(
-                rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol
+                rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol, v_min
             ):
                 # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
                 hit = p
         _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, bidx)
+        if every > 1:
+            update_peaks(rows, z[:, 0], n_modes, slab_building, peak)
         _record(z, k + 1, every, Q, V)
         if status == CONTACT:
             return k + 1, CONTACT, hit
@@ -161,7 +168,19 @@ def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, bidx):
 
 
 @njit
-def _approaching(rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol):
+def update_peaks(rows, q, n_modes, slab_building, peak):
+    """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab, from modal displacements q (n,)."""
+    d = np.empty(3)
+    for s in range(rows.shape[0]):
+        b = slab_building[s]
+        _slab_dofs(rows[s, :, : n_modes[b, 1]], q[n_modes[b, 0] : n_modes[b, 0] + n_modes[b, 1]], d)
+        for r in range(3):
+            if abs(d[r]) > peak[s, r]:
+                peak[s, r] = abs(d[r])
+
+
+@njit
+def _approaching(rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol, v_min):
     """Whether any touching point of the pair closes: n . (v_Q(a) - v_Q(b)) > 0, n from a to b."""
     va = np.empty(3)
     vb = np.empty(3)
@@ -176,7 +195,7 @@ def _approaching(rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres
         qx, qy = Q[j, 0], Q[j, 1]
         vax, vay = va[0] - va[2] * (qy - cay), va[1] + va[2] * (qx - cax)
         vbx, vby = vb[0] - vb[2] * (qy - cby), vb[1] + vb[2] * (qx - cbx)
-        if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > 0.0:
+        if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > v_min:
             return True
     return False
 

@@ -91,6 +91,9 @@ class Result:
     event_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     event_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     event_qd: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    #: peak |u|, |v|, |phi| of every slab over every step (slabs numbered building by building),
+    #: or None when every step is in the output (output_every = 1)
+    slab_peaks: np.ndarray | None = None
 
     @classmethod
     def from_run(cls, d, runtime: float) -> "Result":
@@ -126,6 +129,7 @@ class Result:
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
             info={"located_events": d.n_located, "sustained_pairs_at_end": sorted(d.sustained)},
             energy_tolerance=d.scene.analysis.energy_tolerance,
+            slab_peaks=d.peak.copy() if d.every > 1 else None,
             event_t=np.array([e[0] for e in d.event_states]),
             event_q=np.array([e[1] for e in d.event_states]).reshape(len(d.event_states), m.n),
             event_qd=np.array([e[2] for e in d.event_states]).reshape(len(d.event_states), m.n),
@@ -159,7 +163,11 @@ class Result:
         return out
 
     def peaks(self, name: str) -> np.ndarray:
-        """Peak |u|, |v|, |phi| per storey, shape (storeys, 3)."""
+        """Peak |u|, |v|, |phi| per storey over every step (not only the output ones), shape (storeys, 3)."""
+        if self.slab_peaks is not None:
+            i = self._index(name)
+            start = sum(s.n_storeys for s in self.systems[:i])
+            return self.slab_peaks[start : start + self.systems[i].n_storeys].copy()
         return np.max(np.abs(self.cm(name)), axis=0)
 
     @property
