@@ -52,7 +52,7 @@ def run_case(spec) -> dict:
 
     import numpy as np
 
-    from common import quiet_run
+    from common import quiet_run, timed_runs
     from pounding.framework.analysis import Model
 
     out: dict = {}
@@ -74,16 +74,7 @@ def run_case(spec) -> dict:
     out["rss_before_mb"] = maxrss_mb()
 
     reps, budget = int(spec.get("reps", 5)), float(spec.get("budget", 10.0))
-    solver, wall, first = [], [], None
-    t_start = time.perf_counter()
-    for i in range(reps):
-        t0 = time.perf_counter()
-        r = quiet_run(scene)
-        wall.append(time.perf_counter() - t0)
-        solver.append(r.runtime_s)
-        first = first or r
-        if time.perf_counter() - t_start > budget:
-            break
+    first, solver, wall = timed_runs(scene, reps, budget_s=budget)
     out["reps"] = len(solver)
     out["solver_median_s"] = float(np.median(solver))
     out["solver_min_s"] = float(np.min(solver))
@@ -95,7 +86,7 @@ def run_case(spec) -> dict:
     # response arrays at the output rate, and the O(n^2) model arrays
     out["response_bytes"] = int(first.q.nbytes + first.qd.nbytes)
     out["model_bytes"] = int(sum(s.K.nbytes + s.C.nbytes + s.modes.nbytes for s in model.systems) + model.rows.nbytes)
-    del first, r
+    del first  # free the results before the memory measurements below
     # one instrumented run: how many steps took the Python path, and the time spent there and in the kernel
     out.update(split_run(scene))
     # one more run under tracemalloc: peak of the Python/numpy allocations of run() (model + driver + result)
