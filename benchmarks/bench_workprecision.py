@@ -24,7 +24,6 @@ Without pounding the error measures are over the whole record (nothing is sensit
 
 from __future__ import annotations
 
-import time
 
 import numpy as np
 

@@ -7,7 +7,6 @@ import json
 import sys
 from pathlib import Path
 
-from pounding.errors import InputError
 
 
 def add_parser(sub) -> None:

@@ -202,6 +202,7 @@ class Driver:
         self.event_states: list[tuple[float, np.ndarray, np.ndarray]] = []  # (t, q, q' before the impulses)
         self.sustained: set[int] = set()
         self.held = False  # a rigid constraint force acted at the end of the last step
+        self.python_step_until_clear = False  # step in Python until every pair is clear of the tolerance
         # A closing speed below this is rounding, not an impact: it would close less than a
         # billionth of the contact tolerance in a step (identical buildings moving in phase).
         self.v_min = 1e-9 * self.tol / self.dt
@@ -269,7 +270,6 @@ class Driver:
             g0 = self.gaps(self.z[:, 0])
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
-        kernel_ok = self.use_kernel
         while k < self.nsteps:
             if self.needs_python(k):
                 self.python_step(k)
@@ -291,8 +291,6 @@ class Driver:
                 self.progress(k, self.nsteps)
         runtime = time.perf_counter() - t0
         return Result.from_run(self, runtime)
-
-    python_step_until_clear = False
 
     def needs_python(self, k: int) -> bool:
         if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
