@@ -53,6 +53,20 @@ class Feature:
     w: np.ndarray = field(repr=False)
 
 
+@dataclass
+class Step:
+    """A trial step: the start state it used, its end state, and the modal contact force at both ends.
+
+    ``z0`` differs from the driver's state only in the acceleration, made consistent with ``f0``
+    when a pair is held in sustained contact.
+    """
+
+    z0: np.ndarray
+    z1: np.ndarray
+    f0: np.ndarray
+    f1: np.ndarray
+
+
 class Model:
     """The stacked modal model of all buildings and their slab pairs (read-only during a run)."""
 
@@ -201,7 +215,6 @@ class Driver:
         self.impacts: list[Impact] = []
         self.event_states: list[tuple[float, np.ndarray, np.ndarray]] = []  # (t, q, q' before the impulses)
         self.sustained: set[int] = set()
-        self.held = False  # a rigid constraint force acted at the end of the last step
         self.python_step_until_clear = False  # step in Python until every pair is clear of the tolerance
         # A closing speed below this is rounding, not an impact: it would close less than a
         # billionth of the contact tolerance in a step (identical buildings moving in phase).
@@ -346,16 +359,17 @@ class Driver:
             h = t_end - t
             if abs(h - self.dt) <= 1e-9 * self.dt:
                 h = self.dt  # one transition per distinct step: grid arithmetic differs in the last bits
-            z1, f1, zf = self.trial(self.z, t, h)
-            culprits = self.overlapping(z1)
+            if self.sustained:
+                self.stop_closing(t)
+            st = self.trial(self.z, t, h)
+            culprits = self.overlapping(st.z1)
             if not culprits:
-                self.commit(z1, t, h, f1, zf)
+                self.commit(st, t, h)
                 t = t_end
                 self.contact_at(t)
                 break
             hs = self.locate(t, h, culprits)
-            z1, f1, zf = self.trial(self.z, t, hs)
-            self.commit(z1, t, hs, f1, zf)
+            self.commit(self.trial(self.z, t, hs), t, hs)
             t += hs
             self.n_located += 1
             if not self.contact_at(t, culprits):
@@ -367,25 +381,11 @@ class Driver:
         self._record(k + 1)
         self.release_sustained()
 
-    def commit(self, z1, t, h, f1, zf=None) -> None:
-        """Accept a trial step (z1, its end force f1; zf the same step without contact force)."""
-        if self.law.kind == "force" or zf is None or not np.any(f1):
-            # A penalty force is a physical load that varies continuously through the step.
-            self.accumulate(self.z, z1, t, h, self.fc, f1)
-            self.fc = f1 if self.law.kind == "force" else np.zeros_like(f1)
-            self.held = False
-        else:
-            # A rigid constraint force is a correction sized for this step (it scales with
-            # 1/h^2): the free step is booked as usual, the constraint's work is the energy
-            # change it causes, and the acceleration is taken from equilibrium without it so
-            # the next step starts from a consistent state.
-            self.accumulate(self.z, zf, t, h, self.fc, np.zeros_like(f1))
-            np.add.at(self.E[:, 2], self.model.bidx, self.mode_energy(z1) - self.mode_energy(zf))
-            z1 = z1.copy()
-            z1[:, 2] = self.load(t + h) - self.model.c2 * z1[:, 1] - self.model.omega**2 * z1[:, 0]
-            self.fc = np.zeros_like(f1)
-            self.held = True
-        self.z = z1
+    def commit(self, st: Step, t: float, h: float) -> None:
+        """Accept a trial step: book its work (contact forces are loads like any other) and move on."""
+        self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
+        self.fc = st.f1
+        self.z = st.z1
 
     def mode_energy(self, z) -> np.ndarray:
         """Kinetic plus strain energy of every mode [J], shape (n,)."""
@@ -397,61 +397,118 @@ class Driver:
             return []
         return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p, cutoff=self.tol) < -self.tol]
 
-    def trial(self, z, t, h):
-        """A step with implicit contact forces for the force-held pairs; returns (z1, f1, zf).
-
-        zf is the step without contact forces; f1 the modal contact force at its end
-        (for rigid sustained contact: the correction, see :meth:`commit`).
-        """
-        zf = self.step(z, t, h, self.fc)
-        held = list(self.sustained) if self.law.kind == "impulse" else (list(range(len(self.model.pairs))) if self.law.kind == "force" else [])
+    def trial(self, z, t, h) -> Step:
+        """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
         zero = np.zeros(self.model.n)
-        if not held:
-            return zf, zero, zf
-        if self.law.kind == "force":
-            feats = self._penetrating(zf, held)
-            if not feats:
-                return zf, zero, zf
-            Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
-            tr = self.cache(h)
-            S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
-            S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
-            lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
-            f1 = Wr.T @ lam
-            return zf + tr.B[:, :, 1] * f1[:, None], f1, zf
-        # Rigid sustained contact: end-of-step constraint forces closing the penetrations,
-        # features re-found on the corrected state (two faces may be pressed at once), then a
-        # plastic impulse so no held point keeps closing.
-        z1, correction = zf, zero.copy()
+        if self.law.kind == "impulse" and self.sustained:
+            return self.held_trial(z, t, h)
+        zf = self.step(z, t, h, self.fc)
+        if self.law.kind != "force":
+            return Step(z, zf, self.fc, zero)
+        feats = self._penetrating(zf, range(len(self.model.pairs)))
+        if not feats:
+            return Step(z, zf, self.fc, zero)
+        Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
         tr = self.cache(h)
-        for attempt in range(4):
-            feats = self._penetrating(z1, held)
-            # the first pass closes every penetration; later ones only what the first left
-            if not feats or (attempt > 0 and min(f.gap for f in feats) >= -1e-3 * self.tol):
-                break
-            Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
-            S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
-            if np.max(np.abs(np.diag(S_q))) > 1e-12 * np.max(np.diag(Wr @ Wr.T)) * h * h:
-                f = Wr.T @ rigid_forces(gap, S_q)
-                z1 = z1 + tr.B[:, :, 1] * f[:, None]
-                correction += f
+        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
+        f1 = Wr.T @ lam
+        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
+
+    def held_trial(self, z, t, h) -> Step:
+        """A step with the held pairs in rigid sustained contact.
+
+        The contact force is a load like any other, carried from step to step, so the step and
+        its energy audit are the scheme's own. Unilateral and rigid: no touching point of a held
+        pair closes further during the step than it was at its start (and none ends beyond
+        contact), and no force pulls.
+
+        * Implicit schemes (the end displacement depends on the end load): at the start, the
+          force that stops the normal acceleration of the touching points that would close
+          (consistent with zero closing speed, see :meth:`stop_closing`); at the end, the force
+          that holds the points where they started, solved with the step's compliance
+          S_q = W diag(B[:, 0, 1]) W^T.
+        * Explicit schemes (central differences: the end displacement depends on the start
+          load only): the start force that holds the points where they started at the end of
+          the step (the forward-increment Lagrange multiplier), kept through the step.
+
+        Features are re-found on the corrected state (rotation moves them; two faces may be
+        pressed at once) for up to four passes.
+        """
+        m, tr = self.model, self.cache(h)
+        q0, v0 = z[:, 0], z[:, 1]
+        z0 = z.copy()
+        z0[:, 2] = self.load(t) - m.c2 * v0 - m.omega**2 * q0  # without contact force
+        f0 = np.zeros(m.n)
+        explicit = not np.any(np.abs(tr.B[:, 0, 1]) > 1e-12 * h * h)
+        held = sorted(self.sustained)
+        start = self._penetrating(z, held, closing_only=True)
+        zf = self.step(z0, t, h, f0, f0)
+        if start:
+            W = np.stack([f.w for f in start])
+            gap0 = np.array([f.gap for f in start])
+            # the start gap is the target: a point that starts open may close to contact
+            free_end = gap0 + W @ (zf[:, 0] - q0)
+            target = np.clip(gap0, -0.5 * self.tol, 0.0)
+            active = free_end < target
+            if explicit:
+                D0 = tr.A[:, 0, 2] + tr.B[:, 0, 0]
+                lam = rigid_forces(np.where(active, free_end - target, 1.0), (W * D0) @ W.T)
             else:
-                # explicit scheme: the end displacement ignores the end load, so project it
-                mu = rigid_forces(gap, Wr @ Wr.T)
-                dq = Wr.T @ mu
-                z1 = z1.copy()
-                z1[:, 0] += dq
-                correction += dq
-        feats = self._penetrating(z1, held, closing_only=True)
-        if feats:
-            Wa = np.stack([f.w for f in feats])
-            b = -(Wa @ z1[:, 1])
-            if np.any(b > 0):
-                I = newton_impulses(Wa @ Wa.T, b, 0.0)
-                z1 = z1.copy()
-                z1[:, 1] += Wa.T @ I
-                correction += Wa.T @ I
-        return z1, correction, zf
+                lam = rigid_forces(np.where(active, W @ z0[:, 2], 1.0), W @ W.T)
+            if np.any(lam > 0):
+                f0 = W.T @ lam
+                z0[:, 2] += f0
+                zf = self.step(z0, t, h, f0, f0 if explicit else None)
+        f1 = f0.copy() if explicit else np.zeros(m.n)
+        z1 = zf
+        grow = tr.A[:, :, 2] + tr.B[:, :, 0] + tr.B[:, :, 1] if explicit else tr.B[:, :, 1]
+        D = grow[:, 0]
+        for attempt in range(4):
+            feats = self._penetrating(z1, held, closing_only=True)
+            if not feats:
+                break
+            Wr = np.stack([f.w for f in feats])
+            g1 = np.array([f.gap for f in feats])
+            # where each point started (linearised), but never deeper than half the tolerance:
+            # features slide as the slabs turn, and the linearised start drifts with them
+            target = np.clip(g1 - Wr @ (z1[:, 0] - q0), -0.5 * self.tol, 0.0)
+            short = g1 - target
+            # the first pass closes every shortfall; later ones only what linearisation left
+            if np.min(short) >= (0.0 if attempt == 0 else -1e-3 * self.tol):
+                break
+            lam = rigid_forces(np.where(short < 0, short, 1.0), (Wr * D) @ Wr.T)
+            if not np.any(lam > 0):
+                break
+            df = Wr.T @ lam
+            z1 = z1 + grow * df[:, None]
+            if explicit:
+                f0 = f0 + df
+                z0[:, 2] += df
+            f1 = f1 + df
+        return Step(z0, z1, f0, f1)
+
+    def stop_closing(self, t: float) -> None:
+        """Plastic impulses (restitution 0) on the touching points of held pairs that close.
+
+        A held pair is the end of a Zeno sequence: its rebounds have died out and its touching
+        points move together. Whatever closing speed a step leaves there is taken out here,
+        and the kinetic energy it removes is booked as contact work.
+        """
+        feats = self._penetrating(self.z, sorted(self.sustained), closing_only=True)
+        if not feats:
+            return
+        W = np.stack([f.w for f in feats])
+        b = -(W @ self.z[:, 1])
+        if not np.any(b > self.v_min):
+            return
+        I = newton_impulses(W @ W.T, np.where(b > self.v_min, b, np.minimum(b, 0.0)), 0.0)
+        if not np.any(I > 0):
+            return
+        e0 = self.mode_energy(self.z)
+        self.z[:, 1] += W.T @ I
+        np.add.at(self.E[:, 2], self.model.bidx, self.mode_energy(self.z) - e0)
 
     def _penetrating(self, z, pairs, closing_only: bool = False) -> list[Feature]:
         """Touching features of the given pairs in state z: penetrating ones, or (closing_only)
@@ -469,7 +526,7 @@ class Driver:
             return
         q = self.z[:, 0]
         for p in list(self.sustained):
-            if self.model.pair_gap(q, p, cutoff=self.tol) > self.tol and not self.held:
+            if self.model.pair_gap(q, p, cutoff=self.tol) > self.tol:
                 self.sustained.discard(p)
 
     # ---------------------------------------------------------------- impact location
@@ -478,7 +535,7 @@ class Driver:
         def gmin(hh):
             if hh <= 0.0:
                 return min(self.model.pair_gap(self.z[:, 0], p) for p in culprits)
-            z1, _, _ = self.trial(self.z, t, hh)
+            z1 = self.trial(self.z, t, hh).z1
             return min(self.model.pair_gap(z1[:, 0], p) for p in culprits)
 
         if self.law.locate == "root" and gmin(0.0) > self.tol:
@@ -535,7 +592,9 @@ class Driver:
                 if Ik > 0:
                     self.impacts.append(Impact(t, p, f.striker, f.vertex, float(Ik), f.normal.copy(), float(bk), float(0.5 * Ik * (bk + ak)), f.point.copy()))
             # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
-            # of ever smaller impacts that accumulates in finite time; hold the pair instead.
+            # of ever smaller impacts that accumulates in finite time and ends with the points
+            # moving together, all their closing kinetic energy lost. The pair is held: its next
+            # approach is stopped plastically (the sequence's limit), see stop_closing.
             if np.max(b) * self.dt < self.tol:
                 self.sustained.add(p)
         return acted
