@@ -296,6 +296,17 @@ def test_clearance_bound_is_below_gap():
     assert overlapping > 50  # the overlapping regime is exercised too
 
 
+def test_clearance_bound_ignores_a_common_translation():
+    """Two slabs translating together keep their gap, and the bound keeps the rest gap: only the
+    relative translation and the rotations count."""
+    A, B = rect(0, 0, 12, 8), rect(12.05, 1.0, 10, 6)
+    cA, cB = geo.polygon_properties(A)[1], geo.polygon_properties(B)[1]
+    RA, RB = geo.radius(A, cA), geo.radius(B, cB)
+    bound = geo.clearance_bound(0.05, 0.3, -0.2, 0.0, RA, 0.3, -0.2, 0.0, RB)
+    assert bound == 0.05
+    assert geo.signed_gap(geo.displaced(A, cA, 0.3, -0.2, 0.0), geo.displaced(B, cB, 0.3, -0.2, 0.0)) == pytest.approx(0.05, abs=1e-12)
+
+
 # ---------------------------------------------------------------- compiled vs pure Python
 
 

@@ -37,6 +37,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from pounding.contact.geometry import njit
 from pounding.errors import InputError
 
 
@@ -68,8 +69,8 @@ def newton_impulses(W: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
 
     Solves the small linear complementarity problem: I >= 0, and for each
     point either I_j > 0 with post-impact closing speed ``b_j - (W I)_j = -k b_j``,
-    or I_j = 0 with ``b_j - (W I)_j <= 0`` (not approaching). With m <= 4
-    points the active sets are enumerated, largest first.
+    or I_j = 0 with ``b_j - (W I)_j <= 0`` (not approaching). The active sets
+    are enumerated, largest first (m <= MAX_FEATURES = 8 points per slab pair).
 
     Parameters
     ----------
@@ -80,24 +81,65 @@ def newton_impulses(W: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
     k : float
         Coefficient of restitution.
     """
-    m = len(b)
+    return newton_lcp(np.ascontiguousarray(W, dtype=float), np.ascontiguousarray(b, dtype=float), float(k))
+
+
+@njit
+def newton_lcp(W, b, k):
+    """Compiled core of :func:`newton_impulses` (same arguments, float64 arrays)."""
+    m = b.shape[0]
     target = (1.0 + k) * b
-    best = np.zeros(m)
+    scale = 1.0
+    for j in range(m):
+        scale = max(scale, abs(b[j]))
     for size in range(m, 0, -1):
         for mask in range(1 << m):
-            idx = [j for j in range(m) if mask >> j & 1]
-            if len(idx) != size or any(b[j] <= 0 for j in idx):
+            count = 0
+            ok = True
+            for j in range(m):
+                if mask >> j & 1:
+                    count += 1
+                    if b[j] <= 0:
+                        ok = False
+            if count != size or not ok:
                 continue
-            sub = W[np.ix_(idx, idx)]
-            try:
-                I_act = np.linalg.solve(sub, target[idx])
-            except np.linalg.LinAlgError:
-                I_act = np.linalg.lstsq(sub, target[idx], rcond=None)[0]
+            idx = np.empty(size, dtype=np.int64)
+            c = 0
+            for j in range(m):
+                if mask >> j & 1:
+                    idx[c] = j
+                    c += 1
+            sub = np.empty((size, size))
+            rhs = np.empty(size)
+            for r in range(size):
+                rhs[r] = target[idx[r]]
+                for s in range(size):
+                    sub[r, s] = W[idx[r], idx[s]]
+            I_act = solve_small(sub, rhs)
             if np.any(I_act < 0):
                 continue
             I = np.zeros(m)
-            I[idx] = I_act
+            for r in range(size):
+                I[idx[r]] = I_act[r]
             after = b - W @ I
-            if np.all(after[[j for j in range(m) if j not in idx]] <= 1e-12 * max(1.0, np.abs(b).max())):
+            good = True
+            for j in range(m):
+                if not (mask >> j & 1) and after[j] > 1e-12 * scale:
+                    good = False
+            if good:
                 return I
-    return best
+    return np.zeros(m)
+
+
+@njit
+def solve_small(S, rhs):
+    """x with S x = rhs for a small dense S; least squares when S is singular."""
+    singular = False
+    try:
+        x = np.linalg.solve(S, rhs)
+    except Exception:  # noqa: BLE001 - numba raises LinAlgError for a singular matrix
+        singular = True
+        x = rhs.copy()
+    if singular:
+        x = np.linalg.lstsq(S, rhs)[0]
+    return x

@@ -29,8 +29,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pounding.contact import geometry as geo
-from pounding.contact.base import newton_impulses
 from pounding.framework.assembly import System, assemble
+from pounding.framework import held as hold
+from pounding.framework import pairs as pg
 from pounding.framework.model import Scene
 from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
 from pounding.framework.results import Impact, Result
@@ -81,6 +82,7 @@ class Model:
         self.omega = np.concatenate([s.omega for s in self.systems])
         self.zeta = np.concatenate([s.zeta for s in self.systems])
         self.c2 = 2.0 * self.zeta * self.omega
+        self.om2 = self.omega**2
         self.L = np.concatenate([s.participation(s.influence(self.direction)) for s in self.systems])
         self.bidx = np.concatenate([[i] * n for i, n in enumerate(sizes)]).astype(np.int64)
         # slabs, numbered building by building
@@ -103,6 +105,13 @@ class Model:
         self.n_modes = np.stack([self.mode_start, np.array(sizes, dtype=np.int64)], axis=1)
         self.slab_building = np.array([b for b, _, _ in slabs], dtype=np.int64)
         self.pairs = self._pairs()
+        self.geo = pg.PairArrays(
+            np.array([[a, fa] for a, fa, _, _, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
+            np.array([[b, fb] for _, _, b, fb, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
+            self.rows, self.slab_off, self.n_modes, self.verts, self.nvert, self.centres, self.radii,
+            np.array([g for *_, g in self.pairs], dtype=float),
+        )
+        self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
 
     def _pairs(self) -> list[tuple[int, int, int, int, float]]:
         """Slab pairs at a common level: (building a, storey a, building b, storey b, rest gap)."""
@@ -140,22 +149,20 @@ class Model:
     def pair_gap(self, q: np.ndarray, p: int, cutoff: float | None = None) -> float:
         """Signed gap [m] of pair p for modal displacements q.
 
-        With ``cutoff``, a cheap lower bound (rest gap minus the largest displacement of
-        any point of either slab) is returned instead whenever it already exceeds the
+        With ``cutoff``, a cheap lower bound (rest gap minus the relative motion of the
+        slabs, :func:`~pounding.contact.geometry.clearance_bound`) is returned whenever it exceeds the
         cutoff: callers that only compare the gap with thresholds <= cutoff get the same
         answers without the polygon test.
         """
-        a, fa, b, fb, rest = self.pairs[p]
-        da, db = self.slab_dofs(q, a, fa), self.slab_dofs(q, b, fb)
-        if cutoff is not None:
-            ra, rb = self.radii[self.slab_index(a, fa)], self.radii[self.slab_index(b, fb)]
-            bound = rest - (np.hypot(da[0], da[1]) + abs(da[2]) * ra) - (np.hypot(db[0], db[1]) + abs(db[2]) * rb)
-            if bound > cutoff:
-                return float(bound)
-        sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
-        A = geo.displaced(self.verts[sa, : self.nvert[sa]], self.centres[sa], da[0], da[1], da[2])
-        B = geo.displaced(self.verts[sb, : self.nvert[sb]], self.centres[sb], db[0], db[1], db[2])
-        return float(geo.signed_gap(A, B))
+        return float(pg.pair_gap(q, p, np.inf if cutoff is None else cutoff, *self.geo))
+
+    def gaps(self, q: np.ndarray, plist: np.ndarray, cutoff: float | None = None) -> np.ndarray:
+        """Signed gaps [m] of the pairs ``plist`` (int array), lower bounds above ``cutoff``."""
+        return pg.pair_gaps(q, plist, np.inf if cutoff is None else cutoff, *self.geo)
+
+    def touching(self, q: np.ndarray, plist: np.ndarray, tol: float, deep: bool = False):
+        """Touching features of the pairs ``plist``, stacked: (pair (m,), gap (m,), W (m, n), Q, N (m, 2))."""
+        return pg.features_of(q, plist, tol, deep, self.n, *self.geo)
 
     def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.
@@ -173,13 +180,11 @@ class Model:
         return w
 
     def features(self, q: np.ndarray, p: int, tol: float) -> list[Feature]:
-        a, fa, b, fb, _ = self.pairs[p]
-        out = []
-        count, Q, N, gap, who, idx, face = geo.contact_points(self.polygon(q, a, fa), self.polygon(q, b, fb), tol)
-        for j in range(count):
-            vertex = -1 if face[j] >= 0 else int(idx[j])
-            out.append(Feature(p, Q[j].copy(), N[j].copy(), int(who[j]), vertex, float(gap[j]), self.row(q, p, Q[j], N[j])))
-        return out
+        count, Q, N, gap, who, idx, face, W = pg.pair_features(q, p, tol, self.n, *self.geo)
+        return [
+            Feature(p, Q[j].copy(), N[j].copy(), int(who[j]), -1 if face[j] >= 0 else int(idx[j]), float(gap[j]), W[j].copy())
+            for j in range(count)
+        ]
 
 
 class Driver:
@@ -233,13 +238,14 @@ class Driver:
         return np.einsum("nij,nj->ni", tr.A, z) + tr.B[:, :, 0] * p0[:, None] + tr.B[:, :, 1] * p1[:, None]
 
     def load(self, t: float) -> np.ndarray:
+        """Modal ground-motion load -L ag(t) (n,) [N/kg^0.5]."""
         k = t / self.dt
-        kr = int(round(k))
+        kr = int(k + 0.5)
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
             ag = self.ag[kr]
         else:
-            ag = float(self.gm.at(np.array([t]))[0])
-        return -self.model.L * ag
+            ag = float(self.gm.at(t))
+        return self.model.L * -ag
 
     def quadrature(self, h: float):
         """Energy quadrature for a step of h: (transitions to the points, points, weights)."""
@@ -271,8 +277,8 @@ class Driver:
 
     def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
         """Signed gaps of the pairs [m] (lower bounds where they exceed ``cutoff``)."""
-        pairs = range(len(self.model.pairs)) if pairs is None else pairs
-        return np.array([self.model.pair_gap(q, p, cutoff) for p in pairs])
+        plist = self.model.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)
+        return self.model.gaps(q, plist, cutoff)
 
     # ---------------------------------------------------------------- the run
     def run(self) -> Result:
@@ -284,16 +290,21 @@ class Driver:
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.needs_python(k):
+            if self.use_kernel and self.sustained and self.law.kind == "impulse":
+                k_end = min(self.nsteps, k + 4096)
+                k_new, status, _ = self.advance_held(k, k_end)
+            elif self.needs_python(k):
                 self.python_step(k)
                 k += 1
                 continue
-            k_end = min(self.nsteps, k + 4096)
-            k_new, status, _ = self.advance(k, k_end)
-            if status == 0:  # DONE
+            else:
+                k_end = min(self.nsteps, k + 4096)
+                k_new, status, _ = self.advance(k, k_end)
+            if status in (0, 3):  # DONE, or every held pair released
                 k = k_new
             elif status == 1:  # CONTACT at the end of step k_new - 1 (a closing pair within the tolerance)
                 self.contact_at(self.t_grid[k_new])
+                self._record(k_new)  # with the velocities after the impulses, as a Python step records
                 k = k_new
                 if self.law.kind == "force":
                     self.python_step_until_clear = True
@@ -320,6 +331,19 @@ class Driver:
 
         args = self._kernel_args()
         return advance(args[0], args[1], args[2], args[3], args[4], self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, *args[5:])
+
+    def advance_held(self, k0: int, k1: int):
+        """Grid steps with pairs held in sustained contact, compiled (:func:`pounding.framework.held.held_stretch`)."""
+        m = self.model
+        a = self._kernel_args()
+        mask = np.zeros(len(m.pairs), dtype=np.bool_)
+        mask[sorted(self.sustained)] = True
+        out = hold.held_stretch(
+            a[0], a[1], m.L, m.c2, m.om2, self.dt, self.ag, self.z, self.fc, mask, k0, k1, self.every, self.Q, self.V, self.E,
+            a[5], a[6], a[7], a[8], m.bidx, self.tol, -self.tol, self.v_min, m.slab_building, self.peak, *m.geo,
+        )
+        self.sustained = {int(p) for p in np.flatnonzero(mask)}
+        return out
 
     def _kernel_args(self):
         """The kernel's read-only arguments, built once per run."""
@@ -395,7 +419,14 @@ class Driver:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
         if self.law.kind != "impulse":
             return []
-        return [p for p in range(len(self.model.pairs)) if p not in self.sustained and self.model.pair_gap(z1[:, 0], p, cutoff=self.tol) < -self.tol]
+        free = self.free_pairs()
+        g = self.model.gaps(z1[:, 0], free, self.tol)
+        return [int(p) for p in free[g < -self.tol]]
+
+    def free_pairs(self) -> np.ndarray:
+        if not self.sustained:
+            return self.model.all_pairs
+        return np.array([p for p in self.model.all_pairs if p not in self.sustained], dtype=np.int64)
 
     def trial(self, z, t, h) -> Step:
         """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
@@ -405,10 +436,11 @@ class Driver:
         zf = self.step(z, t, h, self.fc)
         if self.law.kind != "force":
             return Step(z, zf, self.fc, zero)
-        feats = self._penetrating(zf, range(len(self.model.pairs)))
-        if not feats:
+        _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        keep = gap < 0
+        if not np.any(keep):
             return Step(z, zf, self.fc, zero)
-        Wr, gap = np.stack([f.w for f in feats]), np.array([f.gap for f in feats])
+        Wr, gap = Wr[keep], gap[keep]
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
@@ -417,126 +449,43 @@ class Driver:
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
 
     def held_trial(self, z, t, h) -> Step:
-        """A step with the held pairs in rigid sustained contact.
-
-        The contact force is a load like any other, carried from step to step, so the step and
-        its energy audit are the scheme's own. Unilateral and rigid: no touching point of a held
-        pair closes further during the step than it was at its start (and none ends beyond
-        contact), and no force pulls.
-
-        * Implicit schemes (the end displacement depends on the end load): at the start, the
-          force that stops the normal acceleration of the touching points that would close
-          (consistent with zero closing speed, see :meth:`stop_closing`); at the end, the force
-          that holds the points where they started, solved with the step's compliance
-          S_q = W diag(B[:, 0, 1]) W^T.
-        * Explicit schemes (central differences: the end displacement depends on the start
-          load only): the start force that holds the points where they started at the end of
-          the step (the forward-increment Lagrange multiplier), kept through the step.
-
-        Features are re-found on the corrected state (rotation moves them; two faces may be
-        pressed at once) for up to four passes.
-        """
+        """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.held.held_step`)."""
         m, tr = self.model, self.cache(h)
-        q0, v0 = z[:, 0], z[:, 1]
-        z0 = z.copy()
-        z0[:, 2] = self.load(t) - m.c2 * v0 - m.omega**2 * q0  # without contact force
-        f0 = np.zeros(m.n)
-        explicit = not np.any(np.abs(tr.B[:, 0, 1]) > 1e-12 * h * h)
-        held = sorted(self.sustained)
-        start = self._penetrating(z, held, closing_only=True)
-        zf = self.step(z0, t, h, f0, f0)
-        if start:
-            W = np.stack([f.w for f in start])
-            gap0 = np.array([f.gap for f in start])
-            # the start gap is the target: a point that starts open may close to contact
-            free_end = gap0 + W @ (zf[:, 0] - q0)
-            target = np.clip(gap0, -0.5 * self.tol, 0.0)
-            active = free_end < target
-            if explicit:
-                D0 = tr.A[:, 0, 2] + tr.B[:, 0, 0]
-                lam = rigid_forces(np.where(active, free_end - target, 1.0), (W * D0) @ W.T)
-            else:
-                lam = rigid_forces(np.where(active, W @ z0[:, 2], 1.0), W @ W.T)
-            if np.any(lam > 0):
-                f0 = W.T @ lam
-                z0[:, 2] += f0
-                zf = self.step(z0, t, h, f0, f0 if explicit else None)
-        f1 = f0.copy() if explicit else np.zeros(m.n)
-        z1 = zf
-        grow = tr.A[:, :, 2] + tr.B[:, :, 0] + tr.B[:, :, 1] if explicit else tr.B[:, :, 1]
-        D = grow[:, 0]
-        for attempt in range(4):
-            feats = self._penetrating(z1, held, closing_only=True)
-            if not feats:
-                break
-            Wr = np.stack([f.w for f in feats])
-            g1 = np.array([f.gap for f in feats])
-            # where each point started (linearised), but never deeper than half the tolerance:
-            # features slide as the slabs turn, and the linearised start drifts with them
-            target = np.clip(g1 - Wr @ (z1[:, 0] - q0), -0.5 * self.tol, 0.0)
-            short = g1 - target
-            # the first pass closes every shortfall; later ones only what linearisation left
-            if np.min(short) >= (0.0 if attempt == 0 else -1e-3 * self.tol):
-                break
-            lam = rigid_forces(np.where(short < 0, short, 1.0), (Wr * D) @ Wr.T)
-            if not np.any(lam > 0):
-                break
-            df = Wr.T @ lam
-            z1 = z1 + grow * df[:, None]
-            if explicit:
-                f0 = f0 + df
-                z0[:, 2] += df
-            f1 = f1 + df
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        z0, z1, f0, f1 = hold.held_step(z, self.load(t), self.load(t + h), tr.A, tr.B, h, m.c2, m.om2, held, self.tol, *m.geo)
         return Step(z0, z1, f0, f1)
 
     def stop_closing(self, t: float) -> None:
-        """Plastic impulses (restitution 0) on the touching points of held pairs that close.
-
-        A held pair is the end of a Zeno sequence: its rebounds have died out and its touching
-        points move together. Whatever closing speed a step leaves there is taken out here,
-        and the kinetic energy it removes is booked as contact work.
-        """
-        feats = self._penetrating(self.z, sorted(self.sustained), closing_only=True)
-        if not feats:
-            return
-        W = np.stack([f.w for f in feats])
-        b = -(W @ self.z[:, 1])
-        if not np.any(b > self.v_min):
-            return
-        I = newton_impulses(W @ W.T, np.where(b > self.v_min, b, np.minimum(b, 0.0)), 0.0)
-        if not np.any(I > 0):
-            return
-        e0 = self.mode_energy(self.z)
-        self.z[:, 1] += W.T @ I
-        np.add.at(self.E[:, 2], self.model.bidx, self.mode_energy(self.z) - e0)
-
-    def _penetrating(self, z, pairs, closing_only: bool = False) -> list[Feature]:
-        """Touching features of the given pairs in state z: penetrating ones, or (closing_only)
-        every feature within the tolerance, for the velocity condition."""
-        out = []
-        for p in pairs:
-            g = self.model.pair_gap(z[:, 0], p, cutoff=self.tol)
-            if g < self.tol:
-                feats = self.model.features(z[:, 0], p, max(self.tol, -g + self.tol))
-                out += feats if closing_only else [f for f in feats if f.gap < 0]
-        return out
+        """Plastic impulses on the touching points of held pairs that still close
+        (:func:`pounding.framework.held.stop_closing`); the kinetic energy they remove is
+        booked as contact work."""
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        dv = hold.stop_closing(self.z, held, self.tol, self.v_min, *self.model.geo)
+        if np.any(dv):
+            v = self.z[:, 1]
+            np.add.at(self.E[:, 2], self.model.bidx, 0.5 * v**2 - 0.5 * (v - dv) ** 2)
 
     def release_sustained(self) -> None:
         if not self.sustained:
             return
-        q = self.z[:, 0]
-        for p in list(self.sustained):
-            if self.model.pair_gap(q, p, cutoff=self.tol) > self.tol:
-                self.sustained.discard(p)
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        for p, g in zip(held, self.model.gaps(self.z[:, 0], held, self.tol)):
+            if g > self.tol:
+                self.sustained.discard(int(p))
 
     # ---------------------------------------------------------------- impact location
     def locate(self, t: float, h: float, culprits: list[int]) -> float:
         """Step length from t to the first contact of the culprit pairs (within the tolerance)."""
+        plist = np.array(culprits, dtype=np.int64)
+
         def gmin(hh):
             if hh <= 0.0:
-                return min(self.model.pair_gap(self.z[:, 0], p) for p in culprits)
-            z1 = self.trial(self.z, t, hh).z1
-            return min(self.model.pair_gap(z1[:, 0], p) for p in culprits)
+                return float(self.model.gaps(self.z[:, 0], plist).min())
+            if self.law.kind == "impulse" and not self.sustained:
+                # no contact force in the step: only its end displacements are needed
+                tr = self.cache(hh)
+                return float(pg.stepped_min_gap(tr.A, tr.B, self.z, self.load(t) + self.fc, self.load(t + hh), plist, *self.model.geo))
+            return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
@@ -565,9 +514,12 @@ class Driver:
         if self.law.kind != "impulse":
             return False
         q, acted = self.z[:, 0], False
-        candidates = range(len(self.model.pairs)) if pairs is None else pairs
-        for p in candidates:
-            if p in self.sustained or self.model.pair_gap(q, p, cutoff=self.tol) > self.tol:
+        candidates = self.model.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)
+        # impulses change velocities only: one screen of the gaps serves every pair
+        near = candidates[self.model.gaps(q, candidates, self.tol) <= self.tol]
+        for p in near:
+            p = int(p)
+            if p in self.sustained:
                 continue
             feats = self.model.features(q, p, self.tol)
             if not feats:
@@ -598,24 +550,6 @@ class Driver:
             if np.max(b) * self.dt < self.tol:
                 self.sustained.add(p)
         return acted
-
-
-def rigid_forces(gap: np.ndarray, S_q: np.ndarray) -> np.ndarray:
-    """Unilateral constraint forces lambda >= 0 closing the penetrations: S_q lambda = -gap on the active set."""
-    m = len(gap)
-    active = gap < 0
-    lam = np.zeros(m)
-    for _ in range(m + 1):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            return lam
-        sol = np.linalg.lstsq(S_q[np.ix_(idx, idx)], -gap[idx], rcond=None)[0]
-        lam[:] = 0.0
-        lam[idx] = sol
-        if np.all(sol >= 0):
-            return lam
-        active[idx[sol < 0]] = False
-    return np.maximum(lam, 0.0)
 
 
 def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:

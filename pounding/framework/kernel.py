@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.geometry import contact_points, displaced, njit, signed_gap
+from pounding.contact.geometry import clearance_bound, contact_points, displaced, njit, signed_gap
 
 DONE, CONTACT, OVERLAP = 0, 1, 2
 
@@ -122,7 +122,7 @@ def advance(
             bb = pair_b[p, 0]
             _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
             _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-            bound = rest_gap[p] - (np.hypot(da[0], da[1]) + abs(da[2]) * radii[sa]) - (np.hypot(db[0], db[1]) + abs(db[2]) * radii[sb])
+            bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
             if bound > tol:
                 continue
             g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
@@ -212,3 +212,28 @@ def _record(z, k, every, Q, V):
         for i in range(z.shape[0]):
             Q[j, i] = z[i, 0]
             V[j, i] = z[i, 1]
+
+
+@njit
+def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, gw, bidx):
+    """:func:`_accumulate` for a step with modal contact forces f0 -> f1 (n,) at its ends (linear in
+    between): their work goes to E[:, 2], and they drive the velocity at the quadrature points."""
+    n = z.shape[0]
+    p0s = -ag0
+    p1s = -ag1
+    nq = gc.shape[0]
+    for i in range(n):
+        if nq == 0:
+            vm = 0.5 * (z0[i, 1] + z[i, 1])
+            E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+            E[bidx[i], 1] += dt * c2[i] * vm * vm
+            E[bidx[i], 2] += dt * vm * 0.5 * (f0[i] + f1[i])
+        else:
+            for j in range(nq):
+                pj = L[i] * (p0s + gc[j] * (p1s - p0s))
+                fj = f0[i] + gc[j] * (f1[i] - f0[i])
+                vj = (GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2]
+                      + GB[j, i, 1, 0] * (L[i] * p0s + f0[i]) + GB[j, i, 1, 1] * (pj + fj))
+                E[bidx[i], 0] += dt * gw[j] * vj * pj
+                E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
+                E[bidx[i], 2] += dt * gw[j] * vj * fj

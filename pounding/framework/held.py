@@ -1,0 +1,292 @@
+"""Rigid sustained contact, compiled: the held step, the plastic stop and a run of held steps.
+
+A pair whose impacts accumulate (a Zeno sequence) or that is pressed together
+is *held*: a rigid unilateral contact force, carried from step to step as a load
+like any other, so each step and its energy audit are the integrator's own.
+
+* :func:`held_step` takes one step of any size with the held pairs' contact
+  forces (used by the driver for every trial, including an impact search);
+* :func:`stop_closing` removes what closing speed a held pair's touching
+  points still have (a plastic impact: the limit of the Zeno sequence);
+* :func:`held_stretch` runs grid steps while pairs are held and nothing else
+  happens, and stops for the driver when a free pair touches or overlaps.
+
+The driver's Python path calls the first two step by step; the stretch calls
+the very same functions, so both paths give the same numbers. Like
+:mod:`pounding.framework.kernel`, everything runs compiled by numba or, without
+numba, as plain Python with the same arithmetic.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.contact.base import newton_lcp, solve_small
+from pounding.contact.geometry import njit
+from pounding.framework.kernel import _accumulate_forces, _approaching, _record, update_peaks
+from pounding.framework.pairs import features_of, pair_gap, slab_dofs
+
+DONE, CONTACT, OVERLAP, RELEASED = 0, 1, 2, 3
+
+
+@njit
+def rigid_forces(gap, S):
+    """Unilateral constraint forces lambda >= 0 (m,) closing the penetrations gap < 0 (m,) [m]:
+    S lambda = -gap on the active set, S (m, m) the compliance [m/N]."""
+    m = gap.shape[0]
+    active = gap < 0
+    lam = np.zeros(m)
+    for _ in range(m + 1):
+        na = 0
+        for j in range(m):
+            if active[j]:
+                na += 1
+        if na == 0:
+            return lam
+        idx = np.empty(na, dtype=np.int64)
+        c = 0
+        for j in range(m):
+            if active[j]:
+                idx[c] = j
+                c += 1
+        sub = np.empty((na, na))
+        rhs = np.empty(na)
+        for r in range(na):
+            rhs[r] = -gap[idx[r]]
+            for s in range(na):
+                sub[r, s] = S[idx[r], idx[s]]
+        sol = np.linalg.lstsq(sub, rhs)[0]
+        lam[:] = 0.0
+        ok = True
+        for r in range(na):
+            lam[idx[r]] = sol[r]
+            if sol[r] < 0:
+                active[idx[r]] = False
+                ok = False
+        if ok:
+            return lam
+    return np.maximum(lam, 0.0)
+
+
+@njit
+def _weighted_compliance(W, D):
+    """W diag(D) W^T for rows W (m, n) and weights D (n,)."""
+    return (W * D) @ W.T
+
+
+@njit
+def _step(A, B, z, p0, p1):
+    n = z.shape[0]
+    z1 = np.empty((n, 3))
+    for i in range(n):
+        for r in range(3):
+            z1[i, r] = A[i, r, 0] * z[i, 0] + A[i, r, 1] * z[i, 1] + A[i, r, 2] * z[i, 2] + B[i, r, 0] * p0[i] + B[i, r, 1] * p1[i]
+    return z1
+
+
+@njit
+def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
+
+    g0, g1 (n,) are the modal ground-motion loads at the step's ends; A (n, 3, 3),
+    B (n, 3, 2) the integrator's transition for h; c2 = 2 zeta omega and
+    om2 = omega^2 (n,). Unilateral and rigid: no touching point of a held pair
+    closes further during the step than it was at its start (never deeper than
+    half the tolerance) and no force pulls.
+
+    * Implicit schemes (the end displacement depends on the end load): at the
+      start, the force that stops the normal acceleration of the touching points
+      that would close (consistent with zero closing speed after
+      :func:`stop_closing`); at the end, the force that holds the points where
+      they started, solved with the step's compliance W diag(B[:, 0, 1]) W^T.
+    * Explicit schemes (the end displacement depends on the start load only,
+      central differences): the start force that holds the points at the end of
+      the step (the forward-increment Lagrange multiplier), kept through the step.
+
+    Features are re-found on the corrected state (they slide as the slabs turn;
+    two faces may be pressed at once) for up to four passes.
+
+    Returns
+    -------
+    z0 (n, 3) : the start state with its acceleration consistent with f0;
+    z1 (n, 3) : the end state; f0, f1 (n,) : modal contact forces at the ends [N/kg^0.5].
+    """
+    n = z.shape[0]
+    z0 = z.copy()
+    for i in range(n):
+        z0[i, 2] = g0[i] - c2[i] * z[i, 1] - om2[i] * z[i, 0]  # without contact force
+    f0 = np.zeros(n)
+    explicit = True
+    for i in range(n):
+        if abs(B[i, 0, 1]) > 1e-12 * h * h:
+            explicit = False
+    q0 = z[:, 0].copy()
+    _, gap0, W, _, _ = features_of(q0, held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+    zf = _step(A, B, z0, g0 + f0, g1 + f0)
+    m = gap0.shape[0]
+    if m > 0:
+        free_end = gap0 + W @ (zf[:, 0] - q0)
+        target = np.minimum(np.maximum(gap0, -0.5 * tol), 0.0)
+        arg = np.ones(m)
+        if explicit:
+            D0 = A[:, 0, 2] + B[:, 0, 0]
+            for k in range(m):
+                if free_end[k] < target[k]:
+                    arg[k] = free_end[k] - target[k]
+            lam = rigid_forces(arg, _weighted_compliance(W, D0))
+        else:
+            acc = W @ z0[:, 2]
+            for k in range(m):
+                if free_end[k] < target[k]:
+                    arg[k] = acc[k]
+            lam = rigid_forces(arg, W @ W.T)
+        if np.any(lam > 0):
+            f0 = W.T @ lam
+            for i in range(n):
+                z0[i, 2] += f0[i]
+            zf = _step(A, B, z0, g0 + f0, g1 + (f0 if explicit else 0.0 * f0))
+    f1 = f0.copy() if explicit else np.zeros(n)
+    z1 = zf
+    grow = np.empty((n, 3))
+    for i in range(n):
+        for r in range(3):
+            grow[i, r] = A[i, r, 2] + B[i, r, 0] + B[i, r, 1] if explicit else B[i, r, 1]
+    D = grow[:, 0].copy()
+    for attempt in range(4):
+        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        m = g1f.shape[0]
+        if m == 0:
+            break
+        # where each point started (linearised), but never deeper than half the tolerance:
+        # features slide as the slabs turn, and the linearised start drifts with them
+        target = np.minimum(np.maximum(g1f - Wr @ (z1[:, 0] - q0), -0.5 * tol), 0.0)
+        short = g1f - target
+        # the first pass closes every shortfall; later ones only what linearisation left
+        if np.min(short) >= (0.0 if attempt == 0 else -1e-3 * tol):
+            break
+        arg = np.ones(m)
+        for k in range(m):
+            if short[k] < 0:
+                arg[k] = short[k]
+        lam = rigid_forces(arg, _weighted_compliance(Wr, D))
+        if not np.any(lam > 0):
+            break
+        df = Wr.T @ lam
+        z1 = z1.copy()
+        for i in range(n):
+            for r in range(3):
+                z1[i, r] += grow[i, r] * df[i]
+            if explicit:
+                f0[i] += df[i]
+                z0[i, 2] += df[i]
+            f1[i] += df[i]
+    return z0, z1, f0, f1
+
+
+@njit
+def stop_closing(z, held, tol, v_min, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Plastic impulses (restitution 0) on the touching points of held pairs that close faster
+    than v_min [m/s]; updates the velocities z[:, 1] in place. Returns the velocity change (n,)
+    (all zero when nothing closed)."""
+    n = z.shape[0]
+    dv = np.zeros(n)
+    _, _, W, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+    m = W.shape[0]
+    if m == 0:
+        return dv
+    b = -(W @ z[:, 1].copy())
+    closing = False
+    for k in range(m):
+        if b[k] > v_min:
+            closing = True
+        else:
+            b[k] = min(b[k], 0.0)
+    if not closing:
+        return dv
+    I = newton_lcp(W @ W.T, b, 0.0)
+    dv = W.T @ I
+    for i in range(n):
+        z[i, 1] += dv[i]
+    return dv
+
+
+@njit
+def held_stretch(
+    A, B, L, c2, om2, dt, ag, z, fc, held_mask, k0, k1, every, Q, V, E, GA, GB, gc, gw, bidx,
+    tol, overlap, v_min, slab_building, peak, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest,
+):
+    """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
+
+    Arrays as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
+    current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
+    Each step: :func:`stop_closing` (its kinetic-energy change booked as contact work),
+    :func:`held_step`, then the same checks as the driver's Python step.
+
+    Returns (k, status, pair): the grid index reached and
+    DONE (k1 reached), RELEASED (every held pair let go at the end of step k - 1),
+    OVERLAP (a free pair would overlap in step k: the state is its start, the plastic
+    stop already applied) or CONTACT (a free pair touches and closes at the end of step k - 1).
+    """
+    n = z.shape[0]
+    P = pa.shape[0]
+    g0 = np.empty(n)
+    g1 = np.empty(n)
+    da = np.empty(3)
+    db = np.empty(3)
+    for k in range(k0, k1):
+        nh = 0
+        for p in range(P):
+            if held_mask[p]:
+                nh += 1
+        held = np.empty(nh, dtype=np.int64)
+        c = 0
+        for p in range(P):
+            if held_mask[p]:
+                held[c] = p
+                c += 1
+        e_before = 0.0
+        dv = stop_closing(z, held, tol, v_min, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        for i in range(n):
+            if dv[i] != 0.0:
+                v_old = z[i, 1] - dv[i]
+                E[bidx[i], 2] += 0.5 * z[i, 1] ** 2 - 0.5 * v_old**2
+        for i in range(n):
+            g0[i] = -L[i] * ag[k]
+            g1[i] = -L[i] * ag[k + 1]
+        z0, z1, f0, f1 = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        # a free pair that would overlap: the driver locates the impact
+        for p in range(P):
+            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest) < overlap:
+                return k, OVERLAP, p
+        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, bidx)
+        for i in range(n):
+            z[i, 0] = z1[i, 0]
+            z[i, 1] = z1[i, 1]
+            z[i, 2] = z1[i, 2]
+            fc[i] = f1[i]
+        if every > 1:
+            update_peaks(rows, z[:, 0], n_modes, slab_building, peak)
+        _record(z, k + 1, every, Q, V)
+        # release the held pairs that opened beyond the tolerance
+        q = z[:, 0].copy()
+        any_held = False
+        for p in range(P):
+            if held_mask[p]:
+                if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest) > tol:
+                    held_mask[p] = False
+                else:
+                    any_held = True
+        # a free pair touching and closing at the step's end: the driver applies the impulses
+        for p in range(P):
+            if held_mask[p]:
+                continue
+            g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+            if g <= tol:
+                ba, fa, bb, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
+                slab_dofs(rows, off, n_modes, ba, fa, q, da)
+                slab_dofs(rows, off, n_modes, bb, fb, q, db)
+                if _approaching(rows, z, n_modes, ba, bb, off[ba] + fa, off[bb] + fb, da, db, verts, nvert, centres, tol, v_min):
+                    return k + 1, CONTACT, p
+        if not any_held:
+            return k + 1, RELEASED, -1
+    return k1, DONE, -1

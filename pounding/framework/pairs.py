@@ -1,0 +1,193 @@
+"""Slab pairs in modal coordinates, compiled: gaps, touching features and their modal rows.
+
+The driver asks these questions many times per contact event (every trial step
+of an impact search, every held step), so each is one compiled call over flat
+arrays rather than a chain of small numpy operations. The arrays are the
+stacked modal model's (:class:`~pounding.framework.analysis.Model`), packed
+once into :class:`PairArrays`:
+
+``pa``, ``pb`` (P, 2) int
+    (building, storey) of the two slabs of every pair.
+``rows`` (S, 3, nmax)
+    The Phi rows (u, v, phi) of every slab over its building's modes; slab
+    index = ``off[building] + storey``.
+``n_modes`` (n_buildings, 2) int
+    First stacked mode index and number of modes of every building.
+``verts`` (S, kmax, 2), ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,)
+    Rest polygons [m], their vertex counts, centres of mass [m] and the
+    largest distance of a vertex from the centre [m].
+``rest`` (P,)
+    Signed gap of every pair at rest [m].
+
+Like :mod:`pounding.framework.kernel`, every function runs compiled by numba or,
+without numba, as plain Python with the same arithmetic.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from pounding.contact.geometry import MAX_FEATURES, clearance_bound, contact_points, displaced, njit, signed_gap
+
+
+class PairArrays(NamedTuple):
+    """The flat arrays describing every slab pair (see the module docstring)."""
+
+    pa: np.ndarray
+    pb: np.ndarray
+    rows: np.ndarray
+    off: np.ndarray
+    n_modes: np.ndarray
+    verts: np.ndarray
+    nvert: np.ndarray
+    centres: np.ndarray
+    radii: np.ndarray
+    rest: np.ndarray
+
+
+@njit
+def slab_dofs(rows, off, n_modes, building, storey, x, out):
+    """out (3,) <- (u, v, phi) of one slab [m, m, rad] (or their rates) from stacked modal x (n,)."""
+    s = off[building] + storey
+    i0 = n_modes[building, 0]
+    nb = n_modes[building, 1]
+    for r in range(3):
+        acc = 0.0
+        for i in range(nb):
+            acc += rows[s, r, i] * x[i0 + i]
+        out[r] = acc
+
+
+@njit
+def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Signed gap [m] of pair p for modal displacements q (n,).
+
+    With a finite ``cutoff``, a cheap lower bound (rest gap minus the relative
+    motion of the slabs, :func:`~pounding.contact.geometry.clearance_bound`) is
+    returned whenever it already exceeds the cutoff: callers that compare the gap with thresholds <= cutoff get
+    the same answers without the polygon test. Pass ``np.inf`` for the exact gap.
+    """
+    da = np.empty(3)
+    db = np.empty(3)
+    slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q, da)
+    slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q, db)
+    sa = off[pa[p, 0]] + pa[p, 1]
+    sb = off[pb[p, 0]] + pb[p, 1]
+    bound = clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+    if bound > cutoff:
+        return bound
+    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
+    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    return signed_gap(A, B)
+
+
+@njit
+def pair_gaps(q, plist, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Gaps [m] (m,) of the pairs ``plist`` (m,) int; lower bounds where they exceed ``cutoff``."""
+    out = np.empty(plist.shape[0])
+    for j in range(plist.shape[0]):
+        out[j] = pair_gap(q, plist[j], cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+    return out
+
+
+@njit
+def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Touching features of pair p within ``tol`` of its smallest gap, with their modal rows.
+
+    Returns
+    -------
+    count : int
+        Number of valid rows (0..MAX_FEATURES).
+    Q, N : (MAX_FEATURES, 2)
+        Contact points [m] and unit normals from slab a towards slab b.
+    gap : (MAX_FEATURES,)
+        Gap of every feature [m].
+    who, idx, face : (MAX_FEATURES,) int
+        Striking polygon (0: a vertex of a, 1: of b), its vertex, and the partner edge
+        when the feature is face to face (-1 otherwise); see
+        :func:`pounding.contact.geometry.contact_points`.
+    W : (MAX_FEATURES, n)
+        Modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
+        apart changes q' by W[k] I_k.
+    """
+    da = np.empty(3)
+    db = np.empty(3)
+    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
+    slab_dofs(rows, off, n_modes, a, fa, q, da)
+    slab_dofs(rows, off, n_modes, b, fb, q, db)
+    sa = off[a] + fa
+    sb = off[b] + fb
+    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
+    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
+    W = np.zeros((MAX_FEATURES, n))
+    for k in range(count):
+        for side in range(2):
+            if side == 0:
+                sign, bld, s, d = -1.0, a, sa, da
+            else:
+                sign, bld, s, d = 1.0, b, sb, db
+            rx = Q[k, 0] - (centres[s, 0] + d[0])
+            ry = Q[k, 1] - (centres[s, 1] + d[1])
+            g0 = N[k, 0]
+            g1 = N[k, 1]
+            g2 = rx * N[k, 1] - ry * N[k, 0]
+            i0 = n_modes[bld, 0]
+            for i in range(n_modes[bld, 1]):
+                W[k, i0 + i] += sign * (rows[s, 0, i] * g0 + rows[s, 1, i] * g1 + rows[s, 2, i] * g2)
+    return count, Q, N, gap, who, idx, face, W
+
+
+@njit
+def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Touching features of several pairs, stacked: (pair, gap, W) of every feature.
+
+    A pair is searched when its gap is within ``tol``; with ``deep`` the search
+    tolerance grows with the penetration (max(tol, tol - gap)) so that every
+    penetrating feature of a deeply overlapping pair is found.
+
+    Returns
+    -------
+    pair : (m,) int, gap : (m,), W : (m, n), Q, N : (m, 2)
+    """
+    cap = plist.shape[0] * MAX_FEATURES
+    pair = np.empty(cap, dtype=np.int64)
+    gaps = np.empty(cap)
+    W = np.empty((cap, n))
+    Q = np.empty((cap, 2))
+    N = np.empty((cap, 2))
+    m = 0
+    for j in range(plist.shape[0]):
+        p = plist[j]
+        g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        if g >= tol:
+            continue
+        t = max(tol, tol - g) if deep else tol
+        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        for k in range(count):
+            pair[m] = p
+            gaps[m] = gp[k]
+            W[m] = Wp[k]
+            Q[m] = Qp[k]
+            N[m] = Np[k]
+            m += 1
+    return pair[:m], gaps[:m], W[:m], Q[:m], N[:m]
+
+
+@njit
+def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+    """Smallest gap [m] of the pairs ``plist`` after one step z1 = A z + B[:, :, 0] p0 + B[:, :, 1] p1.
+
+    A (n, 3, 3), B (n, 3, 2): the step's per-mode transition; z (n, 3) the start state;
+    p0, p1 (n,) the modal loads at the step's ends. Only the displacements are formed.
+    """
+    n = z.shape[0]
+    q1 = np.empty(n)
+    for i in range(n):
+        q1[i] = A[i, 0, 0] * z[i, 0] + A[i, 0, 1] * z[i, 1] + A[i, 0, 2] * z[i, 2] + B[i, 0, 0] * p0[i] + B[i, 0, 1] * p1[i]
+    g = np.inf
+    for j in range(plist.shape[0]):
+        g = min(g, pair_gap(q1, plist[j], np.inf, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest))
+    return g
