@@ -110,6 +110,7 @@ class Model:
             np.array([[b, fb] for _, _, b, fb, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
             self.rows, self.slab_off, self.n_modes, self.verts, self.nvert, self.centres, self.radii,
             np.array([g for *_, g in self.pairs], dtype=float),
+            np.array([self._rest_axis(p) for p in range(len(self.pairs))], dtype=float).reshape(-1, 2),
         )
         self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
 
@@ -125,6 +126,11 @@ class Model:
                         if abs(slab_a.elevation - slab_b.elevation) < LEVEL_TOL:
                             out.append((a, fa, b, fb, float(geo.signed_gap(slab_a.vertices, slab_b.vertices))))
         return out
+
+    def _rest_axis(self, p: int) -> np.ndarray:
+        a, fa, b, fb, rest = self.pairs[p]
+        sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
+        return pg.rest_axis(self.verts[sa, : self.nvert[sa]], self.verts[sb, : self.nvert[sb]], rest)
 
     def update_peaks(self, q: np.ndarray, peak: np.ndarray) -> None:
         """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab for modal displacements q."""
@@ -228,24 +234,40 @@ class Driver:
         self.peak = np.zeros((len(self.model.slab_building), 3))
         self.events_in_step = 0
         self.n_located = 0
+        self._quad: dict = {}
 
     # ---------------------------------------------------------------- stepping
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
         """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
         tr = self.cache(h)
         p0 = self.load(t) + f0
-        p1 = self.load(t + h) + (0.0 if f1 is None else f1)
-        return np.einsum("nij,nj->ni", tr.A, z) + tr.B[:, :, 0] * p0[:, None] + tr.B[:, :, 1] * p1[:, None]
+        p1 = self.load(t + h) if f1 is None else self.load(t + h) + f1
+        return hold.step(tr.A, tr.B, z, p0, p1)
+
+    def snap(self, h: float) -> float:
+        """h [s], or the dyadic fraction m dt / 2**20 it differs from by rounding only (1e-10 dt).
+
+        The rest of a grid step after a located impact is t_end - t, which differs in the
+        last bits from one event to the next for the same fraction of dt: snapping gives
+        one transition per distinct step size, and steps that end exactly on the grid.
+        """
+        x = h / self.dt * 1048576.0
+        m = float(int(x + 0.5))
+        if m > 0 and abs(x - m) <= 1e-4:
+            return m / 1048576.0 * self.dt
+        return h
 
     def load(self, t: float) -> np.ndarray:
         """Modal ground-motion load -L ag(t) (n,) [N/kg^0.5]."""
+        return self.model.L * -self.ag_at(t)
+
+    def ag_at(self, t: float) -> float:
+        """Ground acceleration [m/s^2] at time t (the grid samples at grid times)."""
         k = t / self.dt
         kr = int(k + 0.5)
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
-            ag = self.ag[kr]
-        else:
-            ag = float(self.gm.at(t))
-        return self.model.L * -ag
+            return float(self.ag[kr])
+        return float(self.gm.at(t))
 
     def quadrature(self, h: float):
         """Energy quadrature for a step of h: (transitions to the points, points, weights)."""
@@ -258,22 +280,25 @@ class Driver:
 
     def accumulate(self, z0, z1, t, h, f0, f1):
         """Add one step's input, damping and contact-force work [J] to the energy audit."""
-        g0, g1 = self.load(t), self.load(t + h)
-        trs, c, w = self.quadrature(h)
-        if not trs:
-            vs, gs, fs, ws = [0.5 * (z0[:, 1] + z1[:, 1])], [0.5 * (g0 + g1)], [0.5 * (f0 + f1)], [1.0]
-        else:
-            vs, gs, fs, ws = [], [], [], w
-            for tr, cj in zip(trs, c):
-                gj, fj = g0 + cj * (g1 - g0), f0 + cj * (f1 - f0)
-                # velocity at the point c_j h of the scheme's own trajectory from z0
-                vs.append(np.einsum("nj,nj->n", tr.A[:, 1, :], z0) + tr.B[:, 1, 0] * (g0 + f0) + tr.B[:, 1, 1] * (gj + fj))
-                gs.append(gj)
-                fs.append(fj)
-        for v, g, f, wj in zip(vs, gs, fs, ws):
-            np.add.at(self.E[:, 0], self.model.bidx, h * wj * v * g)
-            np.add.at(self.E[:, 1], self.model.bidx, h * wj * self.model.c2 * v * v)
-            np.add.at(self.E[:, 2], self.model.bidx, h * wj * v * f)
+        from pounding.framework.kernel import _accumulate_forces
+
+        tr = self.cache(h)
+        GA, GB, gc, gw = self.quadrature_arrays(h)
+        _accumulate_forces(tr.A, tr.B, self.model.L, self.model.c2, h, self.ag_at(t), self.ag_at(t + h), z0, z1, f0, f1, self.E, GA, GB, gc, gw, self.model.bidx)
+
+    def quadrature_arrays(self, h: float):
+        """The energy quadrature for a step of h as the kernel takes it: (GA, GB, points, weights)."""
+        key = float(h)
+        out = self._quad.get(key)
+        if out is None:
+            trs, gc, gw = self.quadrature(h)
+            n = self.model.n
+            GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
+            GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+            if len(self._quad) > 256:
+                self._quad.clear()
+            out = self._quad[key] = (GA, GB, np.asarray(gc, dtype=float), np.asarray(gw, dtype=float))
+        return out
 
     def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
         """Signed gaps of the pairs [m] (lower bounds where they exceed ``cutoff``)."""
@@ -350,10 +375,7 @@ class Driver:
         if getattr(self, "_kargs", None) is None:
             m = self.model
             tr = self.cache(self.dt)
-            trs, gc, gw = self.quadrature(self.dt)
-            n = m.n
-            GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
-            GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+            GA, GB, gc, gw = self.quadrature_arrays(self.dt)
             pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
             pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
             rest = np.array([g for *_, g in m.pairs], dtype=float)
@@ -362,7 +384,7 @@ class Driver:
             overlap = 0.0 if self.law.kind == "force" else -self.tol
             self._kargs = (
                 tr.A, tr.B, m.L, m.c2, self.dt, GA, GB, gc, gw,
-                m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, self.tol, overlap,
+                m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, m.geo.axis, self.tol, overlap,
                 self.v_min, m.slab_building, self.peak,
             )
         return self._kargs
@@ -380,9 +402,7 @@ class Driver:
         t, t_end = self.t_grid[k], self.t_grid[k + 1]
         self.events_in_step = 0
         while t_end - t > 1e-12 * self.dt:
-            h = t_end - t
-            if abs(h - self.dt) <= 1e-9 * self.dt:
-                h = self.dt  # one transition per distinct step: grid arithmetic differs in the last bits
+            h = self.snap(t_end - t)
             if self.sustained:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
@@ -452,7 +472,8 @@ class Driver:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.held.held_step`)."""
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        z0, z1, f0, f1 = hold.held_step(z, self.load(t), self.load(t + h), tr.A, tr.B, h, m.c2, m.om2, held, self.tol, *m.geo)
+        _, gap0, W0, _, _ = m.touching(z[:, 0], held, self.tol, deep=True)
+        z0, z1, f0, f1, *_ = hold.held_step(z, self.load(t), self.load(t + h), tr.A, tr.B, h, m.c2, m.om2, held, self.tol, gap0, W0, *m.geo)
         return Step(z0, z1, f0, f1)
 
     def stop_closing(self, t: float) -> None:
@@ -460,7 +481,8 @@ class Driver:
         (:func:`pounding.framework.held.stop_closing`); the kinetic energy they remove is
         booked as contact work."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        dv = hold.stop_closing(self.z, held, self.tol, self.v_min, *self.model.geo)
+        _, _, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        dv = hold.stop_closing(self.z, W, self.v_min)
         if np.any(dv):
             v = self.z[:, 1]
             np.add.at(self.E[:, 2], self.model.bidx, 0.5 * v**2 - 0.5 * (v - dv) ** 2)
@@ -517,18 +539,17 @@ class Driver:
         candidates = self.model.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)
         # impulses change velocities only: one screen of the gaps serves every pair
         near = candidates[self.model.gaps(q, candidates, self.tol) <= self.tol]
-        for p in near:
-            p = int(p)
+        for p in near.tolist():
             if p in self.sustained:
                 continue
-            feats = self.model.features(q, p, self.tol)
-            if not feats:
+            count, Qp, Np, _, who, idx, face, Wr = pg.pair_features(q, p, self.tol, self.model.n, *self.model.geo)
+            if count == 0:
                 continue
-            Wr = np.stack([f.w for f in feats])
+            Wr = Wr[:count]
             b = -(Wr @ self.z[:, 1])
-            b = np.where((b > 0.0) & (b <= self.v_min), 0.0, b)  # rounding-level closing is not approach
-            if not np.any(b > 0):
+            if b.max() <= self.v_min:  # rounding-level closing is not approach
                 continue
+            b[(b > 0.0) & (b <= self.v_min)] = 0.0
             W = Wr @ Wr.T
             I = self.law.impulses(W, b)
             if not np.any(I > 0):
@@ -540,9 +561,9 @@ class Driver:
             if self.law.after_impact == "equilibrium":
                 self.z[:, 2] = self.load(t) + self.fc - self.model.c2 * self.z[:, 1] - self.model.omega**2 * self.z[:, 0]
             acted = True
-            for f, Ik, bk, ak in zip(feats, I, b, after):
-                if Ik > 0:
-                    self.impacts.append(Impact(t, p, f.striker, f.vertex, float(Ik), f.normal.copy(), float(bk), float(0.5 * Ik * (bk + ak)), f.point.copy()))
+            for j in np.flatnonzero(I > 0):
+                vertex = -1 if face[j] >= 0 else int(idx[j])
+                self.impacts.append(Impact(t, p, int(who[j]), vertex, float(I[j]), Np[j].copy(), float(b[j]), float(0.5 * I[j] * (b[j] + after[j])), Qp[j].copy()))
             # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
             # of ever smaller impacts that accumulates in finite time and ends with the points
             # moving together, all their closing kinetic energy lost. The pair is held: its next

@@ -75,7 +75,8 @@ def _weighted_compliance(W, D):
 
 
 @njit
-def _step(A, B, z, p0, p1):
+def step(A, B, z, p0, p1):
+    """z1 (n, 3) = A z + B[:, :, 0] p0 + B[:, :, 1] p1, mode by mode (the kernel's arithmetic)."""
     n = z.shape[0]
     z1 = np.empty((n, 3))
     for i in range(n):
@@ -85,9 +86,11 @@ def _step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, gap0, W, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
 
+    gap0 (m,), W (m, n) are the held pairs' touching features at the start
+    (:func:`~pounding.framework.pairs.features_of` with ``deep``: gaps and modal rows).
     g0, g1 (n,) are the modal ground-motion loads at the step's ends; A (n, 3, 3),
     B (n, 3, 2) the integrator's transition for h; c2 = 2 zeta omega and
     om2 = omega^2 (n,). Unilateral and rigid: no touching point of a held pair
@@ -109,7 +112,9 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
     Returns
     -------
     z0 (n, 3) : the start state with its acceleration consistent with f0;
-    z1 (n, 3) : the end state; f0, f1 (n,) : modal contact forces at the ends [N/kg^0.5].
+    z1 (n, 3) : the end state; f0, f1 (n,) : modal contact forces at the ends [N/kg^0.5];
+    found : bool, gap1 (k,), W1 (k, n) : when ``found``, the held pairs' features at the end
+    state (the next step's start features).
     """
     n = z.shape[0]
     z0 = z.copy()
@@ -121,8 +126,7 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
         if abs(B[i, 0, 1]) > 1e-12 * h * h:
             explicit = False
     q0 = z[:, 0].copy()
-    _, gap0, W, _, _ = features_of(q0, held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
-    zf = _step(A, B, z0, g0 + f0, g1 + f0)
+    zf = step(A, B, z0, g0 + f0, g1 + f0)
     m = gap0.shape[0]
     if m > 0:
         free_end = gap0 + W @ (zf[:, 0] - q0)
@@ -135,7 +139,7 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
                     arg[k] = free_end[k] - target[k]
             lam = rigid_forces(arg, _weighted_compliance(W, D0))
         else:
-            acc = W @ z0[:, 2]
+            acc = W @ z0[:, 2].copy()
             for k in range(m):
                 if free_end[k] < target[k]:
                     arg[k] = acc[k]
@@ -144,7 +148,7 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
             f0 = W.T @ lam
             for i in range(n):
                 z0[i, 2] += f0[i]
-            zf = _step(A, B, z0, g0 + f0, g1 + (f0 if explicit else 0.0 * f0))
+            zf = step(A, B, z0, g0 + f0, g1 + (f0 if explicit else 0.0 * f0))
     f1 = f0.copy() if explicit else np.zeros(n)
     z1 = zf
     grow = np.empty((n, 3))
@@ -152,8 +156,10 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
         for r in range(3):
             grow[i, r] = A[i, r, 2] + B[i, r, 0] + B[i, r, 1] if explicit else B[i, r, 1]
     D = grow[:, 0].copy()
+    found = False
     for attempt in range(4):
-        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        found = True
         m = g1f.shape[0]
         if m == 0:
             break
@@ -171,6 +177,7 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
         lam = rigid_forces(arg, _weighted_compliance(Wr, D))
         if not np.any(lam > 0):
             break
+        found = False
         df = Wr.T @ lam
         z1 = z1.copy()
         for i in range(n):
@@ -180,17 +187,16 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, pa, pb, rows, off, n_modes
                 f0[i] += df[i]
                 z0[i, 2] += df[i]
             f1[i] += df[i]
-    return z0, z1, f0, f1
+    return z0, z1, f0, f1, found, g1f, Wr
 
 
 @njit
-def stop_closing(z, held, tol, v_min, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
-    """Plastic impulses (restitution 0) on the touching points of held pairs that close faster
-    than v_min [m/s]; updates the velocities z[:, 1] in place. Returns the velocity change (n,)
-    (all zero when nothing closed)."""
+def stop_closing(z, W, v_min):
+    """Plastic impulses (restitution 0) on the touching points (modal rows W (m, n)) of held
+    pairs that close faster than v_min [m/s]; updates the velocities z[:, 1] in place.
+    Returns the velocity change (n,) (all zero when nothing closed)."""
     n = z.shape[0]
     dv = np.zeros(n)
-    _, _, W, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
     m = W.shape[0]
     if m == 0:
         return dv
@@ -213,7 +219,7 @@ def stop_closing(z, held, tol, v_min, pa, pb, rows, off, n_modes, verts, nvert, 
 @njit
 def held_stretch(
     A, B, L, c2, om2, dt, ag, z, fc, held_mask, k0, k1, every, Q, V, E, GA, GB, gc, gw, bidx,
-    tol, overlap, v_min, slab_building, peak, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest,
+    tol, overlap, v_min, slab_building, peak, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis,
 ):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
@@ -233,6 +239,9 @@ def held_stretch(
     g1 = np.empty(n)
     da = np.empty(3)
     db = np.empty(3)
+    have = False  # start features known (the last step's end features)
+    gapS = np.empty(0)
+    WS = np.empty((0, n))
     for k in range(k0, k1):
         nh = 0
         for p in range(P):
@@ -244,8 +253,9 @@ def held_stretch(
             if held_mask[p]:
                 held[c] = p
                 c += 1
-        e_before = 0.0
-        dv = stop_closing(z, held, tol, v_min, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        if not have:
+            _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        dv = stop_closing(z, WS, v_min)
         for i in range(n):
             if dv[i] != 0.0:
                 v_old = z[i, 1] - dv[i]
@@ -253,10 +263,10 @@ def held_stretch(
         for i in range(n):
             g0[i] = -L[i] * ag[k]
             g1[i] = -L[i] * ag[k + 1]
-        z0, z1, f0, f1 = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, gapS, WS, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
-            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest) < overlap:
+            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) < overlap:
                 return k, OVERLAP, p
         _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, bidx)
         for i in range(n):
@@ -272,15 +282,16 @@ def held_stretch(
         any_held = False
         for p in range(P):
             if held_mask[p]:
-                if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest) > tol:
+                if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) > tol:
                     held_mask[p] = False
+                    have = False  # the held set changed
                 else:
                     any_held = True
         # a free pair touching and closing at the step's end: the driver applies the impulses
         for p in range(P):
             if held_mask[p]:
                 continue
-            g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+            g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
             if g <= tol:
                 ba, fa, bb, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
                 slab_dofs(rows, off, n_modes, ba, fa, q, da)

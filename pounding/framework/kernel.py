@@ -18,7 +18,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.geometry import clearance_bound, contact_points, displaced, njit, signed_gap
+from pounding.contact.geometry import axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
 
 DONE, CONTACT, OVERLAP = 0, 1, 2
 
@@ -37,7 +37,7 @@ def _slab_dofs(rows, q, out):
 def advance(
     A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
     bidx, pair_a, pair_b, rows, off, n_modes,
-    verts, nvert, centres, radii, rest_gap, tol, overlap, v_min, slab_building, peak,
+    verts, nvert, centres, radii, rest_gap, axis, tol, overlap, v_min, slab_building, peak,
 ):
     """Advance z from step k0 towards k1 (exclusive of events).
 
@@ -76,7 +76,9 @@ def advance(
         ``off[building] + storey``), ``n_modes`` (n_buildings,) with
         the first mode index of each building in ``n_modes[:, 0]`` and the
         count in ``n_modes[:, 1]``, ``verts`` (S, kmax, 2) rest polygons,
-        ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,), ``rest_gap`` (P,).
+        ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,), ``rest_gap`` (P,), and
+        ``axis`` (P, 2) the unit direction of the closest points at rest (see
+        :mod:`pounding.framework.pairs`).
     tol : float
         Contact tolerance [m]: a step ending with a gap <= tol is reported.
     overlap : float
@@ -124,6 +126,9 @@ def advance(
             _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
             bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
             if bound > tol:
+                continue
+            if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                               verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
                 continue
             g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
             if g < overlap:

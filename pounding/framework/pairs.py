@@ -18,6 +18,9 @@ once into :class:`PairArrays`:
     largest distance of a vertex from the centre [m].
 ``rest`` (P,)
     Signed gap of every pair at rest [m].
+``axis`` (P, 2)
+    Unit direction from slab a to slab b of their closest points at rest (zero when
+    none is defined): the axis of the separating-axis bound.
 
 Like :mod:`pounding.framework.kernel`, every function runs compiled by numba or,
 without numba, as plain Python with the same arithmetic.
@@ -29,7 +32,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from pounding.contact.geometry import MAX_FEATURES, clearance_bound, contact_points, displaced, njit, signed_gap
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
 
 
 class PairArrays(NamedTuple):
@@ -45,6 +48,7 @@ class PairArrays(NamedTuple):
     centres: np.ndarray
     radii: np.ndarray
     rest: np.ndarray
+    axis: np.ndarray
 
 
 @njit
@@ -61,12 +65,13 @@ def slab_dofs(rows, off, n_modes, building, storey, x, out):
 
 
 @njit
-def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """Signed gap [m] of pair p for modal displacements q (n,).
 
-    With a finite ``cutoff``, a cheap lower bound (rest gap minus the relative
-    motion of the slabs, :func:`~pounding.contact.geometry.clearance_bound`) is
-    returned whenever it already exceeds the cutoff: callers that compare the gap with thresholds <= cutoff get
+    With a finite ``cutoff``, a cheap lower bound is returned whenever it already
+    exceeds the cutoff: the rest gap minus the relative motion of the slabs
+    (:func:`~pounding.contact.geometry.clearance_bound`), else their separation
+    along the rest axis (:func:`~pounding.contact.geometry.axis_separation`); callers that compare the gap with thresholds <= cutoff get
     the same answers without the polygon test. Pass ``np.inf`` for the exact gap.
     """
     da = np.empty(3)
@@ -78,22 +83,26 @@ def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, ra
     bound = clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
     if bound > cutoff:
         return bound
+    sep = axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                          verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1])
+    if sep > cutoff:
+        return sep
     A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
     B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
     return signed_gap(A, B)
 
 
 @njit
-def pair_gaps(q, plist, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def pair_gaps(q, plist, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """Gaps [m] (m,) of the pairs ``plist`` (m,) int; lower bounds where they exceed ``cutoff``."""
     out = np.empty(plist.shape[0])
     for j in range(plist.shape[0]):
-        out[j] = pair_gap(q, plist[j], cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        out[j] = pair_gap(q, plist[j], cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
     return out
 
 
 @njit
-def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """Touching features of pair p within ``tol`` of its smallest gap, with their modal rows.
 
     Returns
@@ -141,7 +150,7 @@ def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centre
 
 
 @njit
-def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """Touching features of several pairs, stacked: (pair, gap, W) of every feature.
 
     A pair is searched when its gap is within ``tol``; with ``deep`` the search
@@ -161,11 +170,11 @@ def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert
     m = 0
     for j in range(plist.shape[0]):
         p = plist[j]
-        g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         if g >= tol:
             continue
         t = max(tol, tol - g) if deep else tol
-        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest)
+        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         for k in range(count):
             pair[m] = p
             gaps[m] = gp[k]
@@ -177,7 +186,7 @@ def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert
 
 
 @njit
-def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest):
+def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """Smallest gap [m] of the pairs ``plist`` after one step z1 = A z + B[:, :, 0] p0 + B[:, :, 1] p1.
 
     A (n, 3, 3), B (n, 3, 2): the step's per-mode transition; z (n, 3) the start state;
@@ -189,5 +198,14 @@ def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, n
         q1[i] = A[i, 0, 0] * z[i, 0] + A[i, 0, 1] * z[i, 1] + A[i, 0, 2] * z[i, 2] + B[i, 0, 0] * p0[i] + B[i, 0, 1] * p1[i]
     g = np.inf
     for j in range(plist.shape[0]):
-        g = min(g, pair_gap(q1, plist[j], np.inf, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest))
+        g = min(g, pair_gap(q1, plist[j], np.inf, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis))
     return g
+
+
+def rest_axis(A: np.ndarray, B: np.ndarray, rest_gap: float) -> np.ndarray:
+    """Unit direction (2,) from polygon A to polygon B of their closest features at rest
+    (zeros when the polygons overlap so much that none is found)."""
+    count, Q, N, gap, *_ = contact_points(A, B, max(rest_gap, 0.0) + 1e-9 * (1.0 + abs(rest_gap)))
+    if count == 0:
+        return np.zeros(2)
+    return N[int(np.argmin(gap[:count]))].copy()
