@@ -325,7 +325,12 @@ class Driver:
             else:
                 k_end = min(self.nsteps, k + 4096)
                 k_new, status, _ = self.advance(k, k_end)
+            self.drain_kernel_events()
             if status in (0, 3):  # DONE, or every held pair released
+                k = k_new
+            elif status == 4:  # the kernel applied impulses and a pair's rebounds accumulate: hold it
+                self.sustained.update(int(p) for p in np.flatnonzero(self._zeno))
+                self._zeno[:] = False
                 k = k_new
             elif status == 1:  # CONTACT at the end of step k_new - 1 (a closing pair within the tolerance)
                 self.contact_at(self.t_grid[k_new])
@@ -355,7 +360,40 @@ class Driver:
         from pounding.framework.kernel import advance
 
         args = self._kernel_args()
-        return advance(args[0], args[1], args[2], args[3], args[4], self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, *args[5:])
+        return advance(args[0], args[1], args[2], args[3], args[4], self.ag, self.z, k0, k1, self.every, self.Q, self.V, self.E, *args[5:],
+                       *self._kernel_events())
+
+    def _kernel_events(self):
+        """What the kernel needs to apply Newton impulses itself, and its buffers (see kernel.advance)."""
+        if getattr(self, "_kev", None) is None:
+            from pounding.contact.impulse import Impulse
+
+            m = self.model
+            # only a law whose impulses are exactly Newton's may be applied by the kernel
+            newton = isinstance(self.law, Impulse) and type(self.law).impulses is Impulse.impulses
+            restitution = self.law.restitution if newton else -1.0
+            after_eq = newton and self.law.after_impact == "equilibrium"
+            P = len(m.pairs)
+            cap_e = 64
+            self._zeno = np.zeros(P, dtype=np.bool_)
+            self._kev = (
+                float(restitution), bool(after_eq), m.om2,
+                np.zeros((cap_e * max(P, 1) * 8, 11)), np.zeros(1, dtype=np.int64),
+                np.zeros(cap_e), np.zeros((cap_e, m.n)), np.zeros((cap_e, m.n)), np.zeros(1, dtype=np.int64), self._zeno,
+            )
+        return self._kev
+
+    def drain_kernel_events(self) -> None:
+        """Move the impacts and event states the kernel recorded into the run's lists."""
+        if getattr(self, "_kev", None) is None:
+            return
+        _, _, _, imp, imp_n, ev_t, ev_q, ev_v, ev_n, _ = self._kev
+        for j in range(int(ev_n[0])):
+            self.event_states.append((float(ev_t[j]), ev_q[j].copy(), ev_v[j].copy()))
+        for r in imp[: int(imp_n[0])]:
+            self.impacts.append(Impact(float(r[0]), int(r[1]), int(r[2]), int(r[3]), float(r[4]), r[5:7].copy(), float(r[7]), float(r[8]), r[9:11].copy()))
+        imp_n[0] = 0
+        ev_n[0] = 0
 
     def advance_held(self, k0: int, k1: int):
         """Grid steps with pairs held in sustained contact, compiled (:func:`pounding.framework.held.held_stretch`)."""

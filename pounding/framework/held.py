@@ -55,7 +55,7 @@ def rigid_forces(gap, S):
             rhs[r] = -gap[idx[r]]
             for s in range(na):
                 sub[r, s] = S[idx[r], idx[s]]
-        sol = np.linalg.lstsq(sub, rhs)[0]
+        sol = solve_small(sub, rhs)
         lam[:] = 0.0
         ok = True
         for r in range(na):

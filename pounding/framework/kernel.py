@@ -18,9 +18,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.geometry import axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
+from pounding.contact.base import newton_lcp
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
+from pounding.framework.pairs import pair_features, pair_gap
 
-DONE, CONTACT, OVERLAP = 0, 1, 2
+DONE, CONTACT, OVERLAP, HELD = 0, 1, 2, 4
 
 
 @njit
@@ -38,6 +40,7 @@ def advance(
     A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
     bidx, pair_a, pair_b, rows, off, n_modes,
     verts, nvert, centres, radii, rest_gap, axis, tol, overlap, v_min, slab_building, peak,
+    restitution, after_eq, om2, imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
 ):
     """Advance z from step k0 towards k1 (exclusive of events).
 
@@ -94,9 +97,25 @@ def advance(
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
     the driver's contact step takes, so a pair separating after an impact runs on.
 
+    restitution : float
+        With a law whose impulses are Newton's (:func:`~pounding.contact.base.newton_impulses`
+        with this restitution), the kernel applies the impulses of such a step itself, as the
+        driver would (:func:`impulses_at`), and runs on; -1 leaves them to the driver.
+    after_eq : bool
+        After impulses, reset the accelerations to equilibrium (``after_impact = "equilibrium"``).
+    om2 : (n,)
+        omega^2 [1/s^2].
+    imp : (cap, 11), imp_n : (1,) int
+        Impact records the kernel appends (see :func:`impulses_at`) and their count.
+    ev_t : (cape,), ev_q, ev_v : (cape, n), ev_n : (1,) int
+        The states just before the impulses of each impact instant, and their count.
+    zeno : (P,) bool
+        Set for a pair whose rebound is too slow to open the tolerance in a step: the
+        kernel stops (status HELD) so that the driver holds it in sustained contact.
+
     Returns
     -------
-    (k, status, pair) : the grid index reached, DONE/CONTACT/OVERLAP, the pair index (or -1).
+    (k, status, pair) : the grid index reached, DONE/CONTACT/OVERLAP/HELD, the pair index (or -1).
     """
     n = z.shape[0]
     z0 = np.empty((n, 3))
@@ -144,12 +163,90 @@ def advance(
                 status = CONTACT
                 hit = p
         _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, bidx)
+        held = False
+        if status == CONTACT:
+            P = pair_a.shape[0]
+            if restitution < 0 or imp_n[0] + P * MAX_FEATURES > imp.shape[0] or ev_n[0] >= ev_t.shape[0]:
+                _record(z, k + 1, every, Q, V)  # the driver applies the impulses and records again
+                return k + 1, CONTACT, hit
+            held = impulses_at((k + 1) * dt, ag[k + 1], z, L, c2, om2, restitution, after_eq, tol, v_min, dt,
+                               imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
+                               pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis)
         if every > 1:
             update_peaks(rows, z[:, 0], n_modes, slab_building, peak)
         _record(z, k + 1, every, Q, V)
-        if status == CONTACT:
-            return k + 1, CONTACT, hit
+        if held:
+            return k + 1, HELD, -1
     return k1, DONE, -1
+
+
+@njit
+def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
+                pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+    """Newton impulses at time t [s] on every touching, approaching pair: the driver's contact step
+    (``Driver.contact_at``) for a law whose impulses are :func:`~pounding.contact.base.newton_impulses`.
+
+    Pairs are taken in order, each with the velocities the previous ones left. Each impact
+    appends a row (t, pair, striker, vertex, impulse, nx, ny, b, energy loss, Qx, Qy) to imp;
+    the state before the first impulse at t goes to ev_*. Returns True if a pair's rebound is
+    too slow to open the tolerance within one step (zeno is set for it).
+    """
+    n = z.shape[0]
+    q = z[:, 0].copy()
+    held = False
+    recorded = False
+    for p in range(pa.shape[0]):
+        if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) > tol:
+            continue
+        count, Qp, Np, _, who, idx, face, Wp = pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        if count == 0:
+            continue
+        W = Wp[:count].copy()
+        b = -(W @ z[:, 1].copy())
+        if np.max(b) <= v_min:  # rounding-level closing is not approach
+            continue
+        for j in range(count):
+            if b[j] > 0.0 and b[j] <= v_min:
+                b[j] = 0.0
+        D = W @ W.T
+        I = newton_lcp(D, b, restitution)
+        if not np.any(I > 0):
+            continue
+        after = b - D @ I
+        if not recorded:
+            j = ev_n[0]
+            ev_t[j] = t
+            for i in range(n):
+                ev_q[j, i] = z[i, 0]
+                ev_v[j, i] = z[i, 1]
+            ev_n[0] += 1
+            recorded = True
+        dv = W.T @ I
+        for i in range(n):
+            z[i, 1] += dv[i]
+        if after_eq:
+            for i in range(n):
+                z[i, 2] = -L[i] * ag - c2[i] * z[i, 1] - om2[i] * z[i, 0]
+        for j in range(count):
+            if I[j] > 0:
+                r = imp_n[0]
+                imp[r, 0] = t
+                imp[r, 1] = p
+                imp[r, 2] = who[j]
+                imp[r, 3] = -1 if face[j] >= 0 else idx[j]
+                imp[r, 4] = I[j]
+                imp[r, 5] = Np[j, 0]
+                imp[r, 6] = Np[j, 1]
+                imp[r, 7] = b[j]
+                imp[r, 8] = 0.5 * I[j] * (b[j] + after[j])
+                imp[r, 9] = Qp[j, 0]
+                imp[r, 10] = Qp[j, 1]
+                imp_n[0] += 1
+        # Zeno: a rebound too slow to open the tolerance within one step (see Driver.contact_at)
+        if np.max(b) * dt < tol:
+            zeno[p] = True
+            held = True
+    return held
 
 
 @njit
