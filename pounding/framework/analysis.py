@@ -283,21 +283,32 @@ class Driver:
         from pounding.framework.kernel import _accumulate_forces
 
         tr = self.cache(h)
-        GA, GB, gc, gw = self.quadrature_arrays(h)
-        _accumulate_forces(tr.A, tr.B, self.model.L, self.model.c2, h, self.ag_at(t), self.ag_at(t + h), z0, z1, f0, f1, self.E, GA, GB, gc, gw, self.model.bidx)
+        _accumulate_forces(tr.A, tr.B, self.model.L, self.model.c2, h, self.ag_at(t), self.ag_at(t + h), z0, z1, f0, f1, self.E,
+                           *self.quadrature_arrays(h), self.model.bidx)
 
     def quadrature_arrays(self, h: float):
-        """The energy quadrature for a step of h as the kernel takes it: (GA, GB, points, weights)."""
+        """The energy rule for a step of h as the kernel takes it: (GA, GB, points, weights, WA1, WA2, WM).
+
+        Closed-form work integrals when the integrator has them (``work_maps``), else Gauss
+        points on its own trajectory (``energy_nodes``), else the trapezoidal rule.
+        """
         key = float(h)
         out = self._quad.get(key)
         if out is None:
-            trs, gc, gw = self.quadrature(h)
             n = self.model.n
+            maps = getattr(self.integrator, "work_maps", None)
+            if maps is not None and np.all(self.model.omega > 0):
+                WA1, WA2, WM = maps(self.model.omega, self.model.zeta, h)
+                trs, gc, gw = [], np.zeros(0), np.zeros(0)
+            else:
+                WA1, WA2, WM = np.zeros((0, 4)), np.zeros((0, 4)), np.zeros((0, 4, 4))
+                trs, gc, gw = self.quadrature(h)
             GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
             GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
             if len(self._quad) > 256:
                 self._quad.clear()
-            out = self._quad[key] = (GA, GB, np.asarray(gc, dtype=float), np.asarray(gw, dtype=float))
+            out = self._quad[key] = (GA, GB, np.asarray(gc, dtype=float), np.asarray(gw, dtype=float),
+                                     np.ascontiguousarray(WA1), np.ascontiguousarray(WA2), np.ascontiguousarray(WM))
         return out
 
     def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
@@ -403,7 +414,7 @@ class Driver:
         mask[sorted(self.sustained)] = True
         out = hold.held_stretch(
             a[0], a[1], m.L, m.c2, m.om2, self.dt, self.ag, self.z, self.fc, mask, k0, k1, self.every, self.Q, self.V, self.E,
-            a[5], a[6], a[7], a[8], m.bidx, self.tol, -self.tol, self.v_min, m.slab_building, self.peak, *m.geo,
+            a[5], a[6], a[7], a[8], a[9], a[10], a[11], m.bidx, self.tol, -self.tol, self.v_min, m.slab_building, self.peak, *m.geo,
         )
         self.sustained = {int(p) for p in np.flatnonzero(mask)}
         return out
@@ -413,7 +424,7 @@ class Driver:
         if getattr(self, "_kargs", None) is None:
             m = self.model
             tr = self.cache(self.dt)
-            GA, GB, gc, gw = self.quadrature_arrays(self.dt)
+            GA, GB, gc, gw, WA1, WA2, WM = self.quadrature_arrays(self.dt)
             pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
             pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
             rest = np.array([g for *_, g in m.pairs], dtype=float)
@@ -421,7 +432,7 @@ class Driver:
                 pa, pb, rest = pa[:0], pb[:0], rest[:0]
             overlap = 0.0 if self.law.kind == "force" else -self.tol
             self._kargs = (
-                tr.A, tr.B, m.L, m.c2, self.dt, GA, GB, gc, gw,
+                tr.A, tr.B, m.L, m.c2, self.dt, GA, GB, gc, gw, WA1, WA2, WM,
                 m.bidx, pa, pb, m.rows, m.slab_off, m.n_modes, m.verts, m.nvert, m.centres, m.radii, rest, m.geo.axis, self.tol, overlap,
                 self.v_min, m.slab_building, self.peak,
             )

@@ -218,7 +218,7 @@ def stop_closing(z, W, v_min):
 
 @njit
 def held_stretch(
-    A, B, L, c2, om2, dt, ag, z, fc, held_mask, k0, k1, every, Q, V, E, GA, GB, gc, gw, bidx,
+    A, B, L, c2, om2, dt, ag, z, fc, held_mask, k0, k1, every, Q, V, E, GA, GB, gc, gw, WA1, WA2, WM, bidx,
     tol, overlap, v_min, slab_building, peak, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis,
 ):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
@@ -268,7 +268,7 @@ def held_stretch(
         for p in range(P):
             if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) < overlap:
                 return k, OVERLAP, p
-        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, bidx)
+        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
         for i in range(n):
             z[i, 0] = z1[i, 0]
             z[i, 1] = z1[i, 1]

@@ -37,7 +37,7 @@ def _slab_dofs(rows, q, out):
 
 @njit
 def advance(
-    A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw,
+    A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw, WA1, WA2, WM,
     bidx, pair_a, pair_b, rows, off, n_modes,
     verts, nvert, centres, radii, rest_gap, axis, tol, overlap, v_min, slab_building, peak,
     restitution, after_eq, om2, imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
@@ -72,6 +72,10 @@ def advance(
         trapezoidal rule on step-end values).
     gc, gw : (nq,)
         Quadrature points and weights on [0, 1].
+    WA1, WA2 : (n, 4), WM : (n, 4, 4)
+        Closed-form work integrals of the step when the integrator has them (``work_maps``;
+        shape (0, ...) otherwise): with x = (q0, q'0, p0, p1), int q' = WA1 x,
+        int s q' = WA2 x, int q'^2 = x WM x.
     bidx : (n,) int
         Building of every mode. The remaining arrays describe the slab pairs
         that share a level: ``pair_a``/``pair_b`` (P, 2) = (building, storey),
@@ -162,7 +166,7 @@ def advance(
                 # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
                 hit = p
-        _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, bidx)
+        _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
         held = False
         if status == CONTACT:
             P = pair_a.shape[0]
@@ -250,23 +254,11 @@ def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp
 
 
 @njit
-def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, bidx):
+def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, WA1, WA2, WM, bidx):
     """Add the step's ground-motion work and damping work to E (quadrature: see advance)."""
     n = z.shape[0]
-    p0s = -ag0
-    p1s = -ag1
-    nq = gc.shape[0]
-    for i in range(n):
-        if nq == 0:
-            vm = 0.5 * (z0[i, 1] + z[i, 1])
-            E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
-            E[bidx[i], 1] += dt * c2[i] * vm * vm
-        else:
-            for j in range(nq):
-                pj = L[i] * (p0s + gc[j] * (p1s - p0s))
-                vj = GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2] + GB[j, i, 1, 0] * L[i] * p0s + GB[j, i, 1, 1] * pj
-                E[bidx[i], 0] += dt * gw[j] * vj * pj
-                E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
+    zero = np.zeros(n)
+    _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, zero, zero, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
 
 
 @njit
@@ -317,15 +309,40 @@ def _record(z, k, every, Q, V):
 
 
 @njit
-def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, gw, bidx):
-    """:func:`_accumulate` for a step with modal contact forces f0 -> f1 (n,) at its ends (linear in
-    between): their work goes to E[:, 2], and they drive the velocity at the quadrature points."""
+def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx):
+    """Add a step's work to E: ground motion (column 0), damping (1) and the modal contact
+    forces f0 -> f1 (n,) at its ends, linear in between (2). The forces drive the velocity too.
+
+    Three rules, by what the integrator offers: closed-form integrals on its trajectory
+    (WA1, WA2, WM, see advance), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule
+    on the step-end velocities (nq = 0: average acceleration's exact identity).
+    """
     n = z.shape[0]
     p0s = -ag0
     p1s = -ag1
     nq = gc.shape[0]
+    maps = WA1.shape[0] > 0
+    x = np.empty(4)
     for i in range(n):
-        if nq == 0:
+        if maps:
+            g0 = L[i] * p0s
+            g1 = L[i] * p1s
+            x[0] = z0[i, 0]
+            x[1] = z0[i, 1]
+            x[2] = g0 + f0[i]
+            x[3] = g1 + f1[i]
+            iv0 = 0.0
+            iv1 = 0.0
+            ivv = 0.0
+            for a in range(4):
+                iv0 += WA1[i, a] * x[a]
+                iv1 += WA2[i, a] * x[a]
+                for b in range(4):
+                    ivv += x[a] * WM[i, a, b] * x[b]
+            E[bidx[i], 0] += g0 * iv0 + (g1 - g0) / dt * iv1
+            E[bidx[i], 1] += c2[i] * max(ivv, 0.0)
+            E[bidx[i], 2] += f0[i] * iv0 + (f1[i] - f0[i]) / dt * iv1
+        elif nq == 0:
             vm = 0.5 * (z0[i, 1] + z[i, 1])
             E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
             E[bidx[i], 1] += dt * c2[i] * vm * vm

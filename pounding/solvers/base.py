@@ -78,7 +78,10 @@ class Integrator(ABC):
     explicit: ClassVar[bool] = False
     #: Gauss-Legendre points per step for the energy audit's work integrals, on the
     #: scheme's own intra-step trajectory; 0 = trapezoidal rule on step-end values,
-    #: which is the exact discrete identity of average acceleration.
+    #: which is the exact discrete identity of average acceleration. A scheme that
+    #: defines ``work_maps(omega, zeta, dt) -> (a1, a2, M)`` (closed-form work
+    #: integrals of its intra-step trajectory, see :meth:`pounding.solvers.exact.Exact.work_maps`)
+    #: is audited with those instead.
     energy_nodes: ClassVar[int] = 0
 
     @abstractmethod
