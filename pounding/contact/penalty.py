@@ -7,7 +7,9 @@ with the dashpot from the restitution k by Anagnostopoulos (1988):
     c_p = 2 xi sqrt(k_p m_eff),   xi = -ln k / sqrt(pi^2 + ln^2 k)
 
 where m_eff = 1/a is the effective mass of the two slabs at the contact point
-(for two point masses, m1 m2 / (m1 + m2), the original form). That relation
+(for two point masses, m1 m2 / (m1 + m2), the original form). Several points
+pressed at once (two ends of a face) share one dashpot matrix that gives every
+contact mode that ratio (:meth:`Penalty.dashpots`). That relation
 assumes a dashpot that may pull; with the force clamped at zero the rebound of
 a stiff contact is larger than k (0.551 for k = 0.5, 0.135 for k = 0). With
 ``dashpot = "no_tension"`` xi is instead calibrated so that the clamped
@@ -80,15 +82,15 @@ class Penalty(ContactLaw):
     def forces(self, gap, rate, S_q, S_v, W):
         m = len(gap)
         kp = self.stiffness
-        cp = 2.0 * self.damping_ratio * np.sqrt(kp / np.diag(W))  # m_eff = 1 / a
         active = np.ones(m, dtype=bool)
         lam = np.zeros(m)
         for _ in range(m + 1):  # active set: drop points that would pull
             idx = np.flatnonzero(active)
             if idx.size == 0:
                 break
-            K = np.eye(idx.size) + kp * S_q[np.ix_(idx, idx)] + cp[idx, None] * S_v[np.ix_(idx, idx)]
-            rhs = -kp * gap[idx] - cp[idx] * rate[idx]
+            C = self.dashpots(W[np.ix_(idx, idx)])
+            K = np.eye(idx.size) + kp * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
+            rhs = -kp * gap[idx] - C @ rate[idx]
             sol = np.linalg.solve(K, rhs)
             lam[:] = 0.0
             lam[idx] = sol
@@ -96,6 +98,22 @@ class Penalty(ContactLaw):
                 break
             active[idx[sol < 0]] = False
         return np.maximum(lam, 0.0)
+
+
+    def dashpots(self, W: np.ndarray) -> np.ndarray:
+        """Dashpot matrix C (m, m) [N s/m] of the points pressed together, for their Delassus matrix W.
+
+        The m points' springs k_p I act on masses W^-1 (the pair's mass seen at the points), so
+        C = 2 xi sqrt(k_p) W^(-1/2) gives every contact mode the damping ratio xi: one point
+        gets 2 xi sqrt(k_p m_eff), m_eff = 1/a (Anagnostopoulos), and two ends of a face pressed
+        together rebound as one contact would. Directions of W with no compliance (rounding) get
+        no dashpot: nothing moves along them.
+        """
+        lam, V = np.linalg.eigh(0.5 * (W + W.T))
+        keep = lam > 1e-12 * max(lam.max(), 0.0)
+        inv_sqrt = np.zeros_like(lam)
+        inv_sqrt[keep] = 1.0 / np.sqrt(lam[keep])
+        return 2.0 * self.damping_ratio * np.sqrt(self.stiffness) * (V * inv_sqrt) @ V.T
 
 
 def no_tension_restitution(xi: float) -> float:
