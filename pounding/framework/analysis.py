@@ -476,6 +476,10 @@ class Driver:
 
     def commit(self, st: Step, t: float, h: float) -> None:
         """Accept a trial step: book its work (contact forces are loads like any other) and move on."""
+        if st.z0 is not self.z:
+            # a held step may start with the normal velocity of pressed points projected out
+            v, v0 = self.z[:, 1], st.z0[:, 1]
+            np.add.at(self.E[:, 2], self.model.bidx, 0.5 * v0**2 - 0.5 * v**2)
         self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
         self.fc = st.f1
         self.z = st.z1

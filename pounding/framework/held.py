@@ -131,6 +131,27 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, gap0, W, pa, pb, rows, off
     if m > 0:
         free_end = gap0 + W @ (zf[:, 0] - q0)
         target = np.minimum(np.maximum(gap0, -0.5 * tol), 0.0)
+        # Points pressed together move together: what normal velocity they still have (rounding,
+        # after stop_closing) is projected out. A position constraint alone leaves it free, and
+        # some schemes amplify it from step to step (linear acceleration: by -2 per step).
+        na = 0
+        for k in range(m):
+            if free_end[k] < target[k]:
+                na += 1
+        if na > 0:
+            Wa = np.empty((na, n))
+            c = 0
+            for k in range(m):
+                if free_end[k] < target[k]:
+                    Wa[c] = W[k]
+                    c += 1
+            mu = solve_small(Wa @ Wa.T, Wa @ z0[:, 1].copy())
+            dv = Wa.T @ mu
+            for i in range(n):
+                z0[i, 1] -= dv[i]
+                z0[i, 2] = g0[i] - c2[i] * z0[i, 1] - om2[i] * z0[i, 0]
+            zf = step(A, B, z0, g0 + f0, g1 + f0)
+            free_end = gap0 + W @ (zf[:, 0] - q0)
         arg = np.ones(m)
         if explicit:
             D0 = A[:, 0, 2] + B[:, 0, 0]
@@ -268,6 +289,9 @@ def held_stretch(
         for p in range(P):
             if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) < overlap:
                 return k, OVERLAP, p
+        for i in range(n):  # the start velocity of pressed points may have been projected (held_step)
+            if z0[i, 1] != z[i, 1]:
+                E[bidx[i], 2] += 0.5 * z0[i, 1] ** 2 - 0.5 * z[i, 1] ** 2
         _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
         for i in range(n):
             z[i, 0] = z1[i, 0]
