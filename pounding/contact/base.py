@@ -133,13 +133,17 @@ def newton_lcp(W, b, k):
 
 @njit
 def solve_small(S, rhs):
-    """x with S x = rhs for a small dense S; least squares when S is singular."""
-    singular = False
-    try:
-        x = np.linalg.solve(S, rhs)
-    except Exception:  # noqa: BLE001 - numba raises LinAlgError for a singular matrix
-        singular = True
-        x = rhs.copy()
-    if singular:
-        x = np.linalg.lstsq(S, rhs)[0]
-    return x
+    """x with S x = rhs for a small symmetric positive semi-definite S (a Delassus or compliance
+    matrix), as the minimum-norm least-squares solution: directions whose eigenvalue is below
+    1e-12 of the largest (features that repeat one another, to rounding) get nothing, instead
+    of the huge values an LU solve would give them."""
+    if S.shape[0] == 1:  # one point: the common case, without LAPACK
+        return rhs / S[0, 0] if S[0, 0] > 0.0 else np.zeros(1)
+    lam, V = np.linalg.eigh(0.5 * (S + S.T))
+    top = 0.0
+    for j in range(lam.shape[0]):
+        top = max(top, abs(lam[j]))
+    c = V.T @ rhs
+    for j in range(lam.shape[0]):
+        c[j] = c[j] / lam[j] if lam[j] > 1e-12 * top else 0.0
+    return V @ c

@@ -69,6 +69,7 @@ paths give bit-identical results.
 from __future__ import annotations
 
 import math
+import os
 
 import numpy as np
 
@@ -76,6 +77,41 @@ try:  # numba is a hard dependency of the package, but keep the geometry usable 
     import numba as _numba
 except ImportError:  # pragma: no cover - depends on the environment
     _numba = None
+
+#: The modules whose compiled functions call one another. numba keys a cached function on its
+#: own file only, so a change in a function it calls (in another module) would leave it stale:
+#: the cache folder is keyed on all of them instead.
+COMPILED_MODULES = ("contact/geometry.py", "contact/base.py", "framework/pairs.py", "framework/kernel.py", "framework/held.py")
+
+
+def _cache_dir() -> str | None:
+    """numba's cache folder for this exact version of the compiled modules (None: numba's default)."""
+    import hashlib
+    import os
+
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    digest = hashlib.sha1()
+    try:
+        for rel in COMPILED_MODULES:
+            with open(os.path.join(root, rel), "rb") as fh:
+                digest.update(fh.read())
+    except OSError:  # pragma: no cover - a frozen or zipped install
+        return None
+    for base in (os.path.join(root, "__pycache__"), os.path.join(os.path.expanduser("~"), ".cache", "pounding")):
+        folder = os.path.join(base, "numba-" + digest.hexdigest()[:12])
+        try:
+            os.makedirs(folder, exist_ok=True)
+            if os.access(folder, os.W_OK):
+                return folder
+        except OSError:
+            continue
+    return None
+
+
+if _numba is not None and not os.environ.get("NUMBA_CACHE_DIR"):
+    _folder = _cache_dir()
+    if _folder is not None:
+        _numba.config.CACHE_DIR = _folder
 
 
 def njit(func):

@@ -37,18 +37,10 @@ def rigid_forces(gap, S):
     active = gap < 0
     lam = np.zeros(m)
     for _ in range(m + 1):
-        na = 0
-        for j in range(m):
-            if active[j]:
-                na += 1
+        idx = np.nonzero(active)[0]
+        na = idx.shape[0]
         if na == 0:
             return lam
-        idx = np.empty(na, dtype=np.int64)
-        c = 0
-        for j in range(m):
-            if active[j]:
-                idx[c] = j
-                c += 1
         sub = np.empty((na, na))
         rhs = np.empty(na)
         for r in range(na):
@@ -264,16 +256,7 @@ def held_stretch(
     gapS = np.empty(0)
     WS = np.empty((0, n))
     for k in range(k0, k1):
-        nh = 0
-        for p in range(P):
-            if held_mask[p]:
-                nh += 1
-        held = np.empty(nh, dtype=np.int64)
-        c = 0
-        for p in range(P):
-            if held_mask[p]:
-                held[c] = p
-                c += 1
+        held = np.nonzero(held_mask)[0]
         if not have:
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         dv = stop_closing(z, WS, v_min)
