@@ -764,3 +764,29 @@ def test_stiff_penalty_contact_rebounds_with_the_restitution_coefficient(shape, 
         data, velocities = side_by_side(0.0), {(0, 0): np.array([0.2, 0.0, 0.0]), (1, 0): np.array([-0.1, 0.0, 0.0])}
     e = _penalty_restitution(data, velocities, k, dashpot=dashpot)
     assert abs(e - k) <= 5e-3, e
+
+
+def test_plastic_stop_of_many_held_storeys_is_solved_pair_by_pair():
+    """Slabs at different storeys cannot push on one another (with every mode kept, W W^T is
+    block-diagonal): the plastic stop of 12 held storeys with two closing points each (24 points)
+    stops every point exactly (closing speed 0 to 1e-12) and leaves the opening ones alone. Solved
+    as one enumerated LCP this is 2^24 active sets; pair by pair it is 12 of 2^2."""
+    from pounding.framework.held import stop_closing
+
+    rng = np.random.default_rng(3)
+    n, pairs = 72, 12
+    W = np.zeros((2 * pairs, n))
+    for p in range(pairs):  # pair p moves modes 6p..6p+5 only
+        W[2 * p : 2 * p + 2, 6 * p : 6 * p + 6] = rng.normal(size=(2, 6))
+    z = np.zeros((n, 3))
+    z[:, 1] = rng.normal(size=n)
+    b0 = -(W @ z[:, 1])
+    stop_closing(z, W, 1e-12)
+    b = -(W @ z[:, 1])
+    scale = np.abs(b0).max()
+    assert np.all(b <= 1e-12 * scale)  # nothing closes any more ...
+    # ... and a point's speed changes only if its own pair had a closing point
+    for p in range(pairs):
+        rows = slice(2 * p, 2 * p + 2)
+        if not np.any(b0[rows] > 0):
+            assert np.array_equal(b[rows], b0[rows])

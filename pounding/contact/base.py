@@ -68,8 +68,9 @@ def newton_impulses(W: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
     """Impulses that give every approaching point the Newton rebound -k b.
 
     Solves the small linear complementarity problem: I >= 0, and for each
-    point either I_j > 0 with post-impact closing speed ``b_j - (W I)_j = -k b_j``,
-    or I_j = 0 with ``b_j - (W I)_j <= 0`` (not approaching). The active sets
+    point either I_j > 0 with post-impact closing speed ``b_j - (W I)_j = -k b_j``
+    (or 0 for a point that was not approaching but would be pushed into the other
+    slab), or I_j = 0 with ``b_j - (W I)_j <= 0`` (not approaching). The active sets
     are enumerated, largest first (m <= MAX_FEATURES = 8 points per slab pair).
 
     Parameters
@@ -86,22 +87,29 @@ def newton_impulses(W: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
 
 @njit
 def newton_lcp(W, b, k):
-    """Compiled core of :func:`newton_impulses` (same arguments, float64 arrays)."""
+    """Compiled core of :func:`newton_impulses` (same arguments, float64 arrays).
+
+    Every subset of points is a candidate active set, largest first: an active point ends
+    with the Newton rebound -k b if it approached (b > 0), or just stops closing (0) if the
+    other impulses would drag it into the other slab; the inactive ones must not close.
+    W is positive definite for distinct features, so the solution is unique.
+    """
     m = b.shape[0]
-    target = (1.0 + k) * b
+    target = np.empty(m)
+    for j in range(m):
+        target[j] = (1.0 + k) * b[j] if b[j] > 0 else b[j]
     scale = 1.0
     for j in range(m):
         scale = max(scale, abs(b[j]))
+    if not np.any(b > 0):
+        return np.zeros(m)
     for size in range(m, 0, -1):
         for mask in range(1 << m):
             count = 0
-            ok = True
             for j in range(m):
                 if mask >> j & 1:
                     count += 1
-                    if b[j] <= 0:
-                        ok = False
-            if count != size or not ok:
+            if count != size:
                 continue
             idx = np.empty(size, dtype=np.int64)
             c = 0
@@ -116,11 +124,11 @@ def newton_lcp(W, b, k):
                 for s in range(size):
                     sub[r, s] = W[idx[r], idx[s]]
             I_act = solve_small(sub, rhs)
-            if np.any(I_act < 0):
+            if np.any(I_act < -1e-12 * np.abs(I_act).max()):
                 continue
             I = np.zeros(m)
             for r in range(size):
-                I[idx[r]] = I_act[r]
+                I[idx[r]] = max(I_act[r], 0.0)
             after = b - W @ I
             good = True
             for j in range(m):

@@ -85,9 +85,11 @@ COMPILED_MODULES = ("contact/geometry.py", "contact/base.py", "framework/pairs.p
 
 
 def _cache_dir() -> str | None:
-    """numba's cache folder for this exact version of the compiled modules (None: numba's default)."""
+    """numba's cache folder for this exact version of the compiled modules (None: numba's default).
+
+    Folders of earlier versions stay behind (a few MB each); delete ``pounding/__pycache__/numba-*``
+    to reclaim them."""
     import hashlib
-    import os
 
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
     digest = hashlib.sha1()

@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pounding.contact import geometry as geo
+from pounding.contact.geometry import MAX_FEATURES
 from pounding.framework.assembly import System, assemble
 from pounding.framework import held as hold
 from pounding.framework import pairs as pg
@@ -389,7 +390,7 @@ class Driver:
             self._zeno = np.zeros(P, dtype=np.bool_)
             self._kev = (
                 float(restitution), bool(after_eq), m.om2,
-                np.zeros((cap_e * max(P, 1) * 8, 11)), np.zeros(1, dtype=np.int64),
+                np.zeros((cap_e * max(P, 1) * MAX_FEATURES, 11)), np.zeros(1, dtype=np.int64),
                 np.zeros(cap_e), np.zeros((cap_e, m.n)), np.zeros((cap_e, m.n)), np.zeros(1, dtype=np.int64), self._zeno,
             )
         return self._kev
@@ -484,10 +485,6 @@ class Driver:
         self.fc = st.f1
         self.z = st.z1
 
-    def mode_energy(self, z) -> np.ndarray:
-        """Kinetic plus strain energy of every mode [J], shape (n,)."""
-        return 0.5 * z[:, 1] ** 2 + 0.5 * (self.model.omega * z[:, 0]) ** 2
-
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
         if self.law.kind != "impulse":
@@ -526,7 +523,7 @@ class Driver:
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
         _, gap0, W0, _, _ = m.touching(z[:, 0], held, self.tol, deep=True)
-        z0, z1, f0, f1, *_ = hold.held_step(z, self.load(t), self.load(t + h), tr.A, tr.B, h, m.c2, m.om2, held, self.tol, gap0, W0, *m.geo)
+        z0, z1, f0, f1, *_ = hold.held_step(z, self.load(t), self.load(t + h), tr.A, tr.B, h, m.c2, m.om2, held, self.tol, 1e3 * self.v_min, gap0, W0, *m.geo)
         return Step(z0, z1, f0, f1)
 
     def stop_closing(self, t: float) -> None:

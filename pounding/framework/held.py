@@ -78,9 +78,10 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, gap0, W, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
     """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
 
+    v_cut [m/s]: the largest opening speed of a pressed point that is rounding, not a rebound.
     gap0 (m,), W (m, n) are the held pairs' touching features at the start
     (:func:`~pounding.framework.pairs.features_of` with ``deep``: gaps and modal rows).
     g0, g1 (n,) are the modal ground-motion loads at the step's ends; A (n, 3, 3),
@@ -125,16 +126,21 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, gap0, W, pa, pb, rows, off
         target = np.minimum(np.maximum(gap0, -0.5 * tol), 0.0)
         # Points pressed together move together: what normal velocity they still have (rounding,
         # after stop_closing) is projected out. A position constraint alone leaves it free, and
-        # some schemes amplify it from step to step (linear acceleration: by -2 per step).
+        # some schemes amplify it from step to step (linear acceleration: by -2 per step). A
+        # real rebound (opening faster than 1e3 v_min) is left alone: the points separate.
+        rate = W @ z0[:, 1].copy()
+        pressed = np.zeros(m, dtype=np.bool_)
+        for k in range(m):
+            pressed[k] = free_end[k] < target[k] and rate[k] <= v_cut
         na = 0
         for k in range(m):
-            if free_end[k] < target[k]:
+            if pressed[k]:
                 na += 1
         if na > 0:
             Wa = np.empty((na, n))
             c = 0
             for k in range(m):
-                if free_end[k] < target[k]:
+                if pressed[k]:
                     Wa[c] = W[k]
                     c += 1
             mu = solve_small(Wa @ Wa.T, Wa @ z0[:, 1].copy())
@@ -207,7 +213,12 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, gap0, W, pa, pb, rows, off
 def stop_closing(z, W, v_min):
     """Plastic impulses (restitution 0) on the touching points (modal rows W (m, n)) of held
     pairs that close faster than v_min [m/s]; updates the velocities z[:, 1] in place.
-    Returns the velocity change (n,) (all zero when nothing closed)."""
+    Returns the velocity change (n,) (all zero when nothing closed).
+
+    Points that cannot push on one another (W W^T block-diagonal up to rounding: pairs at
+    different storeys, with every mode kept) are solved group by group, so the enumerating
+    LCP sees at most one pair's features (MAX_FEATURES) in the usual two-building scene.
+    """
     n = z.shape[0]
     dv = np.zeros(n)
     m = W.shape[0]
@@ -222,8 +233,32 @@ def stop_closing(z, W, v_min):
             b[k] = min(b[k], 0.0)
     if not closing:
         return dv
-    I = newton_lcp(W @ W.T, b, 0.0)
-    dv = W.T @ I
+    D = W @ W.T
+    group = np.arange(m)  # coupled points share a group (label = smallest index)
+    for a in range(m):
+        for c in range(a + 1, m):
+            if abs(D[a, c]) > 1e-12 * np.sqrt(D[a, a] * D[c, c]):
+                ga, gc = group[a], group[c]
+                lo, hi = min(ga, gc), max(ga, gc)
+                for k in range(m):
+                    if group[k] == hi:
+                        group[k] = lo
+    for g in range(m):
+        idx = np.nonzero(group == g)[0]
+        if idx.shape[0] == 0:
+            continue
+        bg = b[idx]
+        if not np.any(bg > v_min):
+            continue
+        Dg = np.empty((idx.shape[0], idx.shape[0]))
+        for r in range(idx.shape[0]):
+            for c in range(idx.shape[0]):
+                Dg[r, c] = D[idx[r], idx[c]]
+        I = newton_lcp(Dg, bg, 0.0)
+        for r in range(idx.shape[0]):
+            if I[r] != 0.0:
+                for i in range(n):
+                    dv[i] += W[idx[r], i] * I[r]
     for i in range(n):
         z[i, 1] += dv[i]
     return dv
@@ -243,8 +278,8 @@ def held_stretch(
 
     Returns (k, status, pair): the grid index reached and
     DONE (k1 reached), RELEASED (every held pair let go at the end of step k - 1),
-    OVERLAP (a free pair would overlap in step k: the state is its start, the plastic
-    stop already applied) or CONTACT (a free pair touches and closes at the end of step k - 1).
+    OVERLAP (a free pair would overlap in step k: the state and the energy account are
+    as at its start) or CONTACT (a free pair touches and closes at the end of step k - 1).
     """
     n = z.shape[0]
     P = pa.shape[0]
@@ -259,6 +294,8 @@ def held_stretch(
         held = np.nonzero(held_mask)[0]
         if not have:
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        v_before = z[:, 1].copy()
+        E_before = E.copy()
         dv = stop_closing(z, WS, v_min)
         for i in range(n):
             if dv[i] != 0.0:
@@ -267,10 +304,14 @@ def held_stretch(
         for i in range(n):
             g0[i] = -L[i] * ag[k]
             g1[i] = -L[i] * ag[k + 1]
-        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, gapS, WS, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
             if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) < overlap:
+                # back to the step's start as it was: the driver's Python step stops and books anew
+                for i in range(n):
+                    z[i, 1] = v_before[i]
+                E[:, :] = E_before
                 return k, OVERLAP, p
         for i in range(n):  # the start velocity of pressed points may have been projected (held_step)
             if z0[i, 1] != z[i, 1]:
