@@ -125,6 +125,7 @@ def advance(
     z0 = np.empty((n, 3))
     da = np.empty(3)
     db = np.empty(3)
+    no_force = np.zeros(n)  # no contact force acts in a free stretch
     for k in range(k0, k1):
         for i in range(n):
             z0[i, 0] = z[i, 0]
@@ -166,7 +167,7 @@ def advance(
                 # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
                 hit = p
-        _accumulate(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
+        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
         held = False
         if status == CONTACT:
             P = pair_a.shape[0]
@@ -251,14 +252,6 @@ def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp
             zeno[p] = True
             held = True
     return held
-
-
-@njit
-def _accumulate(A, B, L, c2, dt, ag0, ag1, z0, z, E, GA, GB, gc, gw, WA1, WA2, WM, bidx):
-    """Add the step's ground-motion work and damping work to E (quadrature: see advance)."""
-    n = z.shape[0]
-    zero = np.zeros(n)
-    _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, zero, zero, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
 
 
 @njit
