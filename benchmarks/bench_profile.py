@@ -15,11 +15,12 @@ from common import RESULTS, log, quiet_run
 from scenes import load, uniform_pair
 
 GROUPS = {
-    "compiled kernel (kernel.py:advance)": ("kernel.py", "advance"),
-    "Python steps with contact (analysis.py:python_step)": ("analysis.py", "python_step"),
-    "impulses (analysis.py:contact_at)": ("analysis.py", "contact_at"),
+    "compiled kernel, free steps and end-of-step impulses (kernel.py:advance)": ("kernel.py", "advance"),
+    "compiled held steps (held.py:held_stretch)": ("held.py", "held_stretch"),
+    "Python steps with an impact inside (analysis.py:python_step)": ("analysis.py", "python_step"),
+    "impulses in Python (analysis.py:contact_at)": ("analysis.py", "contact_at"),
     "impact location (analysis.py:locate)": ("analysis.py", "locate"),
-    "gap of a pair in Python (analysis.py:pair_gap)": ("analysis.py", "pair_gap"),
+    "transitions for new step sizes (solvers/base.py:transition)": ("base.py", "transition"),
     "model: assembly + eigenproblem (analysis.py:Model.__init__)": ("analysis.py", "__init__"),
 }
 

@@ -135,6 +135,14 @@ def headline(quick: bool, targets: dict | None) -> dict:
         h["peer_paper_err_os"] = _f(best["opensees_err_l2"])
         h["peer_min_ratio_solver"] = min(_f(r["ratio_solver"]) for r in peer)
         h["peer_min_ratio_wall"] = min(_f(r["ratio_wall"]) for r in peer)
+    pp = read_csv(f"peer_pounding{tag}.csv") or read_csv("peer_pounding.csv")
+    if pp:
+        h["peer_pounding_ratio_solver"] = min(_f(r["ratio_solver"]) for r in pp)
+        h["peer_pounding_ratio_wall"] = min(_f(r["ratio_wall"]) for r in pp)
+        h["peer_pounding_opensees_s"] = _f(pp[0]["opensees_s"])
+        h["peer_pounding_ours_s"] = _f(pp[0]["ours_solver_s"])
+        h["peer_pounding_err_ours"] = max(_f(r["ours_err_l2"]) for r in pp)
+        h["peer_pounding_err_os"] = max(_f(r["opensees_err_l2"]) for r in pp)
     s60 = [r for r in scaling if r.get("kind") == "storeys" and r.get("storeys") == "60" and r.get("contact") == "impulse" and r.get("status") == "ok"]
     if s60:
         h["sixty_solver_s"] = _f(s60[0]["solver_median_s"])
@@ -180,6 +188,11 @@ def headline_markdown(h: dict) -> str:
                      f"OpenSees {h['peer_paper_opensees_s']:.1f} s vs {ms(h['peer_paper_ours_s'])}, errors {h['peer_paper_err_ours']:.2e} vs "
                      f"{h['peer_paper_err_os']:.2e}; smallest ratio over all scenes and dt: {h['peer_min_ratio_solver']:.0f}x / "
                      f"{h['peer_min_ratio_wall']:.0f}x | {ok(h['peer_min_ratio_wall'], 50, less=False)} |")
+    if "peer_pounding_ratio_solver" in h:
+        lines.append(f"| the same with pounding (penalty pair against OpenSees gap elements, dt = 0.002 s, 10 s) | "
+                     f"{h['peer_pounding_ratio_solver']:.0f}x (solver), {h['peer_pounding_ratio_wall']:.0f}x (run()); OpenSees "
+                     f"{h['peer_pounding_opensees_s']:.1f} s vs {ms(h['peer_pounding_ours_s'])}, errors {h['peer_pounding_err_ours']:.2e} vs "
+                     f"{h['peer_pounding_err_os']:.2e} | {ok(h['peer_pounding_ratio_wall'], 50, less=False)} |")
     if "sixty_solver_s" in h:
         lines.append(f"| two 60-storey buildings with pounding, whole record: solver < 2 s | {h['sixty_solver_s']:.2f} s "
                      f"({h['sixty_impacts']} impacts; contact off {h.get('sixty_nopound_solver_s', float('nan')):.2f} s) | "

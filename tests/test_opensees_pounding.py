@@ -75,6 +75,7 @@ import pytest
 from pounding.framework.analysis import run
 from pounding.framework.assembly import assemble, rayleigh_coefficients
 from pounding.io.scene import parse_scene
+from pounding.peer.opensees import run_gap_pounding
 
 E_RC = 30e9  # [Pa]
 GAP = 0.01  # [m] clear distance between the facing facades
@@ -161,92 +162,14 @@ def _x_peaks(result) -> dict:
 # --------------------------------------------------------------------------- the OpenSees peer
 
 
-def _opensees_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, out_of_plane: float = OUT_OF_PLANE):
-    """Run the pair in OpenSees with gap springs; return (ux per building, spring forces, Newton iterations).
-
-    ux: dict name -> (n_steps + 1, storeys) master-node x displacements [m];
-    forces: (n_steps + 1, COMMON, 2) basic force of the two springs of every
-    common storey [N] (negative in compression); iterations: total Newton
-    iterations.
-    """
-    from pounding.peer.opensees import build_building
-
-    low, high = scene.buildings
-    ops.wipe()
-    masters, nodes, elements = {}, {}, {}
-    for i, b in enumerate(scene.buildings):
-        n0, e0 = set(ops.getNodeTags()), set(ops.getEleTags())
-        masters[b.name] = build_building(ops, b, out_of_plane=out_of_plane, tag_offset=100_000 * i)
-        nodes[b.name] = sorted(set(ops.getNodeTags()) - n0)
-        elements[b.name] = sorted(set(ops.getEleTags()) - e0)
-    # each building's own Rayleigh damping C = a0 M + a1 K_initial, as pounding's (and run_transient's)
-    for k, b in enumerate(scene.buildings, start=1):
-        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
-        ops.region(k, "-ele", *elements[b.name], "-rayleigh", 0.0, 0.0, float(a1), 0.0)
-        ops.region(2 + k, "-nodeOnly", *nodes[b.name], "-rayleigh", float(a0), 0.0, 0.0, 0.0)
-
-    # the gap springs: at both ends of the common facade, on every common storey
-    x_low = max(float(v[0]) for v in low.slabs[0].vertices)
-    x_high = min(float(v[0]) for v in high.slabs[0].vertices)
-    clear = x_high - x_low
-    assert abs(clear - GAP) < 1e-12
-    ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
-    assert ends_y == sorted({float(v[1]) for v in high.slabs[0].vertices})  # same facade: face-to-face contact
-    tag = 1_000_000
-    ops.uniaxialMaterial("ElasticPPGap", tag, float(stiffness), -1e30, -clear, 0.0, "noDamage")
-    material = tag
-    springs = []  # springs[f] = [element tags]
-    for f in range(COMMON):
-        z = float(low.slabs[f].elevation)
-        assert abs(z - float(high.slabs[f].elevation)) < 1e-9
-        row = []
-        for y in ends_y:
-            ends = []
-            for b in (low, high):  # i = low, j = high: deformation u_high - u_low, compression when < -clear
-                tag += 1
-                ops.node(tag, 0.5 * (x_low + x_high), y, z)
-                ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry carry no stiffness here; ux, uy, rz follow the diaphragm
-                ops.rigidDiaphragm(3, masters[b.name][f], tag)
-                ends.append(tag)
-            tag += 1
-            ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
-            row.append(tag)
-        springs.append(row)
-
-    gm = scene.ground_motion
-    assert tuple(gm.direction()) == (1.0, 0.0)
-    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("UmfPack")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
-
-    ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
-    forces = np.zeros((n_steps + 1, COMMON, 2))
-    iterations = 0
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
-        iterations += ops.testIter()
-        for name, tags in masters.items():
-            ux[name][k] = [ops.nodeDisp(t, 1) for t in tags]
-        for f, row in enumerate(springs):
-            forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
-    ops.wipe()
-    return ux, forces, iterations
-
-
 @pytest.fixture(scope="module")
 def pair(opensees):
     """(scene, pounding Result, OpenSees (ux, forces, iterations)) of the penalty case."""
     scene = _scene(_penalty())
     result = run(scene)
     assert result.steps == int(round(DURATION / DT))
-    peer = _opensees_pounding(opensees, scene, STIFFNESS, DT, result.steps)
+    *peer, clear = run_gap_pounding(opensees, scene, STIFFNESS, DT, result.steps, out_of_plane=OUT_OF_PLANE)
+    assert abs(clear - GAP) < 1e-12
     return scene, result, peer
 
 

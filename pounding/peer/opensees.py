@@ -370,3 +370,92 @@ def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
     if arr.shape == (len(buildings), 2):
         return [(float(a), float(c)) for a, c in arr]
     raise ValueError(f"rayleigh must be (a0, a1) or one pair per building ({len(buildings)}), got shape {arr.shape}")
+
+
+def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, out_of_plane: float = 1e-12):
+    """Two buildings side by side along x pounding through zero-length gap springs, in OpenSees.
+
+    The pair as tests/test_opensees_pounding.py describes it: the full 3-D model of
+    :func:`build_building` for each, and at every common storey two ``zeroLength``
+    springs in x with ``ElasticPPGap`` (stiffness ``stiffness`` [N/m], the clear distance
+    as its gap) at the ends of the common facade, each end a slave of its building's
+    diaphragm; Newmark average acceleration, Newton, ``n_steps`` steps of ``dt`` [s].
+    The facades must be collinear (face-to-face contact) and the motion along x.
+
+    Returns (ux, forces, iterations, clear): ux dict name -> (n_steps + 1, storeys)
+    master-node x displacements [m]; forces (n_steps + 1, common storeys, 2) basic force
+    of the springs [N] (negative in compression); the total Newton iterations; the
+    clear distance [m].
+    """
+    from pounding.framework.assembly import assemble, rayleigh_coefficients
+
+    low, high = scene.buildings
+    ops.wipe()
+    masters, nodes, elements = {}, {}, {}
+    for i, b in enumerate(scene.buildings):
+        n0, e0 = set(ops.getNodeTags()), set(ops.getEleTags())
+        masters[b.name] = build_building(ops, b, out_of_plane=out_of_plane, tag_offset=100_000 * i)
+        nodes[b.name] = sorted(set(ops.getNodeTags()) - n0)
+        elements[b.name] = sorted(set(ops.getEleTags()) - e0)
+    # each building's own Rayleigh damping C = a0 M + a1 K_initial, as pounding's (and run_transient's)
+    for k, b in enumerate(scene.buildings, start=1):
+        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
+        ops.region(k, "-ele", *elements[b.name], "-rayleigh", 0.0, 0.0, float(a1), 0.0)
+        ops.region(2 + k, "-nodeOnly", *nodes[b.name], "-rayleigh", float(a0), 0.0, 0.0, 0.0)
+
+    # the gap springs: at both ends of the common facade, on every common storey
+    x_low = max(float(v[0]) for v in low.slabs[0].vertices)
+    x_high = min(float(v[0]) for v in high.slabs[0].vertices)
+    clear = x_high - x_low
+    common = min(low.n_storeys, high.n_storeys)
+    ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
+    if ends_y != sorted({float(v[1]) for v in high.slabs[0].vertices}):
+        raise ValueError("run_gap_pounding needs collinear facades (face-to-face contact)")
+    tag = 1_000_000
+    ops.uniaxialMaterial("ElasticPPGap", tag, float(stiffness), -1e30, -clear, 0.0, "noDamage")
+    material = tag
+    springs = []  # springs[f] = [element tags]
+    for f in range(common):
+        z = float(low.slabs[f].elevation)
+        if abs(z - float(high.slabs[f].elevation)) > 1e-9:
+            raise ValueError(f"storey {f + 1} is not at the same level in both buildings")
+        row = []
+        for y in ends_y:
+            ends = []
+            for b in (low, high):  # i = low, j = high: deformation u_high - u_low, compression when < -clear
+                tag += 1
+                ops.node(tag, 0.5 * (x_low + x_high), y, z)
+                ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry carry no stiffness here; ux, uy, rz follow the diaphragm
+                ops.rigidDiaphragm(3, masters[b.name][f], tag)
+                ends.append(tag)
+            tag += 1
+            ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
+            row.append(tag)
+        springs.append(row)
+
+    gm = scene.ground_motion
+    if tuple(gm.direction()) != (1.0, 0.0):
+        raise ValueError("run_gap_pounding shakes along x only")
+    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.test("NormDispIncr", 1e-12, 50)
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
+    ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
+    forces = np.zeros((n_steps + 1, common, 2))
+    iterations = 0
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        iterations += ops.testIter()
+        for name, tags in masters.items():
+            ux[name][k] = [ops.nodeDisp(t, 1) for t in tags]
+        for f, row in enumerate(springs):
+            forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
+    ops.wipe()
+    return ux, forces, iterations, clear
