@@ -147,9 +147,9 @@ def test_conditionally_stable_schemes_gain_no_energy_through_sustained_contact(o
     through sustained contact: the balance error stays above -0.02 (the package's own warning level)
     and the stiffest modes stay within twice their size under average acceleration at the same dt.
 
-    Measured: omega_max dt = 1: +0.019, 1.2x; 2: +0.011, 1.1x. When the held constraint was a
+    Measured: omega_max dt = 1: +0.009, 1.1x; 2: +0.013, 1.1x. When the held constraint was a
     correction after a free step, omega_max dt = 3 gave -0.79 and 4.8x. At omega_max dt = 3 it is
-    now -0.083 and 2.6x, but that is linear acceleration's own error under velocity jumps, not
+    now -0.050 and 2.6x, but that is linear acceleration's own error under velocity jumps, not
     sustained contact: the same pair 0.03 m apart, 6 impacts and no held pair, gives -0.040 (the
     physical energy is not this scheme's invariant; near its limit a stiff mode's physical energy
     swings by a factor 1 / (1 + (beta - 1/4) (omega dt)^2) within a period: 1.09, 1.5 and 4 at
