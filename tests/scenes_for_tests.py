@@ -146,3 +146,12 @@ def point_velocity(dofs: np.ndarray, rates: np.ndarray, centre0: np.ndarray, poi
     r = point - c
     return np.array([rates[0] - rates[2] * r[1], rates[1] + rates[2] * r[0]])
 
+
+def pressed_position(model, amplitude: float) -> float:
+    """Static x displacement [m] of two one-storey buildings pressed together by a constant ground
+    acceleration ``amplitude`` [m/s^2] along +x: u = -(m_a + m_b) a_g / (k_a + k_b). Asserts that
+    apart the second one would move further, so that they do press together."""
+    ka, kb = model.systems[0].K[0, 0], model.systems[1].K[0, 0]
+    ma, mb = model.systems[0].mass[0], model.systems[1].mass[0]
+    assert mb / kb > ma / ka, "apart, the second building would move further: they press together"
+    return -(ma + mb) * amplitude / (ka + kb)

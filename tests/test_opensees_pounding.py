@@ -73,7 +73,6 @@ import numpy as np
 import pytest
 
 from pounding.framework.analysis import run
-from pounding.framework.assembly import assemble, rayleigh_coefficients
 from pounding.io.scene import parse_scene
 from pounding.peer.opensees import run_gap_pounding
 

@@ -132,7 +132,6 @@ def test_existing_output_survives_a_failed_run(tmp_path):
 
 def test_ctrl_c_leaves_no_half_written_folder(tmp_path):
     """SIGINT while the results are being written: exit code 130, no output folder, no temporary folder."""
-    import os
     import signal
     import time
 

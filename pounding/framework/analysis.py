@@ -147,12 +147,6 @@ class Model:
         i0, n = self.mode_start[building], self.systems[building].n_dof
         return self.rows[self.slab_index(building, storey), :, :n] @ x[i0 : i0 + n]
 
-    def polygon(self, q: np.ndarray, building: int, storey: int) -> np.ndarray:
-        """Current polygon (k, 2) of a slab for modal displacements q."""
-        s = self.slab_index(building, storey)
-        d = self.slab_dofs(q, building, storey)
-        return geo.displaced(self.verts[s, : self.nvert[s]], self.centres[s], d[0], d[1], d[2])
-
     def pair_gap(self, q: np.ndarray, p: int, cutoff: float | None = None) -> float:
         """Signed gap [m] of pair p for modal displacements q.
 
@@ -426,9 +420,7 @@ class Driver:
             m = self.model
             tr = self.cache(self.dt)
             GA, GB, gc, gw, WA1, WA2, WM = self.quadrature_arrays(self.dt)
-            pa = np.array([[a, fa] for a, fa, _, _, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
-            pb = np.array([[b, fb] for _, _, b, fb, _ in m.pairs], dtype=np.int64).reshape(-1, 2)
-            rest = np.array([g for *_, g in m.pairs], dtype=float)
+            pa, pb, rest = m.geo.pa, m.geo.pb, m.geo.rest
             if self.law.kind == "none":
                 pa, pb, rest = pa[:0], pb[:0], rest[:0]
             overlap = 0.0 if self.law.kind == "force" else -self.tol
@@ -479,8 +471,7 @@ class Driver:
         """Accept a trial step: book its work (contact forces are loads like any other) and move on."""
         if st.z0 is not self.z:
             # a held step may start with the normal velocity of pressed points projected out
-            v, v0 = self.z[:, 1], st.z0[:, 1]
-            np.add.at(self.E[:, 2], self.model.bidx, 0.5 * v0**2 - 0.5 * v**2)
+            hold.book_velocity_change(self.E, self.model.bidx, self.z[:, 1].copy(), st.z0[:, 1].copy())
         self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
         self.fc = st.f1
         self.z = st.z1
@@ -532,10 +523,9 @@ class Driver:
         booked as contact work."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
         _, _, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
-        dv = hold.stop_closing(self.z, W, self.v_min)
-        if np.any(dv):
-            v = self.z[:, 1]
-            np.add.at(self.E[:, 2], self.model.bidx, 0.5 * v**2 - 0.5 * (v - dv) ** 2)
+        v_before = self.z[:, 1].copy()
+        hold.stop_closing(self.z, W, self.v_min)
+        hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())
 
     def release_sustained(self) -> None:
         if not self.sustained:

@@ -23,8 +23,8 @@ import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.contact.geometry import njit
-from pounding.framework.kernel import _accumulate_forces, _approaching, _record, update_peaks
-from pounding.framework.pairs import features_of, pair_gap, slab_dofs
+from pounding.framework.kernel import _accumulate_forces, _record, update_peaks
+from pounding.framework.pairs import closing, features_of, pair_gap
 
 DONE, CONTACT, OVERLAP, RELEASED = 0, 1, 2, 3
 
@@ -210,6 +210,15 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, pa, pb, ro
 
 
 @njit
+def book_velocity_change(E, bidx, v_old, v_new):
+    """Book the kinetic-energy change of a velocity jump v_old -> v_new (n,) as contact work,
+    E[:, 2] of each mode's building [J] (mass-normalised modes: 1/2 v^2 per mode)."""
+    for i in range(v_old.shape[0]):
+        if v_new[i] != v_old[i]:
+            E[bidx[i], 2] += 0.5 * v_new[i] ** 2 - 0.5 * v_old[i] ** 2
+
+
+@njit
 def stop_closing(z, W, v_min):
     """Plastic impulses (restitution 0) on the touching points (modal rows W (m, n)) of held
     pairs that close faster than v_min [m/s]; updates the velocities z[:, 1] in place.
@@ -285,8 +294,6 @@ def held_stretch(
     P = pa.shape[0]
     g0 = np.empty(n)
     g1 = np.empty(n)
-    da = np.empty(3)
-    db = np.empty(3)
     have = False  # start features known (the last step's end features)
     gapS = np.empty(0)
     WS = np.empty((0, n))
@@ -296,11 +303,8 @@ def held_stretch(
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         v_before = z[:, 1].copy()
         E_before = E.copy()
-        dv = stop_closing(z, WS, v_min)
-        for i in range(n):
-            if dv[i] != 0.0:
-                v_old = z[i, 1] - dv[i]
-                E[bidx[i], 2] += 0.5 * z[i, 1] ** 2 - 0.5 * v_old**2
+        stop_closing(z, WS, v_min)
+        book_velocity_change(E, bidx, v_before, z[:, 1])
         for i in range(n):
             g0[i] = -L[i] * ag[k]
             g1[i] = -L[i] * ag[k + 1]
@@ -313,9 +317,7 @@ def held_stretch(
                     z[i, 1] = v_before[i]
                 E[:, :] = E_before
                 return k, OVERLAP, p
-        for i in range(n):  # the start velocity of pressed points may have been projected (held_step)
-            if z0[i, 1] != z[i, 1]:
-                E[bidx[i], 2] += 0.5 * z0[i, 1] ** 2 - 0.5 * z[i, 1] ** 2
+        book_velocity_change(E, bidx, z[:, 1], z0[:, 1])  # pressed points' start velocity projected (held_step)
         _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
         for i in range(n):
             z[i, 0] = z1[i, 0]
@@ -339,13 +341,10 @@ def held_stretch(
         for p in range(P):
             if held_mask[p]:
                 continue
-            g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
-            if g <= tol:
-                ba, fa, bb, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
-                slab_dofs(rows, off, n_modes, ba, fa, q, da)
-                slab_dofs(rows, off, n_modes, bb, fb, q, db)
-                if _approaching(rows, z, n_modes, ba, bb, off[ba] + fa, off[bb] + fb, da, db, verts, nvert, centres, tol, v_min):
-                    return k + 1, CONTACT, p
+            if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) <= tol and closing(
+                q, z[:, 1], p, tol, v_min, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis
+            ):
+                return k + 1, CONTACT, p
         if not any_held:
             return k + 1, RELEASED, -1
     return k1, DONE, -1

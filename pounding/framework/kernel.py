@@ -19,8 +19,8 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.contact.base import newton_lcp
-from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
-from pounding.framework.pairs import pair_features, pair_gap
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, njit, signed_gap
+from pounding.framework.pairs import closing, pair_features, pair_gap
 
 DONE, CONTACT, OVERLAP, HELD = 0, 1, 2, 4
 
@@ -138,7 +138,9 @@ def advance(
             p1 = L[i] * p1s
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
-        # contact check on the pairs that could touch; a rejected step books no energy
+        # contact check on the pairs that could touch; a rejected step books no energy.
+        # The cascade of pairs.pair_gap written out: a call per pair and step, with its many
+        # array arguments, costs more than the check itself (0.8 -> 1.4 us/step measured).
         status = DONE
         hit = -1
         for p in range(pair_a.shape[0]):
@@ -161,8 +163,8 @@ def advance(
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
                 return k, OVERLAP, p
-            if g <= tol and status == DONE and _approaching(
-                rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol, v_min
+            if g <= tol and status == DONE and closing(
+                z[:, 0], z[:, 1], p, tol, v_min, n, pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis
             ):
                 # keep checking the other pairs: one of them may overlap in this same step
                 status = CONTACT
@@ -264,27 +266,6 @@ def update_peaks(rows, q, n_modes, slab_building, peak):
         for r in range(3):
             if abs(d[r]) > peak[s, r]:
                 peak[s, r] = abs(d[r])
-
-
-@njit
-def _approaching(rows, z, n_modes, ba, bb, sa, sb, da, db, verts, nvert, centres, tol, v_min):
-    """Whether any touching point of the pair closes: n . (v_Q(a) - v_Q(b)) > 0, n from a to b."""
-    va = np.empty(3)
-    vb = np.empty(3)
-    _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 1], va)
-    _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 1], vb)
-    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
-    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
-    count, Q, N, gap, who, idx, pair = contact_points(A, B, tol)
-    cax, cay = centres[sa, 0] + da[0], centres[sa, 1] + da[1]
-    cbx, cby = centres[sb, 0] + db[0], centres[sb, 1] + db[1]
-    for j in range(count):
-        qx, qy = Q[j, 0], Q[j, 1]
-        vax, vay = va[0] - va[2] * (qy - cay), va[1] + va[2] * (qx - cax)
-        vbx, vby = vb[0] - vb[2] * (qy - cby), vb[1] + vb[2] * (qx - cbx)
-        if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > v_min:
-            return True
-    return False
 
 
 @njit

@@ -71,11 +71,16 @@ def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, ra
     With a finite ``cutoff``, a cheap lower bound is returned whenever it already
     exceeds the cutoff: the rest gap minus the relative motion of the slabs
     (:func:`~pounding.contact.geometry.clearance_bound`), else their separation
-    along the rest axis (:func:`~pounding.contact.geometry.axis_separation`); callers that compare the gap with thresholds <= cutoff get
-    the same answers without the polygon test. Pass ``np.inf`` for the exact gap.
+    along the rest axis (:func:`~pounding.contact.geometry.axis_separation`); callers
+    that compare the gap with thresholds <= cutoff get the same answers without the
+    polygon test. Pass ``np.inf`` for the exact gap.
     """
-    da = np.empty(3)
-    db = np.empty(3)
+    return pair_gap_into(q, p, cutoff, np.empty(3), np.empty(3), pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+
+
+@njit
+def pair_gap_into(q, p, cutoff, da, db, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+    """:func:`pair_gap` with scratch arrays da, db (3,) for the slabs' (u, v, phi), for hot loops."""
     slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q, da)
     slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q, db)
     sa = off[pa[p, 0]] + pa[p, 1]
@@ -209,3 +214,32 @@ def rest_axis(A: np.ndarray, B: np.ndarray, rest_gap: float) -> np.ndarray:
     if count == 0:
         return np.zeros(2)
     return N[int(np.argmin(gap[:count]))].copy()
+
+
+@njit
+def closing(q, v, p, tol, v_min, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+    """Whether a touching point of pair p (within ``tol``) closes faster than v_min [m/s],
+    n . (v_Q(a) - v_Q(b)) > v_min with n from a to b, for modal displacements q and
+    velocities v (n,): the velocity condition of an impact (eq. 7 of the paper)."""
+    da = np.empty(3)
+    db = np.empty(3)
+    va = np.empty(3)
+    vb = np.empty(3)
+    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
+    slab_dofs(rows, off, n_modes, a, fa, q, da)
+    slab_dofs(rows, off, n_modes, b, fb, q, db)
+    slab_dofs(rows, off, n_modes, a, fa, v, va)
+    slab_dofs(rows, off, n_modes, b, fb, v, vb)
+    sa = off[a] + fa
+    sb = off[b] + fb
+    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
+    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    count, Q, N, _, _, _, _ = contact_points(A, B, tol)
+    cax, cay = centres[sa, 0] + da[0], centres[sa, 1] + da[1]
+    cbx, cby = centres[sb, 0] + db[0], centres[sb, 1] + db[1]
+    for j in range(count):
+        vax, vay = va[0] - va[2] * (Q[j, 1] - cay), va[1] + va[2] * (Q[j, 0] - cax)
+        vbx, vby = vb[0] - vb[2] * (Q[j, 1] - cby), vb[1] + vb[2] * (Q[j, 0] - cbx)
+        if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > v_min:
+            return True
+    return False
