@@ -132,9 +132,11 @@ def advance(
             z0[i, 0] = z[i, 0]
             z0[i, 1] = z[i, 1]
             z0[i, 2] = z[i, 2]
+        a0 = ag[k]
+        a1 = ag[k + 1]
         for i in range(n):
-            p0 = modal_load(L, i, ag[k])
-            p1 = modal_load(L, i, ag[k + 1])
+            p0 = modal_load(L, i, a0)
+            p1 = modal_load(L, i, a1)
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
         # contact check on the pairs that could touch; a rejected step books no energy.
