@@ -606,6 +606,15 @@ def _run_dask(spec, cases, texts, done, *, workers=None, scheduler=None) -> int:
 # =============================================================================
 
 
+def _legend(ax) -> None:
+    """A legend that fits: a record set gives 22 lines or more (outside the axes, small, in columns)."""
+    n = len(ax.get_legend_handles_labels()[0])
+    if n <= 10:
+        ax.legend(fontsize=8)
+    else:
+        ax.legend(fontsize=5, ncol=1 + n // 24, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
 def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     """``impacts_vs_gap.png`` and ``drift_vs_gap.png`` in ``out``: one line per combination of the other parameters.
 
@@ -640,7 +649,7 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     ax.set_title("Impacts against the separation gap")
     ax.grid(True, alpha=0.3)
     if varying:
-        ax.legend(fontsize=8)
+        _legend(ax)
     paths.append(out / "impacts_vs_gap.png")
     fig.savefig(paths[-1], format="png")
 
@@ -657,7 +666,7 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     ax.set_ylabel("peak inter-storey drift [%]")
     ax.set_title("Peak drift (centres of mass) against the separation gap")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    _legend(ax)
     paths.append(out / "drift_vs_gap.png")
     fig.savefig(paths[-1], format="png")
     return paths
@@ -711,7 +720,7 @@ def plot_sweep_angles(rows: list[dict], out) -> list[Path]:
                      if what == "min_gap" else "Impacts against the angle of incidence")
         ax.grid(True, alpha=0.3)
         if varying:
-            ax.legend(fontsize=7)
+            _legend(ax)
         paths.append(Path(out) / name)
         fig.savefig(paths[-1], format="png")
     return paths
