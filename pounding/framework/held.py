@@ -23,7 +23,7 @@ import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.contact.geometry import njit
-from pounding.framework.kernel import _accumulate_forces, _record, update_peaks
+from pounding.framework.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.pairs import closing, features_of, pair_gap
 
 DONE, CONTACT, OVERLAP, RELEASED = 0, 1, 2, 3
@@ -306,8 +306,8 @@ def held_stretch(
         stop_closing(z, WS, v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1])
         for i in range(n):
-            g0[i] = -L[i] * ag[k]
-            g1[i] = -L[i] * ag[k + 1]
+            g0[i] = modal_load(L, i, ag[k])
+            g1[i] = modal_load(L, i, ag[k + 1])
         z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):

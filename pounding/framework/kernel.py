@@ -48,14 +48,15 @@ def advance(
     ----------
     A : (n, 3, 3), B : (n, 3, 2)
         Per-mode transition for the grid step dt.
-    L : (n,)
-        Modal load per unit ground acceleration: p = -L ag.
+    L : (n, c)
+        Modal load per unit ground acceleration of each of the c components:
+        p_i = -sum_j L[i, j] ag[k, j].
     c2 : (n,)
         Modal damping 2 zeta omega [1/s].
     dt : float
         Grid step [s].
-    ag : (nsteps + 1,)
-        Ground acceleration on the grid [m/s^2].
+    ag : (nsteps + 1, c)
+        Ground acceleration of each component on the grid [m/s^2].
     z : (n, 3)
         Modal state (q, q', q''), updated in place.
     k0, k1 : int
@@ -131,11 +132,11 @@ def advance(
             z0[i, 0] = z[i, 0]
             z0[i, 1] = z[i, 1]
             z0[i, 2] = z[i, 2]
-        p0s = -ag[k]
-        p1s = -ag[k + 1]
+        a0 = ag[k]
+        a1 = ag[k + 1]
         for i in range(n):
-            p0 = L[i] * p0s
-            p1 = L[i] * p1s
+            p0 = modal_load(L, i, a0)
+            p1 = modal_load(L, i, a1)
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
         # contact check on the pairs that could touch; a rejected step books no energy.
@@ -196,7 +197,8 @@ def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp
     Pairs are taken in order, each with the velocities the previous ones left. Each impact
     appends a row (t, pair, striker, vertex, impulse, nx, ny, b, energy loss, Qx, Qy) to imp;
     the state before the first impulse at t goes to ev_*. Returns True if a pair's rebound is
-    too slow to open the tolerance within one step (zeno is set for it).
+    too slow to open the tolerance within one step (zeno is set for it). ag (c,) is the ground
+    acceleration of every component at t.
     """
     n = z.shape[0]
     q = z[:, 0].copy()
@@ -233,7 +235,7 @@ def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp
             z[i, 1] += dv[i]
         if after_eq:
             for i in range(n):
-                z[i, 2] = -L[i] * ag - c2[i] * z[i, 1] - om2[i] * z[i, 0]
+                z[i, 2] = modal_load(L, i, ag) - c2[i] * z[i, 1] - om2[i] * z[i, 0]
         for j in range(count):
             if I[j] > 0:
                 r = imp_n[0]
@@ -283,24 +285,37 @@ def _record(z, k, every, Q, V):
 
 
 @njit
+def modal_load(L, i, a):
+    """Modal ground load of mode i, -sum_j L[i, j] a[j], for component accelerations a (c,).
+
+    The sum starts from the first component's product, so one component gives exactly
+    -(L[i, 0] a[0]) (= L[i, 0] (-a[0]) in IEEE arithmetic).
+    """
+    s = L[i, 0] * a[0]
+    for j in range(1, a.shape[0]):
+        s += L[i, j] * a[j]
+    return -s
+
+
+@njit
 def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx):
     """Add a step's work to E: ground motion (column 0), damping (1) and the modal contact
     forces f0 -> f1 (n,) at its ends, linear in between (2). The forces drive the velocity too.
 
+    ag0, ag1 (c,) are the component accelerations at the step's ends; L (n, c).
     Three rules, by what the integrator offers: closed-form integrals on its trajectory
     (WA1, WA2, WM, see advance), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule
     on the step-end velocities (nq = 0: average acceleration's exact identity).
     """
     n = z.shape[0]
-    p0s = -ag0
-    p1s = -ag1
+    c = ag0.shape[0]
     nq = gc.shape[0]
     maps = WA1.shape[0] > 0
     x = np.empty(4)
     for i in range(n):
         if maps:
-            g0 = L[i] * p0s
-            g1 = L[i] * p1s
+            g0 = modal_load(L, i, ag0)
+            g1 = modal_load(L, i, ag1)
             x[0] = z0[i, 0]
             x[1] = z0[i, 1]
             x[2] = g0 + f0[i]
@@ -318,15 +333,19 @@ def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, 
             E[bidx[i], 2] += f0[i] * iv0 + (f1[i] - f0[i]) / dt * iv1
         elif nq == 0:
             vm = 0.5 * (z0[i, 1] + z[i, 1])
-            E[bidx[i], 0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+            for j in range(c):
+                E[bidx[i], 0] += dt * vm * 0.5 * L[i, j] * (-ag0[j] + -ag1[j])
             E[bidx[i], 1] += dt * c2[i] * vm * vm
             E[bidx[i], 2] += dt * vm * 0.5 * (f0[i] + f1[i])
         else:
+            g0 = modal_load(L, i, ag0)
             for j in range(nq):
-                pj = L[i] * (p0s + gc[j] * (p1s - p0s))
+                pj = L[i, 0] * (-ag0[0] + gc[j] * (-ag1[0] - -ag0[0]))
+                for m in range(1, c):
+                    pj += L[i, m] * (-ag0[m] + gc[j] * (-ag1[m] - -ag0[m]))
                 fj = f0[i] + gc[j] * (f1[i] - f0[i])
                 vj = (GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2]
-                      + GB[j, i, 1, 0] * (L[i] * p0s + f0[i]) + GB[j, i, 1, 1] * (pj + fj))
+                      + GB[j, i, 1, 0] * (g0 + f0[i]) + GB[j, i, 1, 1] * (pj + fj))
                 E[bidx[i], 0] += dt * gw[j] * vj * pj
                 E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
                 E[bidx[i], 2] += dt * gw[j] * vj * fj

@@ -100,7 +100,7 @@ class Scene:
     """Everything a run needs: the buildings, the ground motion and the options."""
 
     buildings: tuple[Building, ...]
-    ground_motion: Any  # pounding.io.ground_motion.GroundMotion (kept loose to avoid an import cycle)
+    ground_motion: Any  # GroundMotion or GroundMotionPair (pounding.io; kept loose to avoid an import cycle)
     analysis: Analysis = field(default_factory=Analysis)
     source: Path | None = None
 

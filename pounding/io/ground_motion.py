@@ -177,6 +177,24 @@ class GroundMotion:
         a = math.radians(self.angle)
         return np.array((math.cos(a), math.sin(a)))
 
+    @property
+    def components(self) -> tuple["GroundMotion"]:
+        """The components of the motion: this one record (see :class:`~pounding.io.motion_pair.GroundMotionPair`)."""
+        return (self,)
+
+    def directions(self) -> np.ndarray:
+        """Plan unit vector of every component, shape (c, 2) = (1, 2): ``direction()[None]``."""
+        return self.direction()[None, :]
+
+    def samples(self, times: Any) -> np.ndarray:
+        """Acceleration of every component at ``times`` [m/s^2]: shape (m, 1), or (1,) for a scalar time.
+
+        The values are those of :meth:`at`; the component axis is what the analysis
+        stacks the modal load over (``p = -L @ ag``, L (n, c)).
+        """
+        out = np.interp(times, self.t, self.acc, left=0.0, right=0.0)
+        return np.reshape(out, np.shape(out) + (1,))
+
     def at(self, times: Any) -> np.ndarray | float:
         """Ground acceleration at arbitrary times, by linear interpolation.
 
@@ -220,6 +238,10 @@ class GroundMotion:
             raise InputError("the record is all zeros and cannot be scaled to a PGA",
                              file=self.source or None, field="pga")
         return replace(self, acc=self.acc * (pga_g * G / self.pga))
+
+    def with_angle(self, angle: float) -> "GroundMotion":
+        """A copy shaking along ``angle`` degrees from x (the incidence angle; same samples)."""
+        return replace(self, angle=_finite_number(angle, "angle", self.source or None))
 
     def rotated(self, angle: float) -> "GroundMotion":
         """A copy whose direction is turned by ``angle`` degrees (counter-clockwise).

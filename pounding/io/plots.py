@@ -273,14 +273,14 @@ def energy_histories(result, scene=None) -> dict:
     ks = np.zeros_like(t)
     pdamp = np.zeros_like(t)
     pin = np.zeros_like(t)
-    ag = scene.ground_motion.at(t) if scene is not None else None
+    ag = np.asarray(scene.ground_motion.samples(t), float).reshape(t.size, -1) if scene is not None else None  # (nt, c)
     for i, s in enumerate(result.systems):
         q, qd = result.modal(result.names[i]), result.modal(result.names[i], velocity=True)
         ks += 0.5 * np.sum(qd**2, axis=1) + 0.5 * np.sum((s.omega * q) ** 2, axis=1)
         pdamp += np.sum(2.0 * s.zeta * s.omega * qd**2, axis=1)
         if ag is not None:
-            L = s.participation(s.influence(scene.ground_motion.direction()))
-            pin += (qd @ L) * (-ag)
+            for j, d in enumerate(scene.ground_motion.directions()):
+                pin += (qd @ s.participation(s.influence(d))) * (-ag[:, j])
 
     def cumtrapz(p):
         out = np.zeros_like(p)

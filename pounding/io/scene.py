@@ -342,7 +342,7 @@ def _analysis(table: Mapping) -> Analysis:
 # --------------------------------------------------------------------------- entry point
 def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     """Validate a parsed TOML document and build the Scene (errors carry no file; see load_scene)."""
-    from pounding.io.ground_motion import load_record
+    from pounding.io.records import first_period_of_taller, load_ground_motion
     from pounding.io.scene_schema import SCENE
 
     _check_finite(data, [])
@@ -358,7 +358,8 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
             raise InputError(f"building name {nm!r} is used twice", field=f"building[{i}].name")
     _check_apart_at_rest(buildings)
     base_dir = source.parent if source is not None else Path.cwd()
-    gm = load_record(dict(data.get("ground_motion", {"record": "elcentro"})), base_dir=base_dir, file=str(source) if source else None)
+    gm = load_ground_motion(dict(data.get("ground_motion", {"record": "elcentro"})), base_dir=base_dir,
+                            file=str(source) if source else None, default_period=lambda: first_period_of_taller(buildings))
     analysis = _analysis(data.get("analysis", {}))
     if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
         raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")

@@ -392,11 +392,12 @@ class StateAt:
     def __init__(self, scene, result):
         self.r = result
         self.gm = scene.ground_motion
-        direction = self.gm.direction()
+        directions = np.asarray(self.gm.directions(), float).reshape(-1, 2)
         systems = result.systems
         self.omega = np.concatenate([s.omega for s in systems])
         self.c2 = np.concatenate([2.0 * s.zeta * s.omega for s in systems])
-        self.L = np.concatenate([s.participation(s.influence(direction)) for s in systems])
+        # L (n, c): one column per ground-motion component
+        self.L = np.stack([np.concatenate([s.participation(s.influence(d)) for s in systems]) for d in directions], axis=1)
         self.h_max = min(float(result.dt) / 8.0, 0.2 / max(float(np.max(self.omega)), 1e-12))
         self.events = sorted(result.impacts, key=lambda i: i.time)
         self.ev_t = np.array([i.time for i in self.events], dtype=float)
@@ -423,7 +424,8 @@ class StateAt:
         return w
 
     def _rhs(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        return -self.L * float(self.gm.at(t)) - self.c2 * v - self.omega**2 * q
+        a = np.asarray(self.gm.samples(t), float).reshape(-1)
+        return -(self.L @ a) - self.c2 * v - self.omega**2 * q
 
     def _integrate(self, q, v, t0, t1):
         if t1 <= t0:

@@ -280,8 +280,8 @@ def run_transient(
     ops : module
         From :func:`load_opensees`.
     scene_or_building : Scene or Building
-    ground_motion : GroundMotion
-        ``t`` [s], ``acc`` [m/s^2] and ``angle`` [deg]; the record is zero
+    ground_motion : GroundMotion or GroundMotionPair
+        Each of its ``components`` with ``t`` [s], ``acc`` [m/s^2] and ``angle`` [deg]; the record is zero
         outside its time span (as ``GroundMotion.at``). OpenSees starts from
         zero acceleration, i.e. it does not solve for a consistent initial
         acceleration when ``acc(0) != 0``.
@@ -322,16 +322,19 @@ def run_transient(
             ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, a1, 0.0)
             ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", a0, 0.0, 0.0, 0.0)
 
-    direction = ground_motion.direction()
-    t = [float(x) for x in ground_motion.t]
-    acc = [float(x) for x in ground_motion.acc]
     pattern = 0
-    for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
-        if factor == 0.0:
-            continue
-        pattern += 1
-        ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
-        ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+    # one UniformExcitation pattern per component and plan axis it has a share on: a pair along
+    # x and y is two patterns, each component with its own time series
+    for component in ground_motion.components:
+        direction = component.direction()
+        t = [float(x) for x in component.t]
+        acc = [float(x) for x in component.acc]
+        for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
+            if factor == 0.0:
+                continue
+            pattern += 1
+            ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
+            ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
 
     ops.constraints("Transformation")
     ops.numberer("RCM")
@@ -434,8 +437,8 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
         springs.append(row)
 
     gm = scene.ground_motion
-    if tuple(gm.direction()) != (1.0, 0.0):
-        raise ValueError("run_gap_pounding shakes along x only")
+    if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
+        raise ValueError("run_gap_pounding shakes with one component along x only")
     ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
     ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
     ops.constraints("Transformation")
