@@ -32,7 +32,8 @@ and the buildings' assembled systems; nothing changes the analysis.
   into a peak force: ``duration`` (a half-sine pulse of given tau: F = pi I /
   (2 tau)) or ``hertz`` (elastic Hertz contact F = k_h delta^1.5 of the
   effective mass m = 1/(w . w) at the approach velocity b: delta_max =
-  (5 m b^2 / (4 k_h))^(2/5), F = k_h delta_max^1.5, tau = 2.94 delta_max / b;
+  (5 m b^2 / (4 k_h))^(2/5), F = k_h delta_max^1.5, tau = 2.943 delta_max / b,
+  the 2.943 being (4/5) B(2/5, 1/2);
   Goldsmith, *Impact*, 1960; k_h = 2.75e9 N/m^1.5 for concrete, Jankowski,
   EESD 34 (2005) 595-611).
 """
@@ -45,6 +46,8 @@ import numpy as np
 
 HERTZ_CONCRETE = 2.75e9  # [N/m^1.5] Jankowski (2005)
 DEFAULT_DURATION = 0.005  # [s]
+#: Hertz contact time in units of delta_max / b: 2 int_0^1 (1 - x^2.5)^-1/2 dx = (4/5) B(2/5, 1/2)
+HERTZ_TIME = 2.9432751843247047
 
 
 # --------------------------------------------------------------------------- drift
@@ -222,7 +225,7 @@ def impact_forces(result, model: dict | None = None) -> tuple[np.ndarray, np.nda
             w = contact_row(result, state[0], imp.pair, imp.point, imp.normal)
             m_eff = 1.0 / float(w @ w)
             delta = (5.0 * m_eff * b * b / (4.0 * kh)) ** 0.4
-            force[i], tau[i] = kh * delta**1.5, 2.94 * delta / b
+            force[i], tau[i] = kh * delta**1.5, HERTZ_TIME * delta / b
         tmax = max(tau[i] for i in idx)
         for i in idx:
             if tau[i] == 0.0 and tmax > 0.0:
