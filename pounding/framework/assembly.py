@@ -222,7 +222,7 @@ def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray, fiel
             raise InputError(
                 f"building {building.name!r} buckles under its gravity loads: with P-Delta its stiffness is no longer "
                 f"positive (lowest eigenvalue {lam[0]:.3g} 1/s^2); check p_delta loads and the element stiffness",
-                field=field or f"building {building.name!r}.p_delta",
+                field=(field.rsplit(".", 1)[0] + ".p_delta") if field else f"building {building.name!r} p_delta",
             )
     k = int(np.argmax(np.abs(v) * np.tile([1.0, 1.0, building.slabs[0].radius], building.n_storeys)))
     storey, dof = k // 3 + 1, ("x translation", "y translation", "rotation")[k % 3]
