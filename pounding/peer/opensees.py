@@ -530,3 +530,59 @@ def pdelta_frame_periods(ops, frame, floor_masses: Sequence[float], floor_loads:
     lam = np.asarray(ops.eigen("-fullGenLapack", int(n)), dtype=float)
     ops.wipe()
     return 2.0 * np.pi / np.sqrt(lam)
+
+
+def pdelta_building_periods(ops, building, leaning: np.ndarray, floor_loads: Sequence[float], n: int, *, out_of_plane: float = 1e-9) -> np.ndarray:
+    """Periods [s] of a 3-D building whose gravity loads ride on leaning columns (``corotTruss``).
+
+    The building is :func:`build_building`'s model. Its gravity loads are carried by
+    leaning columns at the plan points ``leaning`` (k, 2) [m]: a ``corotTruss`` per
+    storey and point (axially stiff, no bending), their floor nodes slaved to the
+    floor's rigid diaphragm, each carrying 1/k of every floor's load ``floor_loads``
+    [N] (applied downwards at its nodes). A linear static step gives their axial
+    forces; the eigen solution of the tangent (the trusses' geometric stiffness N/L
+    across their axis, through the diaphragms onto translation and twist) gives the
+    periods. The load centre and the polar moment of the load about it are those
+    of the points: place them where the assumption under test puts the load.
+    """
+    ops.wipe()
+    tags = _Tags(0)
+    masters, _, _ = _build(ops, building, out_of_plane, tags)
+    mat = 1
+    ops.uniaxialMaterial("Elastic", mat, 1e15)
+    z = np.concatenate([[0.0], np.cumsum(building.storey_heights)])
+    k = len(leaning)
+    chains = []
+    for x, y in np.asarray(leaning, dtype=float):
+        chain = []
+        for level, zl in enumerate(z):
+            tag = tags()
+            ops.node(tag, float(x), float(y), float(zl))
+            if level == 0:
+                ops.fix(tag, 1, 1, 1, 1, 1, 1)
+            else:
+                ops.fix(tag, 0, 0, 0, 1, 1, 0)
+            chain.append(tag)
+        for level in range(len(z) - 1):
+            ops.element("corotTruss", tags(), chain[level], chain[level + 1], 1.0, mat)
+        chains.append(chain)
+    for f, master in enumerate(masters):
+        ops.rigidDiaphragm(3, master, *[c[f + 1] for c in chains])
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    for f in range(len(masters)):
+        for c in chains:
+            ops.load(c[f + 1], 0.0, 0.0, -float(floor_loads[f]) / k, 0.0, 0.0, 0.0)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees gravity step failed")
+    ops.loadConst("-time", 0.0)
+    periods = eigen_periods(ops, n)
+    ops.wipe()
+    return periods
