@@ -234,3 +234,17 @@ def test_p_delta_torsion_matches_opensees_leaning_columns_in_3d(opensees):
     assert (ours / assemble(b0).periods).max() > 1.1
     centre_only = pdelta_building_periods(opensees, b, c[None, :], loads, 9, out_of_plane=1e-6)
     assert np.abs(centre_only / ours - 1).max() > 1e-3
+
+
+def test_impact_force_keys_belong_to_their_model():
+    """[analysis.impact_force]: stiffness is Hertz's, duration the half-sine's; a mix is one error."""
+    from pounding.io.scene import parse_scene
+
+    data = {"building": [_box()], "analysis": {"impact_force": {"model": "duration", "stiffness": 1e9}}}
+    with pytest.raises(InputError, match="stiffness applies to model = 'hertz'") as exc:
+        parse_scene(data)
+    assert exc.value.field == "analysis.impact_force.stiffness"
+    data["analysis"]["impact_force"] = {"model": "hertz", "stiffness": -1.0}
+    with pytest.raises(InputError) as exc:
+        parse_scene(data)
+    assert exc.value.field == "analysis.impact_force.stiffness"

@@ -347,6 +347,11 @@ def _analysis(table: Mapping) -> Analysis:
     if "restitution" in table:
         cparams.setdefault("restitution", float(table["restitution"]))
         _check_params(CONTACT_LAWS.get(contact), cparams, "analysis.restitution")
+    force = dict(table.get("impact_force", {}))
+    model = force.get("model", "hertz")
+    for key, owner in (("stiffness", "hertz"), ("duration", "duration")):
+        if key in force and model != owner:
+            raise InputError(f"{key} applies to model = {owner!r}, not {model!r}", field=f"analysis.impact_force.{key}")
     return Analysis(
         integrator=integrator,
         integrator_params=iparams,
