@@ -8,11 +8,17 @@ previous results or nothing, never a half-written folder.
   = u [m], v [m], phi [rad] of every slab's centre of mass relative to the
   ground, and ``B_vertices`` (nt, storeys, vertices, 2) = x and y displacement
   of every slab vertex in the scene's order (NaN-padded when storeys have
-  polygons with fewer vertices).
+  polygons with fewer vertices); and the response histories of
+  :mod:`pounding.framework.response` as ``B_<quantity>`` (drift ratios, storey
+  and element shears, overturning moments, floor accelerations, the impacts'
+  floor velocity jumps; units in the README).
 * ``summary.json``: steps, runtime_s (solver time), integrator, dt, per
-  building periods and peak |u|, |v|, |phi| per storey, n_impacts, impacts per
-  storey, energy terms and balance.
-* ``impacts.csv``: one row per impact (header only while there is none).
+  building periods, peak |u|, |v|, |phi| and the peak response quantities per
+  storey, its own energy account (:mod:`pounding.framework.energy_account`),
+  n_impacts, impacts per storey, the pair's energy balance with the flag of a
+  contact rule that creates energy.
+* ``impacts.csv``: one row per impact (header only while there is none), units
+  in the header, with the equivalent peak force and contact duration.
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
   instants) for ``pounding plot`` and ``pounding render``.
