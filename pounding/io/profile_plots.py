@@ -60,7 +60,7 @@ def plot_response_profiles(result, path, *, reference=None) -> Path:
                 q = ref[name]
                 ax.plot(np.asarray(q[key]) * scale, storeys, "--", color="0.55", lw=1.0, label="reference")
                 if key == "peak_drift_ratio_cm":
-                    ax.plot(np.asarray(q["peak_drift_ratio_corner"]) * scale, storeys, ":", color="0.55", lw=1.0)
+                    ax.plot(np.asarray(q["peak_drift_ratio_corner"]) * scale, storeys, ":", color="0.55", lw=1.0, label="reference corner")
             ax.set_yticks(storeys)
             ax.set_xlim(left=0)
             ax.grid(alpha=0.3)
@@ -69,7 +69,7 @@ def plot_response_profiles(result, path, *, reference=None) -> Path:
             if c == 0:
                 ax.set_ylabel(f"{name}: storey")
             if r == 0 and c in (0, len(PANELS) - 1):
-                ax.legend(fontsize=7, loc="lower right")
+                ax.legend(fontsize=7, loc="best", framealpha=0.8)
     fig.suptitle("peak response over height" + (" (dashed: reference run)" if ref else ""), fontsize=10)
     return _save(fig, path)
 
