@@ -78,7 +78,7 @@ def test_impact_log_rows_match_the_result(tmp_path):
     write_results(result, tmp_path / "near")
     rows = list(csv.DictReader(open(tmp_path / "near" / "impacts.csv")))
     assert len(rows) == result.n_impacts > 0
-    assert [float(r["time"]) for r in rows] == [i.time for i in result.impacts]
+    assert [float(r["time [s]"]) for r in rows] == [i.time for i in result.impacts]
     assert {r["storey"] for r in rows} == {"3"}  # only the lower building's top can reach the other
     s = json.loads((tmp_path / "near" / "summary.json").read_text())
     assert s["n_impacts"] == result.n_impacts and s["impacts_per_storey"] == {"3": result.n_impacts}

@@ -20,6 +20,8 @@ def add_parser(sub) -> None:
         help="a slab vertex whose displacement history to plot (storey 1-based, vertex 0-based as in impacts.csv, "
         "component x by default); repeat for more (default: the lower building's corners facing the other)",
     )
+    p.add_argument("--spectra", action="store_true", help="also floor response spectra of every floor (floor_spectra.png, floor_spectra.csv): pseudo-acceleration [m/s2], 0.02-5 s, impacts included")
+    p.add_argument("--spectra-damping", type=float, default=0.05, metavar="ZETA", help="damping ratio of the spectra's oscillators (default 0.05)")
     p.set_defaults(func=cmd_plot)
 
     r = sub.add_parser("render", help="3-D pictures and an animation of a run (off-screen)", description="PNG snapshots (plan and 3-D view, displacements magnified) and an animated GIF of the pounding window, rendered off-screen with pyvista. Needs an OpenGL library for off-screen use (Debian: libegl1 and libgl1-mesa-dri, or libosmesa6); without it this command says so and exits 2.")
@@ -36,7 +38,13 @@ def cmd_plot(args) -> int:
     scene, result = load_result(args.run)
     reference = load_result(args.reference)[1] if args.reference else None
     points = [parse_point(text, scene) for text in args.point] if args.point else None
+    if not 0 <= args.spectra_damping < 1:
+        raise InputError(f"expected a damping ratio in [0, 1), got {args.spectra_damping}", field="--spectra-damping")
     paths = plot_all(scene, result, args.out or args.run / "plots", reference=reference, points=points)
+    if args.spectra:
+        from pounding.io.profile_plots import write_floor_spectra
+
+        paths += write_floor_spectra(result, args.out or args.run / "plots", zeta=args.spectra_damping)
     print("\n".join(str(p) for p in paths))
     return 0
 

@@ -638,6 +638,11 @@ def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
             AnalysisWarning,
             stacklevel=2,
         )
+    from pounding.framework.energy_account import warn_if_energy_created
+    from pounding.framework.response import impact_force_model
+
+    result.info["impact_force"] = impact_force_model(scene.analysis.impact_force)  # stated in summary.json
+    warn_if_energy_created(result)  # a contact rule that creates energy is flagged (issue 18)
     if not np.all(np.isfinite(result.q)):
         raise FloatingPointError("the response is not finite: the integrator diverged (check dt against the shortest period)")
     return result

@@ -40,6 +40,11 @@ class System:
         Mass-normalised mode shapes in columns (Phi^T M Phi = I).
     zeta : ndarray (3N,)
         Modal damping ratios [-].
+    storey_heights : tuple of float
+        [m], bottom first.
+    elements : tuple of PlacedElement
+        Every element as placed (stiffness modifier included), scene order: what storey
+        forces are computed from (:mod:`pounding.framework.response`).
     """
 
     name: str
@@ -50,6 +55,8 @@ class System:
     omega: np.ndarray
     modes: np.ndarray
     zeta: np.ndarray
+    storey_heights: tuple[float, ...] = ()
+    elements: tuple["PlacedElement", ...] = ()
 
     @property
     def n_storeys(self) -> int:
@@ -105,15 +112,59 @@ def placement(slab_centres: np.ndarray, floors, point: np.ndarray, direction: np
     return T
 
 
-def stiffness(building: Building) -> np.ndarray:
-    """Global stiffness K (3N, 3N) of a building from its elements."""
+@dataclass(frozen=True, eq=False)
+class PlacedElement:
+    """One element as placed in its building.
+
+    k : ndarray (n_e, n_e)
+        Condensed lateral stiffness times the stiffness modifier [N/m].
+    T : ndarray (n_e, 3N)
+        Placement: the element's floor displacements along its line are ``T x`` [m].
+    floors : tuple of int
+        1-based floors it spans.
+    direction : ndarray (2,)
+        Unit vector of its line.
+    """
+
+    k: np.ndarray
+    T: np.ndarray
+    floors: tuple[int, ...]
+    direction: np.ndarray
+
+    def __iter__(self):  # (k, T), as assembly uses it
+        return iter((self.k, self.T))
+
+
+def placed_elements(building: Building) -> list[PlacedElement]:
+    """Every element as placed in the building: (k, T) in scene order.
+
+    k (n_e, n_e) [N/m] is the element's condensed lateral stiffness times its
+    stiffness modifier (``Building.modifiers``), T (n_e, 3N) its placement
+    (:func:`placement`): the element's floor displacements along its line are
+    ``T x`` and its floor forces along the line ``k T x`` [N]. The one place
+    where element stiffness meets slab DOFs (assembly and storey forces both use it).
+    """
     n = building.n_storeys
     centres = np.array([s.centre for s in building.slabs])
-    K = np.zeros((3 * n, 3 * n))
-    for e in building.elements:
-        k = np.asarray(e.lateral_stiffness(), dtype=float)
+    out = []
+    for e, factor in zip(building.elements, building.element_modifiers()):
+        k = factor * np.asarray(e.lateral_stiffness(), dtype=float)
         T = placement(centres, e.floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
+        out.append(PlacedElement(k, T, tuple(e.floors), np.asarray(e.direction, dtype=float)))
+    return out
+
+
+def stiffness(building: Building, placed: list[PlacedElement] | None = None) -> np.ndarray:
+    """Global stiffness K (3N, 3N) of a building: its elements, plus the P-Delta geometric
+    stiffness of its gravity loads when ``building.p_delta`` is set (:mod:`pounding.framework.pdelta`)."""
+    n = building.n_storeys
+    K = np.zeros((3 * n, 3 * n))
+    for k, T in placed if placed is not None else placed_elements(building):
         K += T.T @ k @ T
+    if building.p_delta is not None:
+        from pounding.framework.pdelta import geometric_stiffness
+
+        K += geometric_stiffness(building)
     return 0.5 * (K + K.T)
 
 
@@ -163,6 +214,16 @@ def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray, fiel
     if lam[0] > 1e-10 * lam[-1] and lam[0] > 0:
         return
     v = vecs[:, 0]
+    if building.p_delta is not None:
+        from dataclasses import replace
+
+        lam0 = eigh(stiffness(replace(building, p_delta=None)), np.diag(np.concatenate([[s.mass, s.mass, s.polar_inertia] for s in building.slabs])), eigvals_only=True)
+        if lam0[0] > 1e-10 * lam0[-1]:
+            raise InputError(
+                f"building {building.name!r} buckles under its gravity loads: with P-Delta its stiffness is no longer "
+                f"positive (lowest eigenvalue {lam[0]:.3g} 1/s^2); check p_delta loads and the element stiffness",
+                field=(field.rsplit(".", 1)[0] + ".p_delta") if field else f"building {building.name!r} p_delta",
+            )
     k = int(np.argmax(np.abs(v) * np.tile([1.0, 1.0, building.slabs[0].radius], building.n_storeys)))
     storey, dof = k // 3 + 1, ("x translation", "y translation", "rotation")[k % 3]
     raise InputError(
@@ -182,7 +243,8 @@ def assemble(building: Building) -> System:
         direction that nothing resists.
     """
     mass = np.concatenate([[s.mass, s.mass, s.polar_inertia] for s in building.slabs])
-    K = stiffness(building)
+    placed = placed_elements(building)
+    K = stiffness(building, placed)
     lam, vecs = eigh(K, np.diag(mass))
     _check_mechanism(building, lam, vecs)
     # Deterministic signs: the largest component of every mode is positive.
@@ -192,4 +254,4 @@ def assemble(building: Building) -> System:
     zeta = modal_damping(building.damping, omega, building.name)
     Mphi = mass[:, None] * vecs
     C = Mphi @ np.diag(2.0 * zeta * omega) @ Mphi.T  # classical: Phi^T C Phi = diag(2 zeta omega)
-    return System(building.name, building.slabs, mass, K, 0.5 * (C + C.T), omega, vecs, zeta)
+    return System(building.name, building.slabs, mass, K, 0.5 * (C + C.T), omega, vecs, zeta, tuple(building.storey_heights), tuple(placed))

@@ -59,6 +59,20 @@ class Damping:
     periods: tuple[float, ...] | None = None
 
 
+@dataclass(frozen=True)
+class PDelta:
+    """P-Delta from gravity loads: a linear storey geometric stiffness (``[building.p_delta]``).
+
+    load_factor : float
+        Gravity load of each floor = load_factor x g x its slab mass [-] (used when ``loads`` is None).
+    loads : tuple of float or None
+        Gravity load of each floor [N], bottom first, acting over the slab like its mass.
+    """
+
+    load_factor: float = 1.0
+    loads: tuple[float, ...] | None = None
+
+
 @dataclass(frozen=True, eq=False)
 class Building:
     """One shear building: rigid slabs joined by planar elements."""
@@ -68,6 +82,14 @@ class Building:
     slabs: tuple[Slab, ...]
     elements: tuple[PlanarElement, ...]
     damping: Damping = field(default_factory=Damping)
+    #: stiffness modifier of every element, scene order (None: all 1); see :meth:`element_modifiers`
+    modifiers: tuple[float, ...] | None = None
+    #: P-Delta from gravity loads (None: off); see :mod:`pounding.framework.pdelta`
+    p_delta: "PDelta | None" = None
+
+    def element_modifiers(self) -> tuple[float, ...]:
+        """Factor on each element's condensed lateral stiffness [-] (cracked sections), scene order."""
+        return self.modifiers if self.modifiers is not None else (1.0,) * len(self.elements)
 
     @property
     def n_storeys(self) -> int:
@@ -93,6 +115,9 @@ class Analysis:
     #: relative energy-balance error above which a run warns; HHT-type schemes dissipate
     #: ~1e-3 numerically and the paper's "keep accelerations" rule costs ~1e-2 with pounding
     energy_tolerance: float = 0.02
+    #: contact-duration model for the equivalent peak force of impacts ([analysis.impact_force]);
+    #: post-processing only, see :mod:`pounding.framework.response`
+    impact_force: dict[str, Any] = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)

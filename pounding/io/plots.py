@@ -16,7 +16,10 @@
 * ``energy_balance.png`` - the final energy terms of the run as stacked bars
   per building with the balance error, above histories rebuilt from the output
   steps (kinetic + strain exactly; input and damping by the trapezoidal rule
-  on the output grid; cumulative impact loss from the log).
+  on the output grid; cumulative impact loss from the log);
+* ``response_profiles.png`` - peak drift ratios, storey shears, overturning
+  moments and floor accelerations over height, the reference overlaid
+  (:mod:`pounding.io.profile_plots`).
 
 Every function returns the paths it wrote. Storeys are 1-based, vertices
 0-based in scene order, as in the impact log.
@@ -412,6 +415,8 @@ def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None 
     points : sequence of (building, storey 1-based, vertex[, "x" | "y"]), optional
         Points of the displacement histories; default :func:`default_points`.
     """
+    from pounding.io.profile_plots import plot_response_profiles
+
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     return [
@@ -420,4 +425,5 @@ def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None 
         plot_impact_timeline(result, out / "impact_timeline.png"),
         plot_gap_histories(result, out / "gap_histories.png"),
         plot_energy(result, out / "energy_balance.png", scene=scene),
+        plot_response_profiles(result, out / "response_profiles.png", reference=reference),
     ]

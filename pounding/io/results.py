@@ -8,11 +8,17 @@ previous results or nothing, never a half-written folder.
   = u [m], v [m], phi [rad] of every slab's centre of mass relative to the
   ground, and ``B_vertices`` (nt, storeys, vertices, 2) = x and y displacement
   of every slab vertex in the scene's order (NaN-padded when storeys have
-  polygons with fewer vertices).
+  polygons with fewer vertices); and the response histories of
+  :mod:`pounding.framework.response` as ``B_<quantity>`` (drift ratios, storey
+  and element shears, overturning moments, floor accelerations, the impacts'
+  floor velocity jumps; units in the README).
 * ``summary.json``: steps, runtime_s (solver time), integrator, dt, per
-  building periods and peak |u|, |v|, |phi| per storey, n_impacts, impacts per
-  storey, energy terms and balance.
-* ``impacts.csv``: one row per impact (header only while there is none).
+  building periods, peak |u|, |v|, |phi| and the peak response quantities per
+  storey, its own energy account (:mod:`pounding.framework.energy_account`),
+  n_impacts, impacts per storey, the pair's energy balance with the flag of a
+  contact rule that creates energy.
+* ``impacts.csv``: one row per impact (header only while there is none), units
+  in the header, with the equivalent peak force and contact duration.
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
   instants) for ``pounding plot`` and ``pounding render``.
@@ -33,7 +39,10 @@ import numpy as np
 
 from pounding.framework.results import Result
 
-IMPACT_COLUMNS = ["time", "storey", "striking_building", "vertex", "impulse", "normal_x", "normal_y", "approach_velocity", "energy_loss"]
+IMPACT_COLUMNS = [
+    "time [s]", "storey", "striking_building", "vertex", "impulse [N s]", "normal_x", "normal_y", "approach_velocity [m/s]",
+    "energy_loss [J]", "peak_force [N]", "contact_duration [s]",
+]
 
 
 @contextlib.contextmanager
@@ -60,9 +69,23 @@ def atomic_dir(target: str | Path):
         raise
 
 
-def summary(result: Result) -> dict:
-    """The summary.json content as a dict."""
+def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
+    """Per building, the response histories of :func:`pounding.framework.response.building_response`."""
+    from pounding.framework.response import building_response, impact_forces
+
+    _, durations = impact_forces(result)
+    return {name: building_response(result, name, durations) for name in result.names}
+
+
+def summary(result: Result, histories: dict | None = None) -> dict:
+    """The summary.json content as a dict (``histories``: :func:`response_histories`, computed when None)."""
+    from pounding.framework.energy_account import building_balances, energy_creating_rule
+    from pounding.framework.response import peaks as response_peaks
+
+    histories = response_histories(result) if histories is None else histories
     storeys = Counter(result.impact_storey(i) for i in result.impacts)
+    balances = building_balances(result)
+    contact_forces = any(abs(result.energy[n]["contact_forces"]) > 0.0 for n in result.names)
     buildings = {}
     for s in result.systems:
         peaks = result.peaks(s.name)
@@ -72,9 +95,13 @@ def summary(result: Result) -> dict:
             "peak_u": peaks[:, 0].tolist(),
             "peak_v": peaks[:, 1].tolist(),
             "peak_phi": peaks[:, 2].tolist(),
-            "energy": result.energy[s.name],
+            **response_peaks(histories[s.name]),
+            # the smooth part omits forces of sustained/penalty contact, which a run does not record
+            "floor_acceleration_includes_contact_forces": not contact_forces,
+            "energy": balances[s.name],
         }
     balance = result.energy_balance()
+    balance["energy_creating_rule"] = energy_creating_rule(result)
     return {
         "steps": result.steps,
         "runtime_s": result.runtime_s,
@@ -93,20 +120,26 @@ def summary(result: Result) -> dict:
 
 
 def impact_rows(result: Result) -> list[list]:
+    from pounding.framework.response import impact_forces
+
+    force, tau = impact_forces(result)
     return [
-        [i.time, result.impact_storey(i), result.striking_building(i), i.vertex, i.impulse, i.normal[0], i.normal[1], i.approach_velocity, i.energy_loss]
-        for i in result.impacts
+        [i.time, result.impact_storey(i), result.striking_building(i), i.vertex, i.impulse, i.normal[0], i.normal[1], i.approach_velocity, i.energy_loss,
+         f, d]
+        for i, f, d in zip(result.impacts, force, tau)
     ]
 
 
 def write_files(result: Result, folder: Path, scene_text: str | None = None) -> None:
     """Write the result files (and a copy of the scene) into an existing folder."""
     arrays = {"t": result.t}
+    histories = response_histories(result)
     for name in result.names:
         arrays[f"{name}_cm"] = result.cm(name)
         arrays[f"{name}_vertices"] = result.vertices(name)
+        arrays.update({f"{name}_{key}": val for key, val in histories[name].items()})
     np.savez(folder / "response.npz", **arrays)  # uncompressed: writing stays ~10x faster than zlib
-    (folder / "summary.json").write_text(json.dumps(summary(result), indent=1, default=_jsonable) + "\n")
+    (folder / "summary.json").write_text(json.dumps(summary(result, histories), indent=1, default=_jsonable) + "\n")
     with open(folder / "impacts.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(IMPACT_COLUMNS)
@@ -162,13 +195,15 @@ def load_result(folder: str | Path):
         )
     ]
     pairs = [(int(a), int(fa), int(b), int(fb), float(g)) for (a, fa, b, fb), g in zip(data["pairs"], data["pair_rest_gap"])]
-    energy = {name: b["energy"] for name, b in summ["buildings"].items()}
+    terms = ("input", "damping", "contact_forces", "kinetic", "strain")  # as the run booked them (the rest is derived)
+    energy = {name: {k: b["energy"][k] for k in terms} for name, b in summ["buildings"].items()}
     result = Result(
         t=data["t"], names=[b.name for b in scene.buildings], q=data["q"], qd=data["qd"],
         systems=[assemble(b) for b in scene.buildings], mode_start=data["mode_start"], pairs=pairs, impacts=impacts,
         energy=energy, runtime_s=summ["runtime_s"], dt=summ["dt"], steps=summ["steps"], integrator=summ["integrator"],
         contact=summ["contact"], ground_motion=summ["ground_motion"],
         energy_tolerance=summ["energy_balance"].get("tolerance", 0.02),
+        info={"impact_force": summ["impact_force"]} if "impact_force" in summ else {},
         event_t=data["event_t"], event_q=data["event_q"], event_qd=data["event_qd"],
     )
     return scene, result

@@ -204,11 +204,13 @@ def _building(table: Mapping, index: int) -> Building:
         for p, m, c, j, z in zip(polys, masses, centres, inertia, elevations)
     )
 
-    elements = []
+    elements, modifiers = [], []
     for k, etable in enumerate(table.get("element", [])):
         ewhere = where + ["element", k]
         cls = ELEMENTS.get(etable["type"], field=_path(ewhere + ["type"]))
-        body = {key: val for key, val in etable.items() if key != "type"}
+        # keys of every element type (scene_schema.BUILDING) are the framework's, not the plugin's
+        modifiers.append(float(etable.get("stiffness_modifier", 1.0)))
+        body = {key: val for key, val in etable.items() if key not in ("type", "stiffness_modifier")}
         _validate(body, cls.schema, ewhere)
         try:
             element = cls.from_table(body, storey_heights=heights)
@@ -218,7 +220,25 @@ def _building(table: Mapping, index: int) -> Building:
         elements.append(element)
     if not elements:
         raise InputError(f"building {table['name']!r} has no elements: add frames or walls", field=_path(where + ["element"]))
-    return Building(table["name"], heights, slabs, tuple(elements), _damping(table.get("damping"), where))
+    return Building(
+        table["name"], heights, slabs, tuple(elements), _damping(table.get("damping"), where),
+        modifiers=tuple(modifiers) if any(m != 1.0 for m in modifiers) else None,
+        p_delta=_p_delta(table.get("p_delta"), n, where),
+    )
+
+
+def _p_delta(table: Mapping | None, n: int, where: list):
+    from pounding.framework.model import PDelta
+
+    if table is None:
+        return None
+    if "loads" in table and "load_factor" in table:
+        raise InputError("give loads [N] or load_factor, not both", field=_path(where + ["p_delta"]))
+    if "loads" in table:
+        if len(table["loads"]) != n:
+            raise InputError(f"expected {n} loads [N] (one per floor), got {len(table['loads'])}", field=_path(where + ["p_delta", "loads"]))
+        return PDelta(loads=tuple(float(w) for w in table["loads"]))
+    return PDelta(load_factor=float(table.get("load_factor", 1.0)))
 
 
 def distance_to_polygon(vertices: np.ndarray, p: np.ndarray) -> float:
@@ -327,6 +347,11 @@ def _analysis(table: Mapping) -> Analysis:
     if "restitution" in table:
         cparams.setdefault("restitution", float(table["restitution"]))
         _check_params(CONTACT_LAWS.get(contact), cparams, "analysis.restitution")
+    force = dict(table.get("impact_force", {}))
+    model = force.get("model", "hertz")
+    for key, owner in (("stiffness", "hertz"), ("duration", "duration")):
+        if key in force and model != owner:
+            raise InputError(f"{key} applies to model = {owner!r}, not {model!r}", field=f"analysis.impact_force.{key}")
     return Analysis(
         integrator=integrator,
         integrator_params=iparams,
@@ -336,6 +361,7 @@ def _analysis(table: Mapping) -> Analysis:
         contact_params=cparams,
         output_every=int(table.get("output_every", 1)),
         energy_tolerance=float(table.get("energy_tolerance", 0.02)),
+        impact_force=dict(table.get("impact_force", {})),
     )
 
 

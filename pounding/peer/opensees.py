@@ -462,3 +462,130 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
             forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
     ops.wipe()
     return ux, forces, iterations, clear
+
+
+# --------------------------------------------------------------------------- P-Delta peer
+def pdelta_frame_periods(ops, frame, floor_masses: Sequence[float], floor_loads: Sequence[float], n: int) -> np.ndarray:
+    """Periods [s] of one planar frame with OpenSees' ``PDelta`` transformation under gravity loads.
+
+    A 2-D model (ndm 2, ndf 3) "as an OpenSees user would" build it: the frame's
+    columns (``PDelta`` transformation) and beams (``Linear``) as ``elasticBeamColumn``
+    members, fixed bases, the joints of a floor tied in x by ``equalDOF`` (a rigid
+    diaphragm) with the floor mass on the first joint's x. The floor loads act
+    downwards, split equally over the floor's joints; a linear static step gives the
+    columns' axial forces, ``loadConst`` keeps them, and the eigen solution of the
+    tangent stiffness (elastic plus the columns' geometric stiffness N/L) gives the
+    periods. Nothing here uses pounding's storey geometric stiffness.
+
+    Parameters
+    ----------
+    frame : pounding.elements.frame.Frame
+    floor_masses, floor_loads : sequences of float, one per floor
+        [kg] on this frame's x DOF, and [N] of gravity load on this frame.
+    n : int
+        Number of periods (at most the number of floors).
+    """
+    ops.wipe()
+    ops.model("basic", "-ndm", 2, "-ndf", 3)
+    z = np.concatenate([[0.0], np.cumsum(frame.heights)])
+    nc = len(frame.columns)
+    tag = lambda level, j: 1 + level * nc + j  # noqa: E731
+    for level, zl in enumerate(z):
+        for j, s in enumerate(frame.columns):
+            ops.node(tag(level, j), float(s), float(zl))
+            if level == 0:
+                ops.fix(tag(level, j), 1, 1, 1)
+    ops.geomTransf("PDelta", 1)
+    ops.geomTransf("Linear", 2)
+    ele = 0
+    for i in range(len(frame.heights)):
+        E, A, I = frame.column_sections[i]
+        for j in range(nc):
+            ele += 1
+            ops.element("elasticBeamColumn", ele, tag(i, j), tag(i + 1, j), A, E, I, 1)
+        E, A, I = frame.beam_sections[i]
+        for j in range(nc - 1):
+            ele += 1
+            ops.element("elasticBeamColumn", ele, tag(i + 1, j), tag(i + 1, j + 1), A, E, I, 2)
+    for level in range(1, len(z)):
+        for j in range(1, nc):
+            ops.equalDOF(tag(level, 0), tag(level, j), 1)
+        ops.mass(tag(level, 0), float(floor_masses[level - 1]), 0.0, 0.0)
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    for level in range(1, len(z)):
+        for j in range(nc):
+            ops.load(tag(level, j), 0.0, -float(floor_loads[level - 1]) / nc, 0.0)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees gravity step failed")
+    ops.loadConst("-time", 0.0)
+    ops.wipeAnalysis()
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("FullGeneral")
+    lam = np.asarray(ops.eigen("-fullGenLapack", int(n)), dtype=float)
+    ops.wipe()
+    return 2.0 * np.pi / np.sqrt(lam)
+
+
+def pdelta_building_periods(ops, building, leaning: np.ndarray, floor_loads: Sequence[float], n: int, *, out_of_plane: float = 1e-9) -> np.ndarray:
+    """Periods [s] of a 3-D building whose gravity loads ride on leaning columns (``corotTruss``).
+
+    The building is :func:`build_building`'s model. Its gravity loads are carried by
+    leaning columns at the plan points ``leaning`` (k, 2) [m]: a ``corotTruss`` per
+    storey and point (axially stiff, no bending), their floor nodes slaved to the
+    floor's rigid diaphragm, each carrying 1/k of every floor's load ``floor_loads``
+    [N] (applied downwards at its nodes). A linear static step gives their axial
+    forces; the eigen solution of the tangent (the trusses' geometric stiffness N/L
+    across their axis, through the diaphragms onto translation and twist) gives the
+    periods. The load centre and the polar moment of the load about it are those
+    of the points: place them where the assumption under test puts the load.
+    """
+    ops.wipe()
+    tags = _Tags(0)
+    masters, _, _ = _build(ops, building, out_of_plane, tags)
+    mat = 1
+    ops.uniaxialMaterial("Elastic", mat, 1e15)
+    z = np.concatenate([[0.0], np.cumsum(building.storey_heights)])
+    k = len(leaning)
+    chains = []
+    for x, y in np.asarray(leaning, dtype=float):
+        chain = []
+        for level, zl in enumerate(z):
+            tag = tags()
+            ops.node(tag, float(x), float(y), float(zl))
+            if level == 0:
+                ops.fix(tag, 1, 1, 1, 1, 1, 1)
+            else:
+                ops.fix(tag, 0, 0, 0, 1, 1, 0)
+            chain.append(tag)
+        for level in range(len(z) - 1):
+            ops.element("corotTruss", tags(), chain[level], chain[level + 1], 1.0, mat)
+        chains.append(chain)
+    for f, master in enumerate(masters):
+        ops.rigidDiaphragm(3, master, *[c[f + 1] for c in chains])
+    ops.timeSeries("Constant", 1)
+    ops.pattern("Plain", 1, 1)
+    for f in range(len(masters)):
+        for c in chains:
+            ops.load(c[f + 1], 0.0, 0.0, -float(floor_loads[f]) / k, 0.0, 0.0, 0.0)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees gravity step failed")
+    ops.loadConst("-time", 0.0)
+    periods = eigen_periods(ops, n)
+    ops.wipe()
+    return periods
