@@ -53,7 +53,7 @@ class LognormalFit:
     any level), ``"all"`` (events in every run), ``"separated"`` (events only
     at levels above all non-events: beta -> 0, no finite maximum),
     ``"decreasing"`` (the maximum has beta < 0: fewer events at higher
-    intensity), ``"one level"`` (two parameters cannot be fitted to one level)
+    intensity), ``"flat"`` (the same fraction at every level: beta -> inf), ``"one level"`` (two parameters cannot be fitted to one level)
     or ``"failed"`` (the optimiser did not converge).
     """
 
@@ -73,6 +73,11 @@ class LognormalFit:
 
         x = np.asarray(x, dtype=float)
         return ndtr(np.log(x / self.median) / self.beta)
+
+
+def _exp(v: float) -> float:
+    """exp, inf beyond the float range (a bound of a nearly separated fit)."""
+    return math.exp(v) if v < 709.0 else math.inf
 
 
 def _nan_fit(status: str, level: float) -> LognormalFit:
@@ -153,7 +158,7 @@ def fit_lognormal(x, n, z, *, level: float = 0.95) -> LognormalFit:
         See the module docstring for the method and the bounds.
     """
     from scipy.optimize import minimize
-    from scipy.special import ndtri
+    from scipy.special import gammaln, ndtri
 
     x, n, z = (np.asarray(v, dtype=float) for v in (x, n, z))
     if x.ndim != 1 or not (x.shape == n.shape == z.shape) or np.any(x <= 0) or np.any(n < 1) or np.any((z < 0) | (z > n)):
@@ -177,11 +182,13 @@ def fit_lognormal(x, n, z, *, level: float = 0.95) -> LognormalFit:
     res = minimize(lambda th: neg(th)[0], start, jac=lambda th: neg(th)[1], hess=lambda th: neg(th)[2], method="trust-exact",
                    options={"gtol": 1e-10, "maxiter": 200})
     a_c, b_c = res.x
-    _, g, h = _parts(res.x, t, n, z)
+    ll, g, h = _parts(res.x, t, n, z)
     if not np.all(np.isfinite(res.x)) or np.max(np.abs(g)) > 1e-6 * max(1.0, float(n.sum())):
         return _nan_fit("failed", level)
     if b_c <= 0:
         return _nan_fit("decreasing", level)
+    if b_c < 1e-8:  # the fraction does not change with the intensity: theta -> 0 or inf, beta -> inf
+        return _nan_fit("flat", level)
     # back to eta = a + b ln x: b = b_c / scale, a = a_c - b centre
     b = b_c / scale
     a = a_c - b * centre
@@ -193,6 +200,6 @@ def fit_lognormal(x, n, z, *, level: float = 0.95) -> LognormalFit:
     ln_theta, ln_beta = -a / b, -math.log(b)
     se_t, se_b = math.sqrt(max(cov[0, 0], 0.0)), math.sqrt(max(cov[1, 1], 0.0))
     median, beta = math.exp(ln_theta), math.exp(ln_beta)
-    return LognormalFit(median, beta, math.exp(ln_theta - zq * se_t), math.exp(ln_theta + zq * se_t),
-                        math.exp(ln_beta - zq * se_b), math.exp(ln_beta + zq * se_b), "ok", level,
-                        log_likelihood(x, n, z, median, beta))
+    return LognormalFit(median, beta, _exp(ln_theta - zq * se_t), _exp(ln_theta + zq * se_t),
+                        _exp(ln_beta - zq * se_b), _exp(ln_beta + zq * se_b), "ok", level,
+                        ll + float(np.sum(gammaln(n + 1) - gammaln(z + 1) - gammaln(n - z + 1))))
