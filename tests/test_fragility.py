@@ -169,6 +169,26 @@ def test_runs_hold_the_required_gap_of_pounding_gap(study, records):
     assert len(study.runs) == 8 and not study.failed
 
 
+def test_the_bounded_search_gives_the_full_report(records):
+    """gap_from_result(full=False) evaluates only steps whose projection bound can govern: same numbers as every step.
+
+    Exact equality: the evaluated steps go through the same arithmetic, and the bound is raised by 1e-12 of the
+    coordinates, far above its rounding, so no governing step (nor a tie) is skipped.
+    """
+    from pounding.framework.gap import gap_from_result, no_contact
+
+    scene = load_scene(PAPER).with_analysis(**SHORT)
+    for f in sorted(records.iterdir()):
+        m = read_at2(f)
+        s = scene.with_ground_motion(m.scaled(0.3 * 9.80665 / m.pga))
+        res = run(no_contact(s))
+        a, b = gap_from_result(s, res), gap_from_result(s, res, full=False)
+        assert (a.min_gap, a.required, a.storey, a.time, a.vertex, a.edge, a.striking) == \
+            (b.min_gap, b.required, b.storey, b.time, b.vertex, b.edge, b.striking)
+        assert (a.abs, a.srss, a.ddc) == (b.abs, b.srss, b.ddc) and np.array_equal(a.point, b.point)
+        assert np.isinf(b.clearance).sum() > 0.5 * b.clearance.size  # most steps were skipped
+
+
 def test_contact_free_answer_agrees_with_runs_with_contact(study, records):
     """For every record and level: impacts with contact at 0.99 x the required gap, none at 1.01 x.
 
