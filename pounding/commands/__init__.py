@@ -6,4 +6,10 @@ taking the parsed arguments and returning an exit code). Modules are imported
 only to build the parser; their heavy imports stay inside ``func``.
 """
 
-MODULES = ("pounding.commands.gap", "pounding.commands.sweep", "pounding.commands.draw", "pounding.commands.spectrum")
+MODULES = (
+    "pounding.commands.gap",
+    "pounding.commands.sweep",
+    "pounding.commands.draw",
+    "pounding.commands.spectrum",
+    "pounding.commands.fragility",
+)

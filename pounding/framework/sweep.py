@@ -37,7 +37,6 @@ from __future__ import annotations
 import csv
 import itertools
 import json
-import logging
 import math
 import os
 import tempfile
@@ -560,45 +559,15 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
 
 
 def _run_dask(spec, cases, texts, done, *, workers=None, scheduler=None) -> int:
-    """Run the cases on a dask.distributed cluster; returns the number of workers."""
-    try:
-        from dask.distributed import Client, LocalCluster, as_completed
-    except ImportError as exc:  # the 'parallel' extra
-        raise InputError(f"parallel sweeps need dask[distributed] (pip install 'pounding[parallel]'), or use --serial: {exc}",
-                         field="--scheduler" if scheduler else "--workers") from None
-    cluster = None
-    if scheduler:
-        try:
-            client = Client(scheduler, timeout=30)
-        except (OSError, TimeoutError) as exc:
-            raise InputError(f"cannot reach the scheduler {scheduler!r}: {exc}", field="--scheduler") from None
-    else:
-        n = workers or os.cpu_count() or 1
-        # no dashboard; the scheduler's HTTP server (metrics) on a free port, not on a possibly taken 8787
-        cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                               scheduler_kwargs={"dashboard_address": ":0"}, silence_logs=logging.CRITICAL)
-        client = Client(cluster)
-    try:
-        n_workers = len(client.nthreads())
-        shared = {key: client.scatter(text, broadcast=False, hash=False) for key, text in texts.items()}
-        futures = {}
-        for case in cases:
-            key = _record_key(spec, case)
-            fut = client.submit(run_case, spec, asdict(case), None if key is None else shared[key], pure=False,
-                                key=f"pounding-sweep-run-{case.run}-{os.getpid()}-{time.time_ns()}")
-            futures[fut] = case
-        for fut in as_completed(futures):
-            case = futures[fut]
-            try:
-                row = fut.result()
-            except Exception as exc:  # noqa: BLE001 - a worker died or the task could not run
-                row = _error_row(spec, case, exc)
-            done(case, row)
-        return n_workers
-    finally:
-        client.close()
-        if cluster is not None:
-            cluster.close()
+    """Run the cases on a dask.distributed cluster (:func:`pounding.framework.cluster.run_jobs`); returns the number of workers."""
+    from pounding.framework.cluster import Shared, run_jobs
+
+    jobs = []
+    for case in cases:
+        key = _record_key(spec, case)
+        jobs.append((case, (spec, asdict(case), None if key is None else Shared(key))))
+    return run_jobs(run_case, jobs, done, lambda case, exc: done(case, _error_row(spec, case, exc)), shared=texts,
+                    workers=workers, scheduler=scheduler, name="pounding-sweep-run")
 
 
 # =============================================================================
