@@ -49,13 +49,27 @@ Z = 3
 
 
 @njit
+def _power(a, n):
+    """a**n and a**(n - 1) for a >= 0, n >= 1, without pow() for the common n = 1, 2."""
+    if n == 2.0:
+        return a * a, a
+    if n == 1.0:
+        return a, 1.0
+    if a == 0.0:
+        return 0.0, 0.0
+    p1 = a ** (n - 1.0)
+    return p1 * a, p1
+
+
+@njit
 def _residual(z, z0, du_y, n, beta, gamma):
     s = 1.0 if du_y * z > 0.0 else -1.0  # OpenSees' signum: -1 at 0
     psi = gamma + beta * s
     az = abs(z)
-    f = z - z0 - du_y * (1.0 - az**n * psi)
+    an, an1 = _power(az, n)
+    f = z - z0 - du_y * (1.0 - an * psi)
     sz = 1.0 if z > 0.0 else -1.0
-    d = 1.0 + du_y * n * (az ** (n - 1.0) if az > 0.0 else 0.0) * sz * psi
+    d = 1.0 + du_y * n * an1 * sz * psi
     return f, d, psi
 
 
@@ -70,18 +84,22 @@ def solve_z(z0, du_y, n, beta, gamma):
     z = z0
     for _ in range(200):
         f, d, psi = _residual(z, z0, du_y, n, beta, gamma)
+        if f == 0.0:
+            break
         if f > 0.0:
             hi = z
         else:
             lo = z
-        step = f / d
-        zn = z - step
-        if not (lo < zn < hi):
-            zn = 0.5 * (lo + hi)
-        if abs(zn - z) <= 4e-16 * max(1.0, abs(z)) or hi - lo <= 4e-16 * max(1.0, abs(z)):
+        zn = z - f / d
+        tol = 4e-16 * max(1.0, abs(z))
+        if abs(zn - z) <= tol:  # converged: Newton's last correction is rounding
             z = zn
             break
+        if not (lo <= zn <= hi):  # Newton left the bracket (near the kink of psi at z = 0): bisect
+            zn = 0.5 * (lo + hi)
         z = zn
+        if hi - lo <= tol:
+            break
     f, d, psi = _residual(z, z0, du_y, n, beta, gamma)
     return z, d, psi
 
@@ -102,7 +120,8 @@ def update(u, state, params, new_state):
     du_y = (u - u0) / uy
     z, d, psi = solve_z(z0, du_y, n, beta, gamma)
     r = b * k0 * u + (1.0 - b) * fy * z
-    dzdu = (1.0 - abs(z) ** n * psi) / (uy * d)
+    an, _ = _power(abs(z), n)
+    dzdu = (1.0 - an * psi) / (uy * d)
     tangent = b * k0 + (1.0 - b) * fy * dzdu
     new_state[0] = u
     new_state[1] = r
