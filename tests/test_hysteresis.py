@@ -21,15 +21,16 @@ UY = FY / K0  # 4 mm
 def drive(law, params, path):
     """Forces (len(path),), tangents, and the states after each deformation of ``path`` [m]."""
     cls = type(law)
-    state = np.zeros(cls.n_state)
-    trial = np.zeros(cls.n_state)
+    state = np.zeros((1, cls.n_state))
+    trial = np.zeros((1, cls.n_state))
+    params = np.atleast_2d(params)
     force, tangent, states = [], [], []
     for u in path:
-        r, kt = cls.update(float(u), state, params, trial)
+        r, kt = cls.update(float(u), state, params, trial, 0)
         state[:] = trial
         force.append(r)
         tangent.append(kt)
-        states.append(state.copy())
+        states.append(state[0].copy())
     return np.array(force), np.array(tangent), np.array(states)
 
 

@@ -274,7 +274,7 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
             while True:
                 same = True
                 for s in range(ns):
-                    r_s, kt_s = update(d[s], state[s], params[s], trial[s])
+                    r_s, kt_s = update(d[s], state, params, trial, s)
                     kt[s] = kt_s
                     f1[s] = r_s - kel[s] * d[s]
                     if f1[s] != fnl[s]:

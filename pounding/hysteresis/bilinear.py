@@ -30,13 +30,13 @@ PLASTIC = 3
 
 
 @njit
-def update(u, state, params, new_state):
-    """Trial force [N] and tangent [N/m] at deformation u [m] from the committed ``state``
-    (u, r, dissipated, u_p); params = (k0, Fy, b). Writes the trial state into ``new_state``."""
-    k0 = params[0]
-    fy = params[1]
-    b = params[2]
-    up0 = state[PLASTIC]
+def update(u, state, params, new_state, s):
+    """Trial force [N] and tangent [N/m] of spring s at deformation u [m] from its committed state
+    ``state[s]`` = (u, r, dissipated, u_p); ``params[s]`` = (k0, Fy, b). Writes ``new_state[s]``."""
+    k0 = params[s, 0]
+    fy = params[s, 1]
+    b = params[s, 2]
+    up0 = state[s, PLASTIC]
     trial = k0 * (u - up0)
     reach = (1.0 - b) * fy
     upper = b * k0 * u + reach
@@ -53,10 +53,10 @@ def update(u, state, params, new_state):
         r = trial
         tangent = k0
         up = up0
-    new_state[0] = u
-    new_state[1] = r
-    new_state[2] = state[2] + fy * abs(up - up0)
-    new_state[PLASTIC] = up
+    new_state[s, 0] = u
+    new_state[s, 1] = r
+    new_state[s, 2] = state[s, 2] + fy * abs(up - up0)
+    new_state[s, PLASTIC] = up
     return r, tangent
 
 

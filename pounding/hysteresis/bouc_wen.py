@@ -105,28 +105,28 @@ def solve_z(z0, du_y, n, beta, gamma):
 
 
 @njit
-def update(u, state, params, new_state):
-    """Trial force [N] and tangent [N/m] at deformation u [m] from the committed ``state``
-    (u, r, dissipated, z); params = (k0, Fy, b, n, beta, gamma). Writes the trial state."""
-    k0 = params[0]
-    fy = params[1]
-    b = params[2]
-    n = params[3]
-    beta = params[4]
-    gamma = params[5]
+def update(u, state, params, new_state, s):
+    """Trial force [N] and tangent [N/m] of spring s at deformation u [m] from its committed state
+    ``state[s]`` = (u, r, dissipated, z); ``params[s]`` = (k0, Fy, b, n, beta, gamma). Writes ``new_state[s]``."""
+    k0 = params[s, 0]
+    fy = params[s, 1]
+    b = params[s, 2]
+    n = params[s, 3]
+    beta = params[s, 4]
+    gamma = params[s, 5]
     uy = fy / k0
-    u0 = state[0]
-    z0 = state[Z]
+    u0 = state[s, 0]
+    z0 = state[s, Z]
     du_y = (u - u0) / uy
     z, d, psi = solve_z(z0, du_y, n, beta, gamma)
     r = b * k0 * u + (1.0 - b) * fy * z
     an, _ = _power(abs(z), n)
     dzdu = (1.0 - an * psi) / (uy * d)
     tangent = b * k0 + (1.0 - b) * fy * dzdu
-    new_state[0] = u
-    new_state[1] = r
-    new_state[2] = state[2] + (1.0 - b) * fy * 0.5 * (z0 + z) * ((u - u0) - uy * (z - z0))
-    new_state[Z] = z
+    new_state[s, 0] = u
+    new_state[s, 1] = r
+    new_state[s, 2] = state[s, 2] + (1.0 - b) * fy * 0.5 * (z0 + z) * ((u - u0) - uy * (z - z0))
+    new_state[s, Z] = z
     return r, tangent
 
 
