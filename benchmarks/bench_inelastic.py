@@ -24,6 +24,13 @@ Run: ``.venv/bin/python benchmarks/bench_inelastic.py [--quick]``; writes
 
 from __future__ import annotations
 
+import os
+
+# one BLAS thread, as benchmarks/run.py sets by default: on a busy 2-core machine a threaded
+# OpenBLAS makes small products and factorisations (ours and OpenSees') many times slower
+for _var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
+    os.environ.setdefault(_var, "1")
+
 import argparse
 import copy
 import json
