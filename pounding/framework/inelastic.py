@@ -115,6 +115,27 @@ class SpringSet:
         return self.params[:, 1] / self.params[:, 0]
 
 
+def require_elastic(scene: Scene) -> None:
+    """Raise InputError if a building of ``scene`` has yielding storey springs.
+
+    The driver (:func:`pounding.framework.analysis.run`) steps the initial elastic model only;
+    until yielding springs are wired into it, the commands that use it refuse them rather than
+    silently treat them as elastic.
+    """
+    from pounding.elements.storey_springs import StoreySprings
+
+    for i, b in enumerate(scene.buildings):
+        for j, e in enumerate(b.elements):
+            if isinstance(e, StoreySprings) and e.yields:
+                raise InputError(
+                    "yielding storey springs (yield_force) are not yet analysed by this command, which would treat them "
+                    "as elastic; analyse them without contact with pounding.framework.inelastic.run_inelastic, or omit "
+                    "yield_force for elastic springs",
+                    file=str(scene.source) if scene.source else None,
+                    field=f"building[{i}].element[{j}].yield_force",
+                )
+
+
 def spring_set(building: Building, index: int = 0) -> SpringSet:
     """The yielding springs of a building (ns may be 0).
 
