@@ -165,7 +165,10 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
 
+    from pounding.framework.inelastic import require_elastic
+
     scene = load_scene(scene_path)
+    require_elastic(scene)
     if overrides:
         scene = scene.with_analysis(**overrides)
     update, bar = _progress(quiet)

@@ -51,7 +51,11 @@ def add_parser(sub) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
+    from pounding.framework.inelastic import require_elastic
     from pounding.framework.sweep import parse_values, run_sweep
+    from pounding.io.scene import load_scene
+
+    require_elastic(load_scene(args.scene))  # the driver does not step yielding storey springs yet
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"expected a positive number of workers, got {args.workers}", field="--workers")

@@ -1,8 +1,9 @@
-"""One registry pattern for the three plugin families.
+"""One registry pattern for the plugin families.
 
 A :class:`Registry` merges the built-in plugins with those that installed
 packages announce through a Python entry-point group
-(``pounding.elements``, ``pounding.integrators``, ``pounding.contact``).
+(``pounding.elements``, ``pounding.integrators``, ``pounding.contact``,
+``pounding.hysteresis``).
 Entry points are read once, lazily, on the first lookup. A plugin is checked
 when it is loaded (it must subclass the family's base class and carry a
 ``name``), not in the middle of a run. A plugin that fails to import gives a
@@ -118,7 +119,11 @@ class Registry(Generic[T]):
 ELEMENTS: Registry = Registry(
     "pounding.elements",
     "pounding.elements.base:PlanarElement",
-    {"frame": "pounding.elements.frame:Frame", "shear_wall": "pounding.elements.shear_wall:ShearWall"},
+    {
+        "frame": "pounding.elements.frame:Frame",
+        "shear_wall": "pounding.elements.shear_wall:ShearWall",
+        "storey_springs": "pounding.elements.storey_springs:StoreySprings",
+    },
     "element type",
 )
 
@@ -144,4 +149,14 @@ CONTACT_LAWS: Registry = Registry(
         "none": "pounding.contact.none:NoContact",
     },
     "contact law",
+)
+
+HYSTERESIS: Registry = Registry(
+    "pounding.hysteresis",
+    "pounding.hysteresis.base:HysteresisLaw",
+    {
+        "bilinear": "pounding.hysteresis.bilinear:Bilinear",
+        "bouc_wen": "pounding.hysteresis.bouc_wen:BoucWen",
+    },
+    "hysteresis law",
 )

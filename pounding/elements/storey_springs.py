@@ -1,0 +1,180 @@
+"""Storey springs: one uniaxial spring per storey along a plan line, elastic or yielding.
+
+Storey f's spring resists the relative displacement along the line between
+floor f and floor f - 1 (the ground below floor 1) at the line's position, so
+eccentric yielding couples translation and torsion. Its initial stiffnesses
+k_f [N/m] give the tridiagonal lateral stiffness over the floors,
+
+    K[f, f] = k_f + k_{f+1},    K[f, f+1] = K[f+1, f] = -k_{f+1}    (k_{n+1} = 0),
+
+so elastic assembly, modal analysis and plan placement treat it like any other
+element. With ``yield_force`` each spring follows a hysteresis law (a plugin
+of the ``pounding.hysteresis`` family, :mod:`pounding.hysteresis.base`) and the
+nonlinear stepping of :mod:`pounding.framework.inelastic` applies; without it
+the springs are elastic.
+
+Scene table::
+
+    [[building.element]]
+    type = "storey_springs"
+    start = [0.0, 0.0]                   # plan line [m]
+    end = [15.0, 0.0]
+    stiffness = [6.0e7, 5.0e7, 4.0e7]    # initial storey stiffness [N/m]: one value or one per storey, bottom first
+    yield_force = [9.0e5, 7.5e5, 6.0e5]  # storey yield shear [N]: one value or one per storey; omitted = elastic
+    hardening = 0.02                     # post-yield / initial stiffness, in [0, 1)
+    hysteresis = "bilinear"              # or {name = "bouc_wen", n = 2, beta = 0.5, gamma = 0.5}
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, ClassVar, Mapping, Sequence
+
+import numpy as np
+
+from pounding.elements.base import POINT_SCHEMA, PlanarElement
+from pounding.elements.frame import _spanned_storeys, line_from_table
+from pounding.errors import InputError
+
+_PER_STOREY = {"oneOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}, "minItems": 1}]}
+
+
+def _per_storey_positive(table: Mapping[str, Any], key: str, n: int, what: str) -> tuple[float, ...]:
+    """One positive value for all n storeys, or a list of n positive values (InputError naming the item)."""
+    value = table[key]
+    if isinstance(value, list):
+        if len(value) != n:
+            raise InputError(f"expected one value or a list of {n} (one per storey, bottom first), got a list of {len(value)}", field=key)
+        items = [(f"{key}[{i}]", v) for i, v in enumerate(value)]
+    else:
+        items = [(key, value)] * n
+    out = []
+    for field, v in items:
+        if not float(v) > 0.0:
+            raise InputError(f"{what} must be > 0, got {v!r}", field=field)
+        out.append(float(v))
+    return tuple(out)
+
+
+@dataclass(frozen=True, eq=False)
+class StoreySprings(PlanarElement):
+    """One spring per storey along a plan line (see the module docstring).
+
+    Attributes
+    ----------
+    point, direction : ndarray (2,)
+        Start of the line and its unit direction [m].
+    length : float
+        Plan length of the line [m] (for drawing and the on-slab check).
+    heights : tuple of float
+        Storey heights spanned, bottom first [m].
+    stiffness : tuple of float
+        Initial stiffness of every storey spring [N/m].
+    yield_force : tuple of float or None
+        Yield shear of every storey spring [N]; None for elastic springs.
+    hardening : float
+        Post-yield over initial stiffness [-], in [0, 1).
+    law : HysteresisLaw or None
+        The hysteresis law (None for elastic springs).
+    """
+
+    name: ClassVar[str] = "storey_springs"
+    schema: ClassVar[dict[str, Any]] = {
+        "type": "object",
+        "required": ["start", "end", "stiffness"],
+        "additionalProperties": False,
+        "properties": {
+            "start": POINT_SCHEMA,
+            "end": POINT_SCHEMA,
+            "stiffness": _PER_STOREY,
+            "yield_force": _PER_STOREY,
+            "hardening": {"type": "number"},
+            "hysteresis": {"oneOf": [{"type": "string"}, {"type": "object", "required": ["name"]}]},
+            "storeys": {"type": "integer", "minimum": 1},
+        },
+    }
+
+    point: np.ndarray
+    direction: np.ndarray
+    length: float
+    heights: tuple[float, ...]
+    stiffness: tuple[float, ...]
+    yield_force: tuple[float, ...] | None
+    hardening: float
+    law: Any
+
+    @property
+    def floors(self) -> tuple[int, ...]:
+        return tuple(range(1, len(self.heights) + 1))
+
+    @property
+    def yields(self) -> bool:
+        """True when the springs follow a hysteresis law (``yield_force`` given)."""
+        return self.yield_force is not None
+
+    @classmethod
+    def from_table(cls, table: Mapping[str, Any], *, storey_heights: Sequence[float]) -> "StoreySprings":
+        from pounding.framework.registry import HYSTERESIS
+
+        point, direction = line_from_table(table)
+        length = float(np.hypot(*(np.asarray(table["end"], float) - point)))
+        n = _spanned_storeys(table, storey_heights)
+        k = _per_storey_positive(table, "stiffness", n, "the initial storey stiffness [N/m]")
+        hardening = table.get("hardening", 0.0)
+        if not (isinstance(hardening, (int, float)) and math.isfinite(hardening) and 0.0 <= hardening < 1.0):
+            raise InputError(f"expected the post-yield / initial stiffness ratio in [0, 1), got {hardening!r}", field="hardening")
+        spec = table.get("hysteresis", "bilinear")
+        if "yield_force" not in table:
+            if "hysteresis" in table or "hardening" in table:
+                key = "hysteresis" if "hysteresis" in table else "hardening"
+                raise InputError("elastic springs (no yield_force) take no hysteresis or hardening; give yield_force [N] to make them yield", field=key)
+            return cls(point, direction, length, tuple(float(h) for h in storey_heights[:n]), k, None, 0.0, None)
+        fy = _per_storey_positive(table, "yield_force", n, "the storey yield shear [N]")
+        name, params = (spec, {}) if isinstance(spec, str) else (spec["name"], {a: b for a, b in spec.items() if a != "name"})
+        law_cls = HYSTERESIS.get(name, field="hysteresis" if isinstance(spec, str) else "hysteresis.name")
+        law = make_law(law_cls, params, "hysteresis")
+        return cls(point, direction, length, tuple(float(h) for h in storey_heights[:n]), k, fy, float(hardening), law)
+
+    def lateral_stiffness(self) -> np.ndarray:
+        k = np.asarray(self.stiffness, dtype=float)
+        below = np.append(k[1:], 0.0)  # the spring of the storey above each floor
+        K = np.diag(k + below)
+        off = -k[1:]
+        return K + np.diag(off, 1) + np.diag(off, -1)
+
+    def spring_parameters(self) -> np.ndarray:
+        """Parameter vectors of the storey springs, shape (n_storeys, law.n_params) (yielding springs only)."""
+        if self.law is None:
+            raise ValueError("elastic storey springs have no hysteresis parameters")
+        return np.array([self.law.pack(k, f, self.hardening) for k, f in zip(self.stiffness, self.yield_force)])
+
+    def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.point, self.point + self.length * self.direction
+
+    def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
+        z = np.concatenate([[0.0], np.cumsum(self.heights)])
+        # a zig-zag per storey: the spring symbol
+        lines = []
+        for i in range(len(self.heights)):
+            s = [0.0, 0.5 * self.length, self.length]
+            lines += [(s[0], z[i], s[1], z[i + 1]), (s[1], z[i + 1], s[2], z[i])]
+        return {"lines": lines, "panels": []}
+
+
+def make_law(law_cls, params: Mapping[str, Any], field: str):
+    """An instance of a hysteresis law from its scene parameters (InputError naming ``field.key``)."""
+    import inspect
+
+    try:
+        return law_cls(**params)
+    except TypeError:
+        sig = inspect.signature(law_cls.__init__)
+        accepted = [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY]
+        bad = [k for k in params if k not in accepted]
+        raise InputError(
+            f"unknown parameter(s) {', '.join(bad) or '?'} for hysteresis {law_cls.name!r}; accepted: {', '.join(accepted) or 'none'}",
+            field=field,
+        ) from None
+    except InputError as exc:
+        raise exc.located(field_prefix=field) from None

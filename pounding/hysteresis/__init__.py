@@ -1,0 +1,1 @@
+"""Hysteresis laws of yielding springs (plugin family ``pounding.hysteresis``)."""

@@ -1,0 +1,180 @@
+"""Buildings of storey springs in OpenSees: the independent peer of the inelastic stepping.
+
+The model an OpenSees user would build for :class:`~pounding.elements.storey_springs.StoreySprings`
+(3-D, ``ndm 3, ndf 6``, SI units):
+
+* every floor is a rigid diaphragm: a master node at the slab's centre of mass
+  carrying ``mass(m, m, 0, 0, 0, J)``, fixed in uz, rx, ry;
+* every storey spring is a ``twoNodeLink`` between a node on the element line
+  at the floor below (fixed at the ground) and one at the floor above, both
+  slaves of their floors' diaphragms (``rigidDiaphragm 3``) and restrained in
+  uz, rx, ry, which nothing else stiffens; the link acts along the line only
+  (``-dir 1 -orient d_x d_y 0 -d_y d_x 0``), so with the Transformation handler
+  its deformation is the relative displacement of the two floors along the
+  line at the line's position, as in pounding;
+* the spring's material: ``Steel01(Fy, k0, b)`` for ``bilinear`` (no isotropic
+  hardening: a1..a4 left at 0), ``BoucWen(b, k0, n, gamma / u_y^n, beta / u_y^n,
+  1, 0, 0, 0)`` for ``bouc_wen`` (OpenSees' z is u_y times pounding's), ``Elastic(k0)``
+  for elastic springs;
+* damping C = a0 M + a1 K_initial per building (``region`` with ``-rayleigh``,
+  links with ``-doRayleigh``): the classical damping of the initial elastic model.
+
+Only storey-spring buildings are modelled (frames and walls: :mod:`pounding.peer.opensees`).
+"""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import numpy as np
+
+#: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
+MASTER_FIX = (0, 0, 1, 1, 1, 0)
+
+
+def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
+    k0 = float(element.stiffness[storey])
+    if not element.yields:
+        ops.uniaxialMaterial("Elastic", tag, k0)
+        return
+    fy = float(element.yield_force[storey])
+    b = float(element.hardening)
+    law = element.law.name
+    if law == "bilinear":
+        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
+    elif law == "bouc_wen":
+        uy = fy / k0
+        n, beta, gamma = element.law.n, element.law.beta, element.law.gamma
+        ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)
+    else:
+        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}")
+
+
+def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1e-13):
+    """Add one storey-spring building to the domain (see the module docstring).
+
+    Returns
+    -------
+    (masters, nodes, elements, yielding) : master tags per floor, every node tag, every
+    element tag, and the link tags of the yielding springs in the order of
+    :func:`pounding.framework.inelastic.spring_set`.
+    """
+    from pounding.elements.storey_springs import StoreySprings
+
+    tag = int(tag_offset)
+    nodes, elements, yielding = [], [], []
+    masters = []
+    for slab in building.slabs:
+        tag += 1
+        ops.node(tag, float(slab.centre[0]), float(slab.centre[1]), float(slab.elevation))
+        ops.fix(tag, *MASTER_FIX)
+        ops.mass(tag, slab.mass, slab.mass, 0.0, 0.0, 0.0, slab.polar_inertia)
+        masters.append(tag)
+        nodes.append(tag)
+    slaves: list[list[int]] = [[] for _ in building.slabs]
+    z = np.concatenate([[0.0], np.cumsum(building.storey_heights)])
+    for e in building.elements:
+        if not isinstance(e, StoreySprings):
+            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {type(e).__name__}")
+        d = np.asarray(e.direction, dtype=float)
+        x, y = (float(c) for c in e.point)
+        for f in range(len(e.heights)):
+            ends = []
+            for level in (f, f + 1):
+                tag += 1
+                ops.node(tag, x, y, float(z[level]))
+                if level == 0:
+                    ops.fix(tag, 1, 1, 1, 1, 1, 1)
+                else:
+                    ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry: no stiffness here
+                    slaves[level - 1].append(tag)
+                nodes.append(tag)
+                ends.append(tag)
+            tag += 1
+            _material(ops, tag, e, f, boucwen_tol)
+            mat = tag
+            tag += 1
+            ops.element("twoNodeLink", tag, *ends, "-mat", mat, "-dir", 1,
+                        "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0, "-doRayleigh")
+            elements.append(tag)
+            if e.yields:
+                yielding.append(tag)
+    for master, sl in zip(masters, slaves):
+        if sl:
+            ops.rigidDiaphragm(3, master, *sl)
+    return masters, nodes, elements, yielding
+
+
+def run_springs_transient(
+    ops,
+    buildings: Sequence[Any],
+    ground_motion,
+    dt: float,
+    n_steps: int,
+    integrator: Sequence[Any] = ("Newmark", 0.5, 0.25),
+    *,
+    tol: float = 1e-13,
+    max_iter: int = 100,
+    boucwen_tol: float = 1e-13,
+):
+    """Nonlinear time history of storey-spring buildings (no contact) in OpenSees.
+
+    Newton with ``NormDispIncr`` ``tol`` [m], ``UmfPack``, Transformation
+    constraints, the ground acceleration as ``UniformExcitation`` along the
+    motion's direction, each building's own Rayleigh damping on its initial
+    stiffness (from its ``damping``, Rayleigh kind).
+
+    Returns
+    -------
+    (disp, forces, iterations) : dict name -> (n_steps + 1, storeys, 3) master-node
+    (ux [m], uy [m], rz [rad]); dict name -> (n_steps + 1, ns) basic force of the
+    yielding links [N] (spring_set order); the total Newton iterations.
+    """
+    from pounding.framework.assembly import assemble, rayleigh_coefficients
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    built = {}
+    for i, b in enumerate(buildings):
+        built[b.name] = build_spring_building(ops, b, 100_000 * i, boucwen_tol)
+    for k, b in enumerate(buildings, start=1):
+        if b.damping.kind != "rayleigh":
+            raise ValueError(f"building {b.name!r}: the peer model takes Rayleigh damping only")
+        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
+        _, nodes, elements, _ = built[b.name]
+        ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, float(a1), 0.0)
+        ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", float(a0), 0.0, 0.0, 0.0)
+
+    direction = ground_motion.direction()
+    t = [float(x) for x in ground_motion.t]
+    acc = [float(x) for x in ground_motion.acc]
+    pattern = 0
+    for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
+        if factor == 0.0:
+            continue
+        pattern += 1
+        ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
+        ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.test("NormDispIncr", float(tol), int(max_iter))
+    ops.algorithm("Newton")
+    ops.integrator(*integrator)
+    ops.analysis("Transient")
+
+    disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in buildings}
+    forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in buildings}
+    iterations = 0
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        iterations += ops.testIter()
+        for b in buildings:
+            masters, _, _, links = built[b.name]
+            arr = disp[b.name]
+            for f, tag in enumerate(masters):
+                arr[k, f] = (ops.nodeDisp(tag, 1), ops.nodeDisp(tag, 2), ops.nodeDisp(tag, 6))
+            forces[b.name][k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
+    ops.wipe()
+    return disp, forces, iterations
