@@ -82,14 +82,17 @@ def schema_problems(instance: Any, schema: Mapping, prefix: list | tuple = ()) -
 
 
 def _problem(err, prefix: tuple) -> Problem:
-    """One schema error in words; a failed choice (oneOf) is described by the branch that fits the value's type."""
-    from jsonschema.exceptions import relevance
-
+    """One schema error in words; a failed choice (oneOf) is described by the branch closest to the value."""
     here = tuple(err.absolute_path)
     if err.validator == "oneOf" and err.context and _choice_keys(err.schema) is None:
-        fitting = [e for e in err.context if _fits_type(e, here)]
-        if fitting and not all(tuple(e.absolute_path) == here and e.validator in ("required", "additionalProperties") for e in fitting):
-            return _problem(max(fitting, key=relevance), prefix)
+        branches: dict[int, list] = {}
+        for e in err.context:
+            branches.setdefault(e.relative_schema_path[0], []).append(e)
+        fitting = [errs for errs in branches.values() if all(_fits_type(e, here) for e in errs)]
+        if fitting:
+            # the closest branch: no keys of another form, then the fewest errors
+            errs = min(fitting, key=lambda es: (any(e.validator == "additionalProperties" for e in es), len(es)))
+            return _problem(min(errs, key=lambda e: (e.validator != "required", len(e.absolute_path))), prefix)
     return Problem(prefix + here, _describe(err))
 
 
@@ -267,7 +270,9 @@ def _describe(err) -> str:
             return f"give {' or '.join(choice)}"
         return f"expected {_forms(err.schema)}, got {err.instance!r}"
     if v == "additionalProperties":
-        return f"unknown key(s); accepted: {', '.join(sorted(err.schema.get('properties', {})))}"
+        props = err.schema.get("properties", {})
+        extra = [k for k in err.instance if k not in props]
+        return f"{', '.join(map(repr, extra))} does not go with this form; its keys: {', '.join(sorted(props))}"
     return f"not accepted here: {err.instance!r}"
 
 
@@ -299,6 +304,8 @@ def _forms(schema: Mapping) -> str:
     for sub in schema.get("oneOf", []):
         if "required" in sub:
             forms.append("{" + ", ".join(sub["required"]) + "}")
+        elif "oneOf" in sub:
+            forms.append(_forms(sub))
         elif "type" in sub:
             forms.append({"number": "a number", "array": "a list", "string": "a string", "object": "a table"}.get(sub["type"], sub["type"]))
     return " or ".join(forms) or "see the README"
