@@ -6,4 +6,4 @@ taking the parsed arguments and returning an exit code). Modules are imported
 only to build the parser; their heavy imports stay inside ``func``.
 """
 
-MODULES = ("pounding.commands.gap", "pounding.commands.sweep", "pounding.commands.draw")
+MODULES = ("pounding.commands.scene", "pounding.commands.gap", "pounding.commands.sweep", "pounding.commands.draw")

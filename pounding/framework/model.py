@@ -93,6 +93,8 @@ class Analysis:
     #: relative energy-balance error above which a run warns; HHT-type schemes dissipate
     #: ~1e-3 numerically and the paper's "keep accelerations" rule costs ~1e-2 with pounding
     energy_tolerance: float = 0.02
+    #: names of the plausibility checks not to warn about (:mod:`pounding.framework.plausibility`)
+    silence: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)

@@ -539,6 +539,7 @@ def _analysis(table: Mapping) -> Analysis:
         contact_params=cparams,
         output_every=int(table.get("output_every", 1)),
         energy_tolerance=float(table.get("energy_tolerance", 0.02)),
+        silence=tuple(table.get("silence", ())),
     )
 
 

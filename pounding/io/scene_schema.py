@@ -128,7 +128,7 @@ BUILDING = {
 NAMED_PLUGIN = {
     "oneOf": [
         {"type": "string"},
-        {"type": "object", "required": ["name"], "properties": {"name": {"type": "string"}}},
+        {"type": "object", "required": ["name"], "properties": {"name": {"type": "string", "description": "The plugin's registered name; the other keys are its parameters."}}},
     ]
 }
 
