@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from pounding.errors import InputError
+from pounding.words import plural
 
 
 def add_parser(sub) -> None:
@@ -87,11 +88,6 @@ def cmd_check(args: argparse.Namespace) -> int:
 # =============================================================================
 # What was understood
 # =============================================================================
-
-
-def plural(n: int, word: str, words: str | None = None) -> str:
-    """'1 storey', '3 storeys'."""
-    return f"{n} {word if n == 1 else (words or word + 's')}"
 
 
 def describe(scene, path: Path | None = None) -> str:
