@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from pounding.errors import InputError
+from pounding.words import plural
 
 
 def add_parser(sub) -> None:
@@ -65,7 +66,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def progress(done, total, row):
         if args.quiet:
             return
-        what = f"{row['n_impacts']} impacts" if row["status"] == "ok" else f"ERROR {row['error']}"
+        what = plural(row["n_impacts"], "impact") if row["status"] == "ok" else f"ERROR {row['error']}"
         gap = "-" if row["gap"] is None else f"{row['gap']:.4g} m"
         print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, "
               f"k {row['restitution']}, {row['integrator']}: {what} ({row['runtime_s']:.2f} s)", file=sys.stderr, flush=True)
@@ -74,7 +75,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                     direction=args.direction, overrides=overrides, keep=args.keep, workers=args.workers, scheduler=args.scheduler,
                     serial=args.serial, plots=not args.no_plots, progress=progress)
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
-    print(f"{len(res.rows)} runs ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
+    print(f"{plural(len(res.rows), 'run')} ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
     print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
     if res.plots:
         print("plots: " + ", ".join(str(p) for p in res.plots))
