@@ -95,10 +95,15 @@ def numpydoc_parameters(doc: str) -> dict[str, tuple[str, str]]:
 
 
 def _type_from_doc(kind: str) -> dict:
-    kind = kind.split(",")[0].strip()
+    """A schema fragment from a numpydoc type: ``float, default 1`` -> number; ``{"a", "b"}`` -> enum."""
+    kind = kind.strip()
     if kind.startswith("{"):
-        return {"enum": [json.loads(v.strip().replace("'", '"')) for v in kind.strip("{}").split(",") if v.strip()]} if "," in kind else {"type": "string"}
-    return {"type": {"float": "number", "int": "integer", "str": "string", "bool": "boolean"}.get(kind, "string")} if kind else {}
+        values = kind[1 : kind.index("}")].split(",")
+        return {"enum": [json.loads(v.strip().replace("'", '"')) for v in values if v.strip()]}
+    kind = kind.split(",")[0].strip()
+    if not kind:
+        return {}
+    return {"type": {"float": "number", "int": "integer", "str": "string", "bool": "boolean"}.get(kind, "string")}
 
 
 def _first_paragraph(doc: str) -> str:
