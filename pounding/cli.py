@@ -22,7 +22,10 @@ def cmd_info(args: argparse.Namespace) -> int:
     from pounding.framework.modal import modal_summary
     from pounding.io.scene import load_scene
 
+    from pounding.framework import plausibility
+
     scene = load_scene(args.scene)
+    plausibility.warn(scene)
     summaries = {b.name: modal_summary(assemble(b), args.modes) for b in scene.buildings}
     if args.json:
         json.dump({"buildings": summaries}, sys.stdout, indent=1)
@@ -275,6 +278,9 @@ def cmd_run(args) -> int:
                         overwrite=args.overwrite, silence=silence)
     if not args.quiet:
         print(human_summary(result, out))
+        for sub in ("plots", "render"):
+            if (out / sub / ".pounding-manifest.json").is_file():
+                print(f"note: {out / sub}/ was made from the earlier run and is kept; `pounding {sub[:-1] if sub == 'plots' else sub} {out}` redraws it")
     return 0
 
 

@@ -23,6 +23,14 @@ To add an element type: subclass :class:`PlanarElement`, set ``name``, give a
 JSON ``schema`` for its scene table (validated before :meth:`from_table` is
 called), implement the abstract methods, and register the class under the
 entry-point group ``pounding.elements``.
+
+The schema is also the element's documentation: the scene reference page
+(``docs/scene-reference.md``, ``pounding reference``) is generated from it.
+Give every property a ``description`` and, for numbers, ``units`` (a keyword
+validators ignore), and an ``examples`` list; a ``description`` of the whole
+table; and, at the top level, ``examples``: element tables that stand on the
+12 m x 8 m template slab (corners (0, 0) and (12, 8)) and together make it
+stable, which ``pounding template --element NAME`` prints.
 """
 
 from __future__ import annotations

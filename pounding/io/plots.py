@@ -383,7 +383,8 @@ def plot_plan(result, path, *, scene=None) -> Path:
     """Plan of the slabs (every storey; vertex numbers on the slabs of the pairs), elements, impact points."""
     allv = np.vstack([np.asarray(sl.vertices, float) for s in result.systems for sl in s.slabs])
     span = np.ptp(allv, axis=0) + 1e-9
-    fig = _figure(9.0, float(np.clip(1.6 + 7.4 * span[1] / span[0], 3.5, 9.0)))
+    # the legend sits right of the axes: about 6.3 of the 9 inches are left for the plan, drawn to scale
+    fig = _figure(9.0, float(np.clip(1.4 + 6.3 * span[1] / span[0], 3.2, 9.0)))
     ax = fig.add_subplot(1, 1, 1)
     pairs = pairs_of(result)
     paired = {(a, fa) for a, fa, _, _, _ in pairs} | {(b, fb) for _, _, b, fb, _ in pairs}
