@@ -490,7 +490,8 @@ def template_text(element: str = "frame") -> str:
             'damping = { type = "rayleigh", ratio = 0.05, modes = [1, 3] }',
         ]
         if not from_plugin:
-            lines.append(f"# the element type {element!r} gives no example tables: fill in the values marked TODO")
+            lines.append(f"# the element type {element!r} gives no example tables: this one is made of its keys' examples;")
+            lines.append("# place it on the slab and add elements until the building resists x, y and torsion")
         for k, table in enumerate(tables):
             lines += ["", "  [[building.element]]", f'  type = "{element}"']
             for key, value in _shifted(table, eschema, dx).items():

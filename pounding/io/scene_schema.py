@@ -203,11 +203,15 @@ GROUND_MOTION_KEYS = {
 
 
 def ground_motion_schema() -> dict:
-    """Schema of ``[ground_motion]``: the documented keys plus any key the reader accepts (undocumented)."""
-    from pounding.io.ground_motion import SPEC_KEYS
+    """Schema of ``[ground_motion]``: the documented keys plus any key the reader accepts (undocumented).
 
-    props = dict(GROUND_MOTION_KEYS)
-    for key in SPEC_KEYS:
+    The reader may document its keys itself, as ``pounding.io.ground_motion.SPEC_SCHEMA``
+    (``{key: schema with description, units, examples}``); those take precedence.
+    """
+    from pounding.io import ground_motion
+
+    props = {**GROUND_MOTION_KEYS, **getattr(ground_motion, "SPEC_SCHEMA", {})}
+    for key in ground_motion.SPEC_KEYS:
         props.setdefault(key, {})
     return {
         "type": "object",
