@@ -41,7 +41,7 @@ def add_parser(sub) -> None:
 
 def add_silence(parser) -> None:
     """The --silence option of the commands that check plausibility."""
-    from pounding.framework.plausibility import NAMES
+    from pounding.io.scene_schema import PLAUSIBILITY_CHECKS as NAMES  # no numpy while building the parser
 
     parser.add_argument("--silence", action="append", default=[], metavar="NAME",
                         help=f"do not show this plausibility warning ({', '.join(NAMES)}); repeat for more")

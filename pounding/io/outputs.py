@@ -157,7 +157,14 @@ def _remove_own(target: Path, rel: str) -> None:
 
 
 def write_folder(target: str | Path, command: str, write) -> list[Path]:
-    """Run ``write(tmp)`` into a staging folder, then :func:`publish` it into ``target``."""
+    """Run ``write(tmp)`` into a staging folder, then :func:`publish` it into ``target``.
+
+    Returns the paths ``write`` returned, moved to ``target`` and in its order (a plotter's figures),
+    or else every path written, sorted.
+    """
     with staging(target) as tmp:
-        write(tmp)
-        return publish(tmp, target, command)
+        made = write(tmp)
+        published = publish(tmp, target, command)
+    if isinstance(made, (list, tuple)) and made and all(isinstance(p, Path) for p in made):
+        return [Path(target).resolve() / Path(p).resolve().relative_to(tmp.resolve()) for p in made]
+    return published
