@@ -115,9 +115,21 @@ def describe(scene, path: Path | None = None) -> str:
     dt_src = "" if an.dt else (" (the record's)" if gm.dt else " (default)")
     dur_src = "" if an.duration else " (the record's)"
     steps = int(np.ceil(duration / dt - 1e-9))
-    params = lambda p: (" (" + ", ".join(f"{k} = {v}" for k, v in p.items()) + ")") if p else ""  # noqa: E731
-    lines.append(f"analysis: integrator {an.integrator}{params(an.integrator_params)}, dt {dt:g} s{dt_src}, duration {duration:g} s{dur_src} "
-                 f"-> {plural(steps, 'step')}; contact {an.contact}{params(an.contact_params)}; output every "
+    from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+
+    def params(registry, name, given):
+        """Every parameter of the plugin, the defaults it chose included."""
+        from pounding.io.scene_doc import plugin_schema
+
+        cls = registry.get(name)
+        units = {k: sub.get("units", "") for k, sub in plugin_schema(cls)["properties"].items()}
+        p = {k: v for k, v in cls(**given).describe().items() if k != "name"}
+        text = [f"{k} = {v!r}" + (f" {units[k]}" if units.get(k) not in ("", "-", None) else "") for k, v in p.items()]
+        return f" ({', '.join(text)})" if text else ""
+
+    lines.append(f"analysis: integrator {an.integrator}{params(INTEGRATORS, an.integrator, an.integrator_params)}, dt {dt:g} s{dt_src}, "
+                 f"duration {duration:g} s{dur_src} -> {plural(steps, 'step')}; contact {an.contact}"
+                 f"{params(CONTACT_LAWS, an.contact, an.contact_params)}; output every "
                  f"{'step' if an.output_every == 1 else plural(an.output_every, 'step')}; energy tolerance {100 * an.energy_tolerance:g} %"
                  + (f"; silenced: {', '.join(an.silence)}" if an.silence else ""))
     for b in scene.buildings:
