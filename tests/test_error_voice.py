@@ -9,7 +9,8 @@ from pathlib import Path
 import pytest
 
 from pounding.errors import InputError
-from pounding.io.scene import load_scene, scene_problems
+from pounding.io.scene import load_scene
+from pounding.io.scene_structure import scene_problems
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = (ROOT / "examples" / "paper" / "pair_gap_0.03.toml").read_text()

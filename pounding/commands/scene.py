@@ -50,7 +50,7 @@ def add_silence(parser) -> None:
 def silenced(args) -> tuple[str, ...]:
     """The --silence names, checked."""
     from pounding.framework.plausibility import NAMES
-    from pounding.io.scene import unknown_key_message
+    from pounding.io.scene_structure import unknown_key_message
 
     for name in args.silence:
         if name not in NAMES:
