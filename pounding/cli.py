@@ -13,6 +13,7 @@ import sys
 from pathlib import Path
 
 from pounding.errors import InputError
+from pounding.words import plural
 
 
 # --------------------------------------------------------------------------- info
@@ -21,7 +22,10 @@ def cmd_info(args: argparse.Namespace) -> int:
     from pounding.framework.modal import modal_summary
     from pounding.io.scene import load_scene
 
+    from pounding.framework import plausibility
+
     scene = load_scene(args.scene)
+    plausibility.warn(scene)
     summaries = {b.name: modal_summary(assemble(b), args.modes) for b in scene.buildings}
     if args.json:
         json.dump({"buildings": summaries}, sys.stdout, indent=1)
@@ -34,7 +38,7 @@ def cmd_info(args: argparse.Namespace) -> int:
 
 def format_info(name: str, s: dict) -> str:
     """Human-readable modal summary of one building."""
-    lines = [f"Building {name!r}: {s['storeys']} storeys, {3 * s['storeys']} DOF"]
+    lines = [f"Building {name!r}: {plural(s['storeys'], 'storey')}, {3 * s['storeys']} DOF"]
     lines.append(f"  {'storey':>6} {'mass [t]':>10} {'J [t m2]':>12} {'CM x,y [m]':>18} {'CR x,y [m]':>18} {'e x,y [m]':>16}")
     for f in range(s["storeys"]):
         cm, cr, e = s["centre_of_mass"][f], s["centre_of_rigidity"][f], s["eccentricity"][f]
@@ -159,18 +163,26 @@ def _progress(quiet: bool):
     return update, bar
 
 
-def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 1, scale: float = 1.0, quiet: bool = False, overrides=None):
-    """Load, run and write one scene; returns (scene, result)."""
+def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 1, scale: float = 1.0, quiet: bool = False, overrides=None,
+            overwrite: bool = False, silence=()):
+    """Load, check plausibility, run and write one scene; returns (scene, result).
+
+    The output folder is checked before the run (:func:`pounding.io.outputs.check_target`):
+    a folder holding files pounding did not write is refused unless ``overwrite``.
+    """
+    from pounding.framework import plausibility
     from pounding.framework.analysis import run
+    from pounding.framework.inelastic import require_elastic
+    from pounding.io.outputs import check_target
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
 
-    from pounding.framework.inelastic import require_elastic
-
     scene = load_scene(scene_path)
     require_elastic(scene)
+    check_target(out, overwrite=overwrite)
     if overrides:
         scene = scene.with_analysis(**overrides)
+    plausibility.warn(scene, silence)
     update, bar = _progress(quiet)
     try:
         result = run(scene, progress=update)
@@ -182,9 +194,10 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
         if vtk:
             from pounding.io.vtk import write_vtk_series
 
-            write_vtk_series(scene, result, folder / "vtk", every=vtk_every, scale=scale)
+            series = Path(VTK_SERIES)
+            write_vtk_series(scene, result, folder / series.parent, every=vtk_every, scale=scale, name=series.stem)
 
-    write_results(result, out, scene_path.read_text(), extra=extra, scene_path=scene_path)
+    write_results(result, out, scene_path.read_text(), extra=extra, scene_path=scene_path, overwrite=overwrite)
     return scene, result
 
 
@@ -194,10 +207,10 @@ def human_summary(result, out: Path) -> str:
     lines = [f"{result.steps} steps of {result.dt:g} s with {result.integrator['name']} in {result.runtime_s * 1e3:.1f} ms (solver)"]
     per = Counter(result.impact_storey(i) for i in result.impacts)
     if result.impacts:
-        lines.append(f"impacts: {result.n_impacts} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")
+        lines.append(f"{plural(result.n_impacts, 'impact')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")
         lines.append(f"energy lost in impacts: {sum(i.energy_loss for i in result.impacts) / 1e3:.2f} kJ")
     else:
-        lines.append("impacts: none")
+        lines.append("no impacts")
     for name in result.names:
         pk = result.peaks(name)
         lines.append(f"{name}: peak |u| {pk[:, 0].max() * 1e3:.1f} mm, |v| {pk[:, 1].max() * 1e3:.1f} mm, |phi| {pk[:, 2].max() * 1e3:.3f} mrad (top storey {pk[-1, 0] * 1e3:.1f} mm in x)")
@@ -207,17 +220,33 @@ def human_summary(result, out: Path) -> str:
 
 @command
 def _add_run(sub):
-    p = sub.add_parser("run", help="time-history analysis of a scene", description="Integrate both buildings under the scene's ground motion, with pounding, and write response.npz, summary.json and impacts.csv into --out (atomically: a temporary folder moved into place when complete).")
+    p = sub.add_parser(
+        "run", help="time-history analysis of a scene",
+        description="Integrate both buildings under the scene's ground motion, with pounding, and write response.npz, "
+        "summary.json, impacts.csv (and modal.npz, scene.toml for `pounding plot` and `render`) into --out, through a "
+        "temporary folder moved into place when complete. A folder holding files pounding did not write is refused "
+        "unless --overwrite; a rerun replaces only the files the earlier run wrote, so plots and renders made from it "
+        "stay. Plausibility warnings (unlikely masses, periods, storey or element stiffnesses) go to stderr.",
+    )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the scene's name without .toml, beside it, + '_out')")
-    p.add_argument("--vtk", action="store_true", help="also write a ParaView time series (vtk/series.pvd)")
+    p.add_argument("--overwrite", action="store_true",
+                   help="write into --out even if it holds files pounding did not write (they are kept; only files of the same name are replaced)")
+    p.add_argument("--vtk", action="store_true", help=f"also write a ParaView time series ({VTK_SERIES}, one .vtu per written step)")
     p.add_argument("--vtk-every", type=int, default=1, metavar="N", help="write every N-th output step to VTK (impact instants are always written)")
     p.add_argument("--scale", type=float, default=1.0, help="displacement scale of the VTK geometry (default: true scale)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
     p.add_argument("--integrator", default=None, help="override the scene's integrator (by name, default parameters)")
+    from pounding.commands.scene import add_silence
+
+    add_silence(p)
     p.add_argument("--quiet", action="store_true", help="no progress bar and no summary")
     p.set_defaults(func=cmd_run)
+
+
+#: The ParaView collection `run --vtk` writes, relative to the run folder (tests/test_cli.py checks it is the file written).
+VTK_SERIES = "vtk/pounding.pvd"
 
 
 def time_overrides(args) -> dict:
@@ -243,10 +272,17 @@ def cmd_run(args) -> int:
 
         INTEGRATORS.get(args.integrator, field="--integrator")
         overrides.update(integrator=args.integrator, integrator_params={})
+    from pounding.commands.scene import silenced
+
+    silence = silenced(args)
     out = args.out or args.scene.with_name(args.scene.stem + "_out")
-    _, result = analyse(args.scene, out, vtk=args.vtk, vtk_every=args.vtk_every, scale=args.scale, quiet=args.quiet, overrides=overrides)
+    _, result = analyse(args.scene, out, vtk=args.vtk, vtk_every=args.vtk_every, scale=args.scale, quiet=args.quiet, overrides=overrides,
+                        overwrite=args.overwrite, silence=silence)
     if not args.quiet:
         print(human_summary(result, out))
+        for sub in ("plots", "render"):
+            if (out / sub / ".pounding-manifest.json").is_file():
+                print(f"note: {out / sub}/ was made from the earlier run and is kept; `pounding {sub[:-1] if sub == 'plots' else sub} {out}` redraws it")
     return 0
 
 
@@ -298,8 +334,10 @@ def cmd_demo(args) -> int:
     except ImportError as exc:  # matplotlib is in the 'viz' extra
         print(f"plots skipped: {exc}")
         return 0
+    from pounding.io.outputs import write_folder
+
     scene, res = results["gap_0.03"]
-    paths = plot_all(scene, res, out / "plots", reference=results["gap_0.5"][1])
+    paths = write_folder(out / "plots", "plot", lambda tmp: plot_all(scene, res, tmp, reference=results["gap_0.5"][1]))
     print(f"plots: {', '.join(str(p) for p in paths)}")
     return 0
 

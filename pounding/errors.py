@@ -46,3 +46,7 @@ class InputError(ValueError):
 
 class AnalysisWarning(UserWarning):
     """A run finished but something deserves attention (energy balance, clipping...)."""
+
+
+class PlausibilityWarning(AnalysisWarning):
+    """A valid scene with numbers unlikely for a real building (see :mod:`pounding.framework.plausibility`)."""

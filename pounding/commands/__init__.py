@@ -7,6 +7,7 @@ only to build the parser; their heavy imports stay inside ``func``.
 """
 
 MODULES = (
+    "pounding.commands.scene",
     "pounding.commands.gap",
     "pounding.commands.sweep",
     "pounding.commands.draw",

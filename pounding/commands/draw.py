@@ -15,6 +15,7 @@ def add_parser(sub) -> None:
     p.add_argument("run", type=Path, help="a folder written by `pounding run`")
     p.add_argument("--reference", type=Path, default=None, help="a second run folder (e.g. without pounding) to overlay")
     p.add_argument("--out", type=Path, default=None, help="where to write the PNGs (default: RUN/plots)")
+    p.add_argument("--overwrite", action="store_true", help="write into --out even if it holds files pounding did not write (they are kept)")
     p.add_argument(
         "--point", action="append", default=None, metavar="BUILDING:STOREY:VERTEX[:x|y]",
         help="a slab vertex whose displacement history to plot (storey 1-based, vertex 0-based as in impacts.csv, "
@@ -27,24 +28,33 @@ def add_parser(sub) -> None:
     r = sub.add_parser("render", help="3-D pictures and an animation of a run (off-screen)", description="PNG snapshots (plan and 3-D view, displacements magnified) and an animated GIF of the pounding window, rendered off-screen with pyvista. Needs an OpenGL library for off-screen use (Debian: libegl1 and libgl1-mesa-dri, or libosmesa6); without it this command says so and exits 2.")
     r.add_argument("run", type=Path, help="a folder written by `pounding run`")
     r.add_argument("--out", type=Path, default=None, help="where to write the pictures (default: RUN/render)")
+    r.add_argument("--overwrite", action="store_true", help="write into --out even if it holds files pounding did not write (they are kept)")
     r.add_argument("--magnify", type=float, default=50.0, help="displacement magnification (default 50)")
     r.set_defaults(func=cmd_render)
 
 
 def cmd_plot(args) -> int:
+    from pounding.io.outputs import check_target, write_folder
     from pounding.io.plots import plot_all
     from pounding.io.results import load_result
 
+    out = args.out or args.run / "plots"
+    check_target(out, overwrite=args.overwrite)
     scene, result = load_result(args.run)
     reference = load_result(args.reference)[1] if args.reference else None
     points = [parse_point(text, scene) for text in args.point] if args.point else None
     if not 0 <= args.spectra_damping < 1:
         raise InputError(f"expected a damping ratio in [0, 1), got {args.spectra_damping}", field="--spectra-damping")
-    paths = plot_all(scene, result, args.out or args.run / "plots", reference=reference, points=points)
-    if args.spectra:
-        from pounding.io.profile_plots import write_floor_spectra
 
-        paths += write_floor_spectra(result, args.out or args.run / "plots", zeta=args.spectra_damping)
+    def write(tmp):
+        paths = plot_all(scene, result, tmp, reference=reference, points=points)
+        if args.spectra:
+            from pounding.io.profile_plots import write_floor_spectra
+
+            paths += write_floor_spectra(result, tmp, zeta=args.spectra_damping)
+        return paths
+
+    paths = write_folder(out, "plot", write)
     print("\n".join(str(p) for p in paths))
     return 0
 
@@ -55,9 +65,13 @@ def cmd_render(args) -> int:
     from pounding.io.render import RenderUnavailable, render
     from pounding.io.results import load_result
 
+    from pounding.io.outputs import check_target, write_folder
+
+    out = args.out or args.run / "render"
+    check_target(out, overwrite=args.overwrite)
     scene, result = load_result(args.run)
     try:
-        paths = render(result, args.out or args.run / "render", magnify=args.magnify, scene=scene)
+        paths = write_folder(out, "render", lambda tmp: render(result, tmp, magnify=args.magnify, scene=scene))
     except RenderUnavailable as exc:
         raise InputError(str(exc)) from None
     print("\n".join(str(p) for p in paths))

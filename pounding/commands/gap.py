@@ -7,6 +7,8 @@ import json
 import sys
 from pathlib import Path
 
+from pounding.words import plural
+
 
 
 def add_parser(sub) -> None:
@@ -148,8 +150,8 @@ def format_report(r) -> str:
         c = r.check
         verdict = "OK" if c.ok else "FAILED"
         lines.append(
-            f"  check: {c.factors[0]:g}x = {c.gaps[0]:.4f} m -> {c.n_impacts[0]} impacts; "
-            f"{c.factors[1]:g}x = {c.gaps[1]:.4f} m -> {c.n_impacts[1]} impacts  {verdict}"
+            f"  check: {c.factors[0]:g}x = {c.gaps[0]:.4f} m -> {plural(c.n_impacts[0], 'impact')}; "
+            f"{c.factors[1]:g}x = {c.gaps[1]:.4f} m -> {plural(c.n_impacts[1], 'impact')}  {verdict}"
         )
     lines.append(
         f"  code estimates at storey {r.storey} from the peak displacements along the direction of the facing points "

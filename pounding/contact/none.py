@@ -8,7 +8,13 @@ from pounding.contact.base import ContactLaw
 
 
 class NoContact(ContactLaw):
-    """Ignore contact altogether; no geometry is checked."""
+    """Ignore contact altogether; no geometry is checked.
+
+    Parameters
+    ----------
+    restitution : float
+        Accepted (as by every contact law, so that ``[analysis] restitution`` may stay in a scene) and unused.
+    """
 
     name: ClassVar[str] = "none"
     kind: ClassVar[str] = "none"

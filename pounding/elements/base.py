@@ -23,6 +23,14 @@ To add an element type: subclass :class:`PlanarElement`, set ``name``, give a
 JSON ``schema`` for its scene table (validated before :meth:`from_table` is
 called), implement the abstract methods, and register the class under the
 entry-point group ``pounding.elements``.
+
+The schema is also the element's documentation: the scene reference page
+(``docs/scene-reference.md``, ``pounding reference``) is generated from it.
+Give every property a ``description`` and, for numbers, ``units`` (a keyword
+validators ignore), and an ``examples`` list; a ``description`` of the whole
+table; and, at the top level, ``examples``: element tables that stand on the
+12 m x 8 m template slab (corners (0, 0) and (12, 8)) and together make it
+stable, which ``pounding template --element NAME`` prints.
 """
 
 from __future__ import annotations
@@ -90,24 +98,39 @@ def section_properties(sec: Mapping[str, float]) -> tuple[float, float, float]:
     return float(sec["E"]), float(sec["A"]), float(sec["I"])
 
 
-SECTION_SCHEMA: dict[str, Any] = {
-    "oneOf": [
-        {
-            "type": "object",
-            "required": ["E", "A", "I"],
-            "additionalProperties": False,
-            "properties": {k: {"type": "number", "exclusiveMinimum": 0} for k in ("E", "A", "I")},
-        },
-        {
-            "type": "object",
-            "required": ["E", "b", "h"],
-            "additionalProperties": False,
-            "properties": {k: {"type": "number", "exclusiveMinimum": 0} for k in ("E", "b", "h")},
-        },
-    ]
+_SECTION_KEYS = {
+    "E": ("Young's modulus", "Pa", 30e9),
+    "A": ("cross-section area", "m2", 0.16),
+    "I": ("second moment of area for bending in the element's plane", "m4", 2.13e-3),
+    "b": ("width of a rectangular section, out of the element's plane", "m", 0.4),
+    "h": ("depth of a rectangular section, in the element's plane", "m", 0.4),
 }
 
-POINT_SCHEMA: dict[str, Any] = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
+
+def _section(keys: tuple[str, ...]) -> dict[str, Any]:
+    return {
+        "type": "object",
+        "required": list(keys),
+        "additionalProperties": False,
+        "properties": {
+            k: {"type": "number", "exclusiveMinimum": 0, "description": _SECTION_KEYS[k][0].capitalize() + ".", "units": _SECTION_KEYS[k][1], "examples": [_SECTION_KEYS[k][2]]}
+            for k in keys
+        },
+    }
+
+
+#: A beam-column section: { E, A, I }, or a rectangle { E, b, h } (A = b h, I = b h^3 / 12).
+SECTION_SCHEMA: dict[str, Any] = {"oneOf": [_section(("E", "A", "I")), _section(("E", "b", "h"))]}
+
+POINT_SCHEMA: dict[str, Any] = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2, "units": "m"}
+
+
+def documented(schema: dict[str, Any], description: str, example: Any = None, **extra: Any) -> dict[str, Any]:
+    """A copy of ``schema`` with its documentation keywords (read by the scene reference page)."""
+    out = {**schema, "description": description, **extra}
+    if example is not None:
+        out["examples"] = [example]
+    return out
 
 
 def per_storey(value: Any, n: int, field: str) -> list[Any]:

@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Mapping, Sequence
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from pounding.elements.base import POINT_SCHEMA, SECTION_SCHEMA, PlanarElement, per_storey, section_properties
+from pounding.elements.base import POINT_SCHEMA, SECTION_SCHEMA, PlanarElement, documented, per_storey, section_properties
 from pounding.errors import InputError
 
 
@@ -89,16 +89,38 @@ class Frame(PlanarElement):
         "type": "object",
         "required": ["start", "columns", "column"],
         "additionalProperties": False,
+        "description": "Planar moment frame: columns fixed at the base, a beam at every floor, condensed to its floors' lateral stiffness.",
         "properties": {
-            "start": POINT_SCHEMA,
-            "end": POINT_SCHEMA,
-            "angle": {"type": "number"},
-            "columns": {"type": "array", "items": {"type": "number"}, "minItems": 1},
-            "column": {"oneOf": [SECTION_SCHEMA, {"type": "array", "items": SECTION_SCHEMA, "minItems": 1}]},
-            "beam": {"oneOf": [SECTION_SCHEMA, {"type": "array", "items": SECTION_SCHEMA, "minItems": 1}]},
-            "storeys": {"type": "integer", "minimum": 1},
+            "start": documented(POINT_SCHEMA, "Start of the frame line in plan [x, y]; `columns` are measured from it.", [0.0, 0.0]),
+            "end": documented(POINT_SCHEMA, "A second point of the frame line (its direction); or `angle`.", [12.0, 0.0]),
+            "angle": {"type": "number", "units": "deg", "description": "Direction of the frame line, counter-clockwise from x; or `end`.", "examples": [90.0]},
+            "columns": {
+                "type": "array", "items": {"type": "number"}, "minItems": 1, "units": "m",
+                "description": "Column positions along the line from `start`, strictly increasing.", "examples": [[0.0, 6.0, 12.0]],
+            },
+            "column": documented(
+                {"oneOf": [SECTION_SCHEMA, {"type": "array", "items": SECTION_SCHEMA, "minItems": 1}]},
+                "Column section, { E, A, I } or rectangular { E, b, h }: one for all storeys or a list of one per storey.",
+                {"E": 30e9, "b": 0.4, "h": 0.4},
+            ),
+            "beam": documented(
+                {"oneOf": [SECTION_SCHEMA, {"type": "array", "items": SECTION_SCHEMA, "minItems": 1}]},
+                "Beam section (as `column`); needed with more than one column. The beam of storey i is at its top floor.",
+                {"E": 30e9, "b": 0.3, "h": 0.5},
+            ),
+            "storeys": {
+                "type": "integer", "minimum": 1, "units": "-",
+                "description": "Number of storeys the frame spans from the ground (default: all).", "examples": [3],
+            },
         },
         "oneOf": [{"required": ["angle"], "not": {"required": ["end"]}}, {"required": ["end"], "not": {"required": ["angle"]}}],
+        # On the template slab (12 m x 8 m, corners (0, 0) and (12, 8)): two frames along x, two along y.
+        "examples": [
+            {"start": [0.0, 0.0], "angle": 0.0, "columns": [0.0, 6.0, 12.0], "column": {"E": 30e9, "b": 0.45, "h": 0.45}, "beam": {"E": 30e9, "b": 0.3, "h": 0.55}},
+            {"start": [0.0, 8.0], "angle": 0.0, "columns": [0.0, 6.0, 12.0], "column": {"E": 30e9, "b": 0.4, "h": 0.4}, "beam": {"E": 30e9, "b": 0.3, "h": 0.5}},
+            {"start": [0.0, 0.0], "angle": 90.0, "columns": [0.0, 8.0], "column": {"E": 30e9, "b": 0.4, "h": 0.4}, "beam": {"E": 30e9, "b": 0.3, "h": 0.5}},
+            {"start": [12.0, 0.0], "angle": 90.0, "columns": [0.0, 8.0], "column": {"E": 30e9, "b": 0.4, "h": 0.4}, "beam": {"E": 30e9, "b": 0.3, "h": 0.5}},
+        ],
     }
 
     point: np.ndarray

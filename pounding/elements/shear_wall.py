@@ -19,7 +19,7 @@ from typing import Any, ClassVar, Mapping, Sequence
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from pounding.elements.base import POINT_SCHEMA, PlanarElement
+from pounding.elements.base import POINT_SCHEMA, PlanarElement, documented
 from pounding.elements.frame import _spanned_storeys, line_from_table
 from pounding.errors import InputError
 
@@ -47,17 +47,34 @@ class ShearWall(PlanarElement):
         "type": "object",
         "required": ["start", "end", "thickness", "E"],
         "additionalProperties": False,
+        "description": "Planar shear wall: a Timoshenko cantilever (bending and shear) fixed at the base.",
         "properties": {
-            "start": POINT_SCHEMA,
-            "end": POINT_SCHEMA,
-            "thickness": {"type": "number", "exclusiveMinimum": 0},
-            "E": {"type": "number", "exclusiveMinimum": 0},
-            "G": {"type": "number", "exclusiveMinimum": 0},
-            "nu": {"type": "number", "exclusiveMinimum": -1, "exclusiveMaximum": 0.5},
-            "shear_area": {"type": "number", "exclusiveMinimum": 0},
-            "storeys": {"type": "integer", "minimum": 1},
+            "start": documented(POINT_SCHEMA, "One end of the wall in plan [x, y].", [0.0, 0.0]),
+            "end": documented(POINT_SCHEMA, "The other end; the wall's length is the distance between them.", [0.0, 8.0]),
+            "thickness": {"type": "number", "exclusiveMinimum": 0, "units": "m", "description": "Wall thickness.", "examples": [0.25]},
+            "E": {"type": "number", "exclusiveMinimum": 0, "units": "Pa", "description": "Young's modulus.", "examples": [30e9]},
+            "G": {"type": "number", "exclusiveMinimum": 0, "units": "Pa", "description": "Shear modulus; or `nu`.", "examples": [12.5e9]},
+            "nu": {
+                "type": "number", "exclusiveMinimum": -1, "exclusiveMaximum": 0.5, "units": "-",
+                "description": "Poisson's ratio, G = E / (2 (1 + nu)); or `G`.", "examples": [0.2],
+            },
+            "shear_area": {
+                "type": "number", "exclusiveMinimum": 0, "units": "m2",
+                "description": "Effective shear area (default: 5/6 of thickness x length).", "examples": [1.5],
+            },
+            "storeys": {
+                "type": "integer", "minimum": 1, "units": "-",
+                "description": "Number of storeys the wall spans from the ground (default: all).", "examples": [3],
+            },
         },
         "oneOf": [{"required": ["G"], "not": {"required": ["nu"]}}, {"required": ["nu"], "not": {"required": ["G"]}}],
+        # On the template slab (12 m x 8 m, corners (0, 0) and (12, 8)): short walls at the four sides.
+        "examples": [
+            {"start": [0.0, 0.0], "end": [3.0, 0.0], "thickness": 0.2, "E": 30e9, "nu": 0.2},
+            {"start": [9.0, 8.0], "end": [12.0, 8.0], "thickness": 0.2, "E": 30e9, "nu": 0.2},
+            {"start": [0.0, 5.0], "end": [0.0, 8.0], "thickness": 0.2, "E": 30e9, "nu": 0.2},
+            {"start": [12.0, 0.0], "end": [12.0, 3.0], "thickness": 0.2, "E": 30e9, "nu": 0.2},
+        ],
     }
 
     point: np.ndarray

@@ -33,7 +33,7 @@ from typing import Any, ClassVar, Mapping, Sequence
 
 import numpy as np
 
-from pounding.elements.base import POINT_SCHEMA, PlanarElement
+from pounding.elements.base import POINT_SCHEMA, PlanarElement, documented
 from pounding.elements.frame import _spanned_storeys, line_from_table
 from pounding.errors import InputError
 
@@ -84,14 +84,24 @@ class StoreySprings(PlanarElement):
         "type": "object",
         "required": ["start", "end", "stiffness"],
         "additionalProperties": False,
+        "description": "Storey springs along a plan line: storey f's spring resists the relative displacement "
+        "between floor f and floor f-1 (the ground below floor 1) along the line; elastic, or yielding by a "
+        "hysteresis law (see *Hysteresis laws* in README).",
         "properties": {
-            "start": POINT_SCHEMA,
-            "end": POINT_SCHEMA,
-            "stiffness": _PER_STOREY,
-            "yield_force": _PER_STOREY,
-            "hardening": {"type": "number"},
-            "hysteresis": {"oneOf": [{"type": "string"}, {"type": "object", "required": ["name"]}]},
-            "storeys": {"type": "integer", "minimum": 1},
+            "start": documented(POINT_SCHEMA, "One end of the springs' plan line [x, y].", [0.0, 0.0]),
+            "end": documented(POINT_SCHEMA, "The other end; the springs act along the line from start to end.", [15.0, 0.0]),
+            "stiffness": documented(_PER_STOREY, "Initial storey stiffness: one value, or one per storey, bottom first.",
+                                    [6.0e7, 5.0e7, 4.0e7], units="N/m"),
+            "yield_force": documented(_PER_STOREY, "Storey yield shear: one value or one per storey; omitted = elastic.",
+                                      [9.0e5, 7.5e5, 6.0e5], units="N"),
+            "hardening": {"type": "number", "units": "-", "default": 0.0, "examples": [0.02],
+                          "description": "Post-yield over initial stiffness ratio, in [0, 1)."},
+            "hysteresis": {"oneOf": [{"type": "string"}, {"type": "object", "required": ["name"]}], "default": "bilinear",
+                           "examples": ["bilinear", {"name": "bouc_wen", "n": 2.0}],
+                           "description": "Hysteresis law: a name (`bilinear`, `bouc_wen`, or a plugin's), or a table "
+                           "`{ name = ..., parameter = ... }` with the law's parameters."},
+            "storeys": {"type": "integer", "minimum": 1, "units": "-", "examples": [3],
+                        "description": "Number of storeys the springs span from the ground (default: all)."},
         },
     }
 

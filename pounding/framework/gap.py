@@ -518,8 +518,7 @@ def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapChec
     gaps, counts = [], []
     for f in factors:
         g = float(f) * report.min_gap
-        shifted = scene.with_building_shifted(report.buildings[1], (g - report.current_gap) * report.direction)
-        counts.append(run(shifted).n_impacts)
+        counts.append(run(scene.with_gap(g, report.direction)).n_impacts)
         gaps.append(g)
     check = GapCheck(tuple(float(f) for f in factors), tuple(gaps), tuple(counts), float(getattr(law, "tolerance", 0.0)))
     report.check = check

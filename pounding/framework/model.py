@@ -118,6 +118,8 @@ class Analysis:
     #: contact-duration model for the equivalent peak force of impacts ([analysis.impact_force]);
     #: post-processing only, see :mod:`pounding.framework.response`
     impact_force: dict[str, Any] = field(default_factory=dict)
+    #: names of the plausibility checks not to warn about (:mod:`pounding.framework.plausibility`)
+    silence: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True, eq=False)
@@ -140,6 +142,17 @@ class Scene:
 
     def with_ground_motion(self, ground_motion: Any) -> "Scene":
         return replace(self, ground_motion=ground_motion)
+
+    def with_gap(self, gap: float, direction: Any = None) -> "Scene":
+        """A copy with the second building moved along ``direction`` so that the clear distance at rest is ``gap`` [m].
+
+        ``direction``: ``None`` (the normal of the facing slab edges), ``"x"``, ``"y"``, an angle [degrees from x]
+        or a plan vector (dx, dy); the clear distance is the smallest over the storeys at a common level, measured
+        along it (:func:`pounding.framework.gap.with_gap`, used by ``pounding gap`` and ``pounding sweep``).
+        """
+        from pounding.framework.gap import with_gap
+
+        return with_gap(self, gap, direction)
 
     def with_building_shifted(self, name: str, offset: np.ndarray) -> "Scene":
         """A copy where building ``name`` (slabs and elements) is translated in plan by ``offset`` [m]."""

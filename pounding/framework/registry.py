@@ -70,6 +70,10 @@ class Registry(Generic[T]):
         """Sorted names of every plugin that can be loaded."""
         return sorted(self._discover())
 
+    def builtin_names(self) -> list[str]:
+        """Sorted names of the plugins that ship with pounding."""
+        return sorted(self._builtins)
+
     def _base(self) -> type:
         module, _, cls = self._base_path.partition(":")
         return getattr(importlib.import_module(module), cls)
@@ -108,8 +112,12 @@ class Registry(Generic[T]):
             self._check(getattr(name_or_class, "name", None), name_or_class)
             return name_or_class
         if not isinstance(name_or_class, str) or name_or_class not in self._discover():
+            import difflib
+
             known = ", ".join(self.names())
-            raise InputError(f"unknown {self.kind} {name_or_class!r}; known: {known}", field=field)
+            close = difflib.get_close_matches(str(name_or_class), self.names(), n=1, cutoff=0.6)
+            hint = f" (did you mean {close[0]!r}?)" if close else ""
+            raise InputError(f"unknown {self.kind} {name_or_class!r}{hint}; known: {known}", field=field)
         return self._load(name_or_class)
 
     def __contains__(self, name: str) -> bool:

@@ -91,9 +91,13 @@ class Result:
     event_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     event_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     event_qd: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    #: peak |u|, |v|, |phi| of every slab over every step (slabs numbered building by building),
-    #: or None when every step is in the output (output_every = 1)
+    #: peak |u|, |v|, |phi| of every slab over every step [m, m, rad], shape (slabs, 3), slabs numbered
+    #: building by building; filled from the histories when every step is in the output (output_every = 1)
     slab_peaks: np.ndarray | None = None
+
+    def __post_init__(self) -> None:
+        if self.slab_peaks is None:
+            self.slab_peaks = np.vstack([np.max(np.abs(self.cm(name)), axis=0) for name in self.names]) if len(self.t) else np.zeros((0, 3))
 
     @classmethod
     def from_run(cls, d, runtime: float) -> "Result":
@@ -164,11 +168,9 @@ class Result:
 
     def peaks(self, name: str) -> np.ndarray:
         """Peak |u|, |v|, |phi| per storey over every step (not only the output ones), shape (storeys, 3)."""
-        if self.slab_peaks is not None:
-            i = self._index(name)
-            start = sum(s.n_storeys for s in self.systems[:i])
-            return self.slab_peaks[start : start + self.systems[i].n_storeys].copy()
-        return np.max(np.abs(self.cm(name)), axis=0)
+        i = self._index(name)
+        start = sum(s.n_storeys for s in self.systems[:i])
+        return self.slab_peaks[start : start + self.systems[i].n_storeys].copy()
 
     @property
     def n_impacts(self) -> int:

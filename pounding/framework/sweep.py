@@ -136,7 +136,6 @@ def columns(storeys: list[int], names: list[str]) -> list[str]:
 
 def _scene_for(spec: dict, case: dict, record_text: str | None):
     """Rebuild the scene of one case from the TOML text and the overrides."""
-    from pounding.framework.gap import with_gap
     from pounding.io.scene import parse_scene
 
     data = tomllib.loads(spec["scene_text"])
@@ -198,7 +197,7 @@ def _scene_for(spec: dict, case: dict, record_text: str | None):
     if case["pga_scale"] != 1.0:
         scene = scene.with_ground_motion(scene.ground_motion.scaled(case["pga_scale"]))
     if case["gap"] is not None:
-        scene = with_gap(scene, case["gap"], spec.get("direction"))
+        scene = scene.with_gap(case["gap"], spec.get("direction"))
     return scene
 
 

@@ -170,18 +170,45 @@ def plot_corner_history(result, building, storey: int, vertex: int, reference=No
     return _save(fig, path)
 
 
+def shaking_components(result) -> tuple[str, ...]:
+    """The displacement components worth plotting for the run's shaking direction: ("x",) along x,
+    ("y",) along y, both otherwise."""
+    angle = float((result.ground_motion or {}).get("angle", 0.0)) % 180.0
+    if angle == 0.0:
+        return ("x",)
+    if angle == 90.0:
+        return ("y",)
+    return ("x", "y")
+
+
 def plot_displacement_histories(result, path, *, points: Sequence | None = None, reference=None) -> Path:
-    """One panel per point (building, storey 1-based, vertex[, "x"|"y"]); default :func:`default_points`."""
-    pts = [tuple(p) + ("x",) * (4 - len(p)) for p in (points if points is not None else default_points(result))]
-    if not pts:  # no pairs: the roof corners of the first building
+    """One row per point (building, storey 1-based, vertex[, "x"|"y"]); default :func:`default_points`.
+
+    Points given without a component, and the default points, are drawn in the
+    components of the shaking (:func:`shaking_components`): x and y side by side
+    when the ground motion is not along x or y.
+    """
+    comps = shaking_components(result)
+    raw = list(points) if points is not None else [p[:3] for p in default_points(result)]
+    if not raw:  # no pairs: the roof corners of the first building
         s = result.systems[0]
-        pts = [(result.names[0], s.n_storeys, v, "x") for v in range(len(s.slabs[-1].vertices))]
-    fig = _figure(8.5, 1.0 + 2.2 * len(pts))
-    axes = fig.subplots(len(pts), 1, sharex=True, squeeze=False)[:, 0]
-    for ax, (bld, storey, vertex, comp) in zip(axes, pts):
-        _draw_history(ax, result, bld, int(storey), int(vertex), comp, reference)
-    axes[0].legend(fontsize=8, loc="upper right")
-    axes[-1].set_xlabel("time [s]")
+        raw = [(result.names[0], s.n_storeys, v) for v in range(len(s.slabs[-1].vertices))]
+    rows = [[tuple(p)] if len(p) == 4 else [tuple(p) + (c,) for c in comps] for p in raw]
+    ncol = max(len(r) for r in rows)
+    fig = _figure(8.5 if ncol == 1 else 13.0, 1.0 + 2.2 * len(rows))
+    axes = fig.subplots(len(rows), ncol, sharex=True, squeeze=False)
+    for i, row in enumerate(rows):
+        for j in range(ncol):
+            if j >= len(row):
+                axes[i, j].set_visible(False)
+                continue
+            bld, storey, vertex, comp = row[j]
+            _draw_history(axes[i, j], result, bld, int(storey), int(vertex), comp, reference)
+    axes[0, 0].legend(fontsize=8, loc="upper right")
+    for ax in axes[-1]:
+        ax.set_xlabel("time [s]")
+    if ncol > 1:
+        fig.suptitle(f"Shaking at {float(result.ground_motion.get('angle', 0.0)):g} deg from x: both displacement components", fontsize=10)
     return _save(fig, path)
 
 
@@ -217,7 +244,7 @@ def plot_impact_timeline(result, path) -> Path:
         leg.get_frame().set_linewidth(0.4)
         for handle in getattr(leg, "legend_handles", getattr(leg, "legendHandles", [])):
             handle.set_sizes([40.0])
-        ax.text(0.99, 0.02, f"{len(result.impacts)} impacts, largest impulse {imax / 1e3:.3g} kN s (marker area ~ impulse)", ha="right", va="bottom", transform=ax.transAxes, fontsize=8, color="0.3")
+        ax.text(0.99, 0.02, f"{len(result.impacts)} impact{'' if len(result.impacts) == 1 else 's'}, largest impulse {imax / 1e3:.3g} kN s (marker area ~ impulse)", ha="right", va="bottom", transform=ax.transAxes, fontsize=8, color="0.3")
     ax.set_yticks(storeys)
     ax.set_ylim(min(storeys) - 0.6, max(storeys) + 0.6)
     ax.set_xlim(float(result.t[0]), float(result.t[-1]))
@@ -249,9 +276,11 @@ def plot_gap_histories(result, path, *, gaps: np.ndarray | None = None, toleranc
                 ax.plot(ti, np.zeros_like(ti), "|", color=c, ms=10, mew=1.2)
         ax.axhline(0.0, color="k", lw=0.6)
         ax.axhspan(-tol * 1e3, tol * 1e3, color="0.85", zorder=0)
-        ax.legend(fontsize=8, loc="upper right")
-        note = "ticks on 0: impacts; grey band: contact tolerance" if result.pairs else "no contact in this run: negative = the slabs overlap"
-        ax.text(0.01, 0.02, note, transform=ax.transAxes, fontsize=8, color="0.3")
+        # outside the axes, so that neither the legend nor the note covers a curve
+        note = "ticks on 0: impacts\ngrey band: contact tolerance" if result.pairs else "no contact in this run:\nnegative = the slabs overlap"
+        leg = ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), title=note, title_fontsize=7.5)
+        leg.get_title().set_color("0.3")
+        leg._legend_box.align = "left"
     ax.set_xlabel("time [s]")
     ax.set_ylabel("signed gap [mm]")
     ax.set_title("Clear distance between the slabs of each common storey")
@@ -357,10 +386,12 @@ def plot_plan(result, path, *, scene=None) -> Path:
     """Plan of the slabs (every storey; vertex numbers on the slabs of the pairs), elements, impact points."""
     allv = np.vstack([np.asarray(sl.vertices, float) for s in result.systems for sl in s.slabs])
     span = np.ptp(allv, axis=0) + 1e-9
-    fig = _figure(9.0, float(np.clip(1.6 + 7.4 * span[1] / span[0], 3.5, 9.0)))
+    # the legend sits right of the axes: about 6.3 of the 9 inches are left for the plan, drawn to scale
+    fig = _figure(9.0, float(np.clip(1.4 + 6.3 * span[1] / span[0], 3.2, 9.0)))
     ax = fig.add_subplot(1, 1, 1)
     pairs = pairs_of(result)
     paired = {(a, fa) for a, fa, _, _, _ in pairs} | {(b, fb) for _, _, b, fb, _ in pairs}
+    kinds: set = set()
     for i, s in enumerate(result.systems):
         c = COLOURS[i % len(COLOURS)]
         labelled = set()
@@ -381,19 +412,49 @@ def plot_plan(result, path, *, scene=None) -> Path:
             except KeyError:
                 bld = None
             for el in bld.elements if bld is not None else ():
-                p0, p1 = el.plan_segment()
-                ax.plot([p0[0], p1[0]], [p0[1], p1[1]], color=c, lw=2.2, alpha=0.5, solid_capstyle="butt")
+                kinds.add(_draw_element_plan(ax, el, c))
     if result.impacts:
         pts = np.array([i.point for i in result.impacts])
         ax.scatter(pts[:, 0], pts[:, 1], s=18, color="k", marker="x", lw=0.8, label="impact points", zorder=5)
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Patch
+
+    handles, labels = ax.get_legend_handles_labels()
+    if "frame" in kinds:
+        handles.append(Line2D([], [], color="0.3", lw=1.2, marker="s", ms=4, mfc="white"))
+        labels.append("frame line, columns (squares)")
+    if "wall" in kinds:
+        handles.append(Patch(facecolor="0.3", edgecolor="k", hatch="////", lw=0.5))
+        labels.append("wall (hatched bar)")
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
-    ax.set_title("Plan: slabs, elements (thick), vertex numbers, centres of mass (+)")
-    ax.legend(fontsize=8, loc="best")
+    ax.set_title("Plan: slabs, elements, vertex numbers, centres of mass (+)")
+    ax.legend(handles, labels, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(True, lw=0.3, alpha=0.6)
     ax.margins(0.08)
     return _save(fig, path)
+
+
+def _draw_element_plan(ax, el, colour) -> str:
+    """Draw one element in plan by what it is: a wall (its outline has panels) as a hatched bar, anything
+    else as a line with its columns (the vertical lines of its outline) as squares. Returns "wall" or "frame"."""
+    p0, p1 = (np.asarray(p, float) for p in el.plan_segment())
+    shape = el.outline()
+    d = np.asarray(el.direction, float)
+    if shape.get("panels"):
+        span = max(float(np.hypot(*(p1 - p0))), 1e-9)
+        t = max(float(getattr(el, "thickness", 0.0)), 0.012 * span * 4, 0.15)  # visible however thin
+        nrm = np.array([-d[1], d[0]]) * t / 2
+        corners = np.array([p0 + nrm, p1 + nrm, p1 - nrm, p0 - nrm])
+        ax.fill(corners[:, 0], corners[:, 1], facecolor=colour, edgecolor="k", hatch="////", lw=0.5, alpha=0.85, zorder=4)
+        return "wall"
+    ax.plot([p0[0], p1[0]], [p0[1], p1[1]], color=colour, lw=1.2, alpha=0.8, zorder=3)
+    cols = sorted({round(s0, 9) for s0, z0, s1, z1 in shape.get("lines", []) if abs(s0 - s1) < 1e-9})
+    if cols:
+        pts = np.array([np.asarray(el.point, float) + s * d for s in cols])
+        ax.plot(pts[:, 0], pts[:, 1], "s", color=colour, ms=4.5, mfc="white", mew=1.2, zorder=4)
+    return "frame"
 
 
 # =============================================================================

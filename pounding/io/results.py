@@ -1,8 +1,10 @@
 """Write a run's results: response.npz, summary.json, impacts.csv (a contract people script against).
 
 Files are written into a temporary folder beside the target and moved into
-place only when complete, so an interrupted or failed run leaves either the
-previous results or nothing, never a half-written folder.
+place only when complete (:mod:`pounding.io.outputs`), so an interrupted or
+failed run leaves the previous results, never a half-written folder; files
+other commands wrote there (plots, renders) and files pounding did not write
+are kept.
 
 * ``response.npz``: ``t`` (nt,) [s]; for every building B, ``B_cm`` (nt, storeys, 3)
   = u [m], v [m], phi [rad] of every slab's centre of mass relative to the
@@ -26,12 +28,8 @@ previous results or nothing, never a half-written folder.
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import json
-import os
-import shutil
-import tempfile
 from collections import Counter
 from pathlib import Path
 
@@ -43,30 +41,6 @@ IMPACT_COLUMNS = [
     "time [s]", "storey", "striking_building", "vertex", "impulse [N s]", "normal_x", "normal_y", "approach_velocity [m/s]",
     "energy_loss [J]", "peak_force [N]", "contact_duration [s]",
 ]
-
-
-@contextlib.contextmanager
-def atomic_dir(target: str | Path):
-    """Yield a temporary folder beside ``target``; on success it replaces ``target``.
-
-    On any exception (KeyboardInterrupt included) the temporary folder is
-    removed and ``target`` is left as it was.
-    """
-    target = Path(target).resolve()
-    target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
-    try:
-        yield tmp
-        old = None
-        if target.exists():
-            old = target.parent / f".{target.name}.old-{os.getpid()}"
-            os.replace(target, old)
-        os.replace(tmp, target)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
 
 
 def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
@@ -156,6 +130,7 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
         impact_impulse=np.array([i.impulse for i in imp]), impact_normal=np.array([i.normal for i in imp]).reshape(-1, 2),
         impact_b=np.array([i.approach_velocity for i in imp]), impact_loss=np.array([i.energy_loss for i in imp]),
         impact_point=np.array([i.point for i in imp]).reshape(-1, 2),
+        slab_peaks=result.slab_peaks,
     )
     if scene_text is not None:
         (folder / "scene.toml").write_text(scene_text)
@@ -205,18 +180,31 @@ def load_result(folder: str | Path):
         energy_tolerance=summ["energy_balance"].get("tolerance", 0.02),
         info={"impact_force": summ["impact_force"]} if "impact_force" in summ else {},
         event_t=data["event_t"], event_q=data["event_q"], event_qd=data["event_qd"],
+        slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
     )
     return scene, result
 
 
-def write_results(result: Result, out: str | Path, scene_text: str | None = None, extra=None, scene_path=None) -> Path:
-    """Write all result files into ``out`` atomically; ``extra(folder)`` may add more (VTK, plots)."""
+def write_results(result: Result, out: str | Path, scene_text: str | None = None, extra=None, scene_path=None, *, overwrite: bool = True) -> Path:
+    """Write all result files into ``out`` through a temporary folder; ``extra(folder)`` may add more (VTK).
+
+    The files are recorded as the ``run`` command's in ``out``'s manifest
+    (:mod:`pounding.io.outputs`): files the previous run wrote there and this
+    one did not are removed, every other file stays. With ``overwrite=False``
+    a folder holding files pounding did not write is refused (InputError).
+    """
+    from pounding.io.outputs import check_target, write_folder
+
+    check_target(Path(out), overwrite=overwrite)
     if scene_path is not None:
         result.info["scene_path"] = str(Path(scene_path).resolve())
-    with atomic_dir(out) as tmp:
+
+    def write(tmp: Path) -> None:
         write_files(result, tmp, scene_text)
         if extra is not None:
             extra(tmp)
+
+    write_folder(out, "run", write)
     return Path(out)
 
 

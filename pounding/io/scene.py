@@ -4,9 +4,11 @@ Checks run in three layers, each stopping at the first problem with one
 message naming the file, the key path (``building[0].element[2].columns``)
 and what was expected:
 
-1. TOML syntax (``tomllib``) and non-finite numbers (TOML allows nan/inf);
-2. structure and types against a JSON schema (``jsonschema``), including each
-   element plugin's own schema;
+1. TOML syntax (``tomllib``);
+2. structure (:mod:`pounding.io.scene_structure`): non-finite numbers (TOML
+   allows nan/inf), keys, types and ranges against the JSON schemas
+   (``jsonschema``) of the core and of each element plugin, plugin names and
+   parameters; unknown keys first, with the closest known one;
 3. meaning: polygon validity, one value per storey, mass and inertia, elements
    standing on their slabs, slabs overlapping at rest, plugin names and
    parameters, the ground-motion record.
@@ -15,7 +17,6 @@ and what was expected:
 from __future__ import annotations
 
 import inspect
-import math
 import tomllib
 from pathlib import Path
 from typing import Any, Mapping
@@ -24,87 +25,9 @@ import numpy as np
 
 from pounding.errors import InputError
 from pounding.framework.model import Analysis, Building, Damping, Scene, Slab
+from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
 LENGTH_TOL = 1e-6  # [m] tolerance for "on the slab" and "same elevation"
-
-
-def _path(parts) -> str:
-    out = ""
-    for p in parts:
-        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
-    return out
-
-
-def _check_finite(obj: Any, parts: list) -> None:
-    if isinstance(obj, float) and not math.isfinite(obj):
-        raise InputError(f"expected a finite number, got {obj}", field=_path(parts))
-    if isinstance(obj, dict):
-        for k, v in obj.items():
-            _check_finite(v, parts + [k])
-    elif isinstance(obj, list):
-        for i, v in enumerate(obj):
-            _check_finite(v, parts + [i])
-
-
-def _validate(instance: Any, schema: Mapping, prefix: list) -> None:
-    from jsonschema import Draft202012Validator
-    from jsonschema.exceptions import best_match
-
-    err = best_match(Draft202012Validator(schema).iter_errors(instance))
-    if err is not None:
-        raise InputError(_describe(err), field=_path(prefix + list(err.absolute_path)) or "(top level)")
-
-
-def _describe(err) -> str:
-    """A schema error in words an engineer reads without knowing JSON schema."""
-    v = err.validator
-    if v == "required":
-        return err.message.replace("is a required property", "is required")
-    if v == "additionalProperties":
-        allowed = sorted(err.schema.get("properties", {}))
-        return f"{err.message}; accepted keys: {', '.join(allowed)}"
-    if v in ("exclusiveMinimum", "minimum", "maximum", "exclusiveMaximum", "type", "enum", "minItems", "maxItems", "pattern"):
-        return f"expected {_expectation(err)}, got {err.instance!r}"
-    if v == "oneOf":
-        if isinstance(err.instance, dict) and {"angle", "end"} <= set(err.instance):
-            return "give either angle or end, not both"
-        if isinstance(err.instance, dict) and {"G", "nu"} <= set(err.instance):
-            return "give either G or nu, not both"
-        return f"expected {_forms(err.schema)}, got {err.instance!r}"
-    return err.message
-
-
-def _expectation(err) -> str:
-    s, v = err.schema, err.validator
-    if v == "exclusiveMinimum":
-        return f"a number > {s['exclusiveMinimum']}"
-    if v == "minimum":
-        return f"a number >= {s['minimum']}"
-    if v == "maximum":
-        return f"a number <= {s['maximum']}"
-    if v == "exclusiveMaximum":
-        return f"a number < {s['exclusiveMaximum']}"
-    if v == "type":
-        return {"number": "a number", "integer": "an integer", "string": "a string", "array": "a list", "object": "a table"}.get(
-            s["type"], s["type"]
-        )
-    if v == "enum":
-        return "one of " + ", ".join(map(repr, s["enum"]))
-    if v == "minItems":
-        return f"at least {s['minItems']} items"
-    if v == "maxItems":
-        return f"at most {s['maxItems']} items"
-    return f"a value matching {s.get('pattern')}"
-
-
-def _forms(schema: Mapping) -> str:
-    forms = []
-    for sub in schema.get("oneOf", []):
-        if "required" in sub:
-            forms.append("{" + ", ".join(sub["required"]) + "}")
-        elif "type" in sub:
-            forms.append({"number": "a number", "array": "a list", "string": "a string", "object": "a table"}.get(sub["type"], sub["type"]))
-    return " or ".join(forms) or "see the README"
 
 
 # --------------------------------------------------------------------------- buildings
@@ -210,8 +133,7 @@ def _building(table: Mapping, index: int) -> Building:
         cls = ELEMENTS.get(etable["type"], field=_path(ewhere + ["type"]))
         # keys of every element type (scene_schema.BUILDING) are the framework's, not the plugin's
         modifiers.append(float(etable.get("stiffness_modifier", 1.0)))
-        body = {key: val for key, val in etable.items() if key not in ("type", "stiffness_modifier")}
-        _validate(body, cls.schema, ewhere)
+        body = {key: val for key, val in etable.items() if key not in framework_element_keys()}  # checked by scene_problems
         try:
             element = cls.from_table(body, storey_heights=heights)
         except InputError as exc:
@@ -362,6 +284,7 @@ def _analysis(table: Mapping) -> Analysis:
         output_every=int(table.get("output_every", 1)),
         energy_tolerance=float(table.get("energy_tolerance", 0.02)),
         impact_force=dict(table.get("impact_force", {})),
+        silence=tuple(table.get("silence", ())),
     )
 
 
@@ -369,10 +292,10 @@ def _analysis(table: Mapping) -> Analysis:
 def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     """Validate a parsed TOML document and build the Scene (errors carry no file; see load_scene)."""
     from pounding.io.records import first_period_of_taller, load_ground_motion
-    from pounding.io.scene_schema import SCENE
 
-    _check_finite(data, [])
-    _validate(data, SCENE, [])
+    problems = scene_problems(data)
+    if problems:
+        raise problems[0].error()
     buildings = [_building(t, i) for i, t in enumerate(data["building"])]
     from pounding.framework.assembly import check_stable
 

@@ -1,29 +1,70 @@
-"""JSON schema of the scene file's structure (types, required keys, ranges).
+"""JSON schema of the scene file's structure (types, required keys, ranges), and its documentation.
 
 Element tables are checked against the schema their plugin declares; meaning
 (polygons, lengths per storey, elements on their slabs, mechanisms) is checked
 in :mod:`pounding.io.scene` after this.
+
+Every key carries its documentation in the schema itself, read by the
+reference page generator (:mod:`pounding.io.scene_doc`, ``docs/scene-reference.md``):
+``description`` (what it is), ``units`` (a keyword of our own; validators
+ignore it), ``default`` and ``examples`` (TOML values). A key added without a
+description, or a number without units, fails ``tests/test_scene_reference.py``.
 """
 
 from __future__ import annotations
 
+from typing import Any
+
+
+def number(description: str, units: str, *, example: Any = None, default: Any = None, **limits) -> dict:
+    """A documented number schema; ``limits`` are JSON-schema bounds (minimum, exclusiveMinimum, ...)."""
+    out: dict[str, Any] = {"type": "number", "units": units, "description": description, **limits}
+    if default is not None:
+        out["default"] = default
+    if example is not None:
+        out["examples"] = [example]
+    return out
+
+
+def positive(description: str, units: str, *, example: Any = None, default: Any = None) -> dict:
+    return number(description, units, example=example, default=default, exclusiveMinimum=0)
+
+
 POS = {"type": "number", "exclusiveMinimum": 0}
-POINT = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2}
-POLYGON = {"type": "array", "items": POINT, "minItems": 3}
+POINT = {"type": "array", "items": {"type": "number"}, "minItems": 2, "maxItems": 2, "units": "m"}
+POLYGON = {"type": "array", "items": POINT, "minItems": 3, "units": "m"}
 
 
-def pos_or_list(item=POS):
-    return {"oneOf": [item, {"type": "array", "items": item, "minItems": 1}]}
+def pos_or_list(item=POS, **doc):
+    """One value for every storey or a list of one per storey (documentation keywords in ``doc``)."""
+    return {"oneOf": [item, {"type": "array", "items": item, "minItems": 1}], **doc}
 
 
 DAMPING = {
     "type": "object",
     "additionalProperties": False,
+    "description": "Classical damping of the building (default: Rayleigh, 5 % at modes 1 and 3).",
     "properties": {
-        "type": {"enum": ["rayleigh", "modal", "stiffness"]},
-        "ratio": pos_or_list({"type": "number", "minimum": 0, "exclusiveMaximum": 1}),
-        "modes": {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 1, "maxItems": 2},
-        "periods": {"type": "array", "items": POS, "minItems": 2, "maxItems": 2},
+        "type": {
+            "enum": ["rayleigh", "modal", "stiffness"],
+            "default": "rayleigh",
+            "description": "rayleigh: C = a0 M + a1 K with `ratio` at two `modes` or `periods`; modal: `ratio` for every mode "
+            "(one value, or a list of one per mode); stiffness: C = a1 K with `ratio` at one mode.",
+            "examples": ["rayleigh"],
+        },
+        "ratio": pos_or_list(
+            {"type": "number", "minimum": 0, "exclusiveMaximum": 1},
+            units="-", default=0.05, description="Damping ratio (fraction of critical, 0.05 = 5 %).", examples=[0.05],
+        ),
+        "modes": {
+            "type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 1, "maxItems": 2, "units": "-",
+            "default": [1, 3], "description": "Mode numbers (1-based) where `ratio` is met: two for rayleigh, one for stiffness.",
+            "examples": [[1, 3]],
+        },
+        "periods": {
+            "type": "array", "items": POS, "minItems": 2, "maxItems": 2, "units": "s",
+            "description": "Rayleigh only, instead of `modes`: the two periods where `ratio` is met.", "examples": [[0.5, 0.1]],
+        },
     },
 }
 
@@ -37,13 +78,17 @@ P_DELTA = {
             "type": "number",
             "minimum": 0,
             "default": 1.0,
-            "description": "gravity load of each floor = load_factor x g x its slab mass [-]",
+            "units": "-",
+            "examples": [1.0],
+            "description": "Gravity load of each floor = load_factor x g x its slab mass.",
         },
         "loads": {
             "type": "array",
             "items": {"type": "number", "minimum": 0},
             "minItems": 1,
-            "description": "gravity load of each floor [N], bottom first (replaces load_factor); spread over the slab like its mass",
+            "units": "N",
+            "examples": [[1.2e6, 1.2e6, 0.9e6]],
+            "description": "Gravity load of each floor, bottom first (replaces load_factor); spread over the slab like its mass.",
         },
     },
 }
@@ -57,6 +102,7 @@ IMPACT_FORCE = {
         "model": {
             "enum": ["hertz", "duration"],
             "default": "hertz",
+            "examples": ["hertz"],
             "description": "hertz: elastic Hertz contact F = stiffness x delta^1.5 with the impact's effective mass and approach "
             "velocity; duration: a half-sine pulse of the given duration carrying the impulse",
         },
@@ -64,9 +110,12 @@ IMPACT_FORCE = {
             "type": "number",
             "exclusiveMinimum": 0,
             "default": 2.75e9,
-            "description": "Hertz contact stiffness [N/m^1.5] (default: concrete slabs, Jankowski 2005)",
+            "units": "N/m^1.5",
+            "examples": [2.75e9],
+            "description": "Hertz contact stiffness (default: concrete slabs, Jankowski 2005).",
         },
-        "duration": {"type": "number", "exclusiveMinimum": 0, "default": 0.005, "description": "contact duration [s] (model = duration)"},
+        "duration": {"type": "number", "exclusiveMinimum": 0, "default": 0.005, "units": "s", "examples": [0.005],
+                     "description": "Contact duration (model = duration)."},
     },
 }
 
@@ -74,15 +123,50 @@ BUILDING = {
     "type": "object",
     "required": ["name", "storey_heights"],
     "additionalProperties": False,
+    "description": "One building (`[[building]]`, repeated): storeys, slabs, masses, damping and its planar elements.",
     "properties": {
-        "name": {"type": "string", "pattern": r"^[A-Za-z_][A-Za-z0-9_\-]*$"},
-        "storey_heights": {"type": "array", "items": POS, "minItems": 1},
-        "slab": POLYGON,
-        "slabs": {"type": "array", "items": POLYGON, "minItems": 1},
-        "mass": pos_or_list(),
-        "mass_per_area": pos_or_list(),
-        "centre_of_mass": {"type": "array", "items": POINT, "minItems": 1},
-        "polar_inertia": {"type": "array", "items": POS, "minItems": 1},
+        "name": {
+            "type": "string", "pattern": r"^[A-Za-z_][A-Za-z0-9_\-]*$",
+            "description": "Unique name: letters, digits, _ and -, not starting with a digit (used in files: `NAME_cm` in response.npz).",
+            "examples": ["low"],
+        },
+        "storey_heights": {
+            "type": "array", "items": POS, "minItems": 1, "units": "m",
+            "description": "Height of every storey, bottom first; their number is the number of storeys.",
+            "examples": [[3.2, 3.2, 3.2]],
+        },
+        "slab": {
+            **POLYGON,
+            "description": "Plan polygon of every slab, vertices [x, y] in order (either turn; stored counter-clockwise). "
+            "Any simple polygon, convex or not. Give `slab` or `slabs`.",
+            "examples": [[[0.0, 0.0], [15.0, 0.0], [15.0, 10.0], [0.0, 10.0]]],
+        },
+        "slabs": {
+            "type": "array", "items": POLYGON, "minItems": 1, "units": "m",
+            "description": "One plan polygon per storey, bottom first (setbacks); instead of `slab`.",
+            "examples": [[[[0, 0], [15, 0], [15, 10], [0, 10]], [[0, 0], [10, 0], [10, 10], [0, 10]]]],
+        },
+        "mass": pos_or_list(
+            units="kg", description="Mass of every slab: one value or one per storey. Give `mass` or `mass_per_area`.",
+            examples=[135000.0],
+        ),
+        "mass_per_area": pos_or_list(
+            units="kg/m2",
+            description="Mass per unit plan area of every slab (kg, not tonnes: 300-2000 is usual; a value far "
+            "outside gets a plausibility warning): one value or one per storey.",
+            examples=[900.0],
+        ),
+        "centre_of_mass": {
+            "type": "array", "items": POINT, "minItems": 1, "units": "m",
+            "description": "Centre of mass [x, y] of every slab, one per storey (default: the polygon's centroid).",
+            "examples": [[[7.5, 5.2], [7.5, 5.2], [7.5, 5.0]]],
+        },
+        "polar_inertia": {
+            "type": "array", "items": POS, "minItems": 1, "units": "kg m2",
+            "description": "Mass moment of inertia of every slab about the vertical axis through its centre of mass, one "
+            "per storey (default: a uniform lamina, m Ip / A, moved to the centre of mass).",
+            "examples": [[3.66e6, 3.66e6, 3.66e6]],
+        },
         "damping": DAMPING,
         "element": {
             "type": "array",
@@ -95,12 +179,16 @@ BUILDING = {
                         "exclusiveMinimum": 0,
                         "maximum": 10,
                         "default": 1.0,
-                        "description": "factor on the element's condensed lateral stiffness [-] (cracked sections, like an ETABS "
-                        "property modifier applied to every member's E: e.g. 0.7); any element type",
+                        "units": "-",
+                        "description": "Factor on the element's condensed lateral stiffness (cracked sections, like an ETABS "
+                        "property modifier applied to every member's E: e.g. 0.7); any element type.",
+                        "examples": [0.7],
                     }
                 },
             },
             "minItems": 1,
+            "description": "The planar elements (`[[building.element]]`, repeated); `type` picks the plugin, whose keys "
+            "are listed under *Elements*; every element also takes `stiffness_modifier`.",
         },
         "p_delta": P_DELTA,
     },
@@ -109,33 +197,113 @@ BUILDING = {
 NAMED_PLUGIN = {
     "oneOf": [
         {"type": "string"},
-        {"type": "object", "required": ["name"], "properties": {"name": {"type": "string"}}},
+        {"type": "object", "required": ["name"], "properties": {"name": {"type": "string", "description": "The plugin's registered name; the other keys are its parameters."}}},
     ]
 }
+
+#: Names of the plausibility checks that ``[analysis] silence`` and ``--silence`` accept.
+PLAUSIBILITY_CHECKS = ("mass_per_area", "period", "soft_storey", "stiff_element")
 
 ANALYSIS = {
     "type": "object",
     "additionalProperties": False,
+    "description": "Time integration, contact and output options.",
     "properties": {
-        "integrator": NAMED_PLUGIN,
-        "dt": POS,
-        "duration": POS,
-        "contact": NAMED_PLUGIN,
-        "restitution": {"type": "number", "minimum": 0, "maximum": 1},
-        "output_every": {"type": "integer", "minimum": 1},
-        "energy_tolerance": {"type": "number", "exclusiveMinimum": 0},
+        "integrator": {
+            **NAMED_PLUGIN, "default": "hht",
+            "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*).",
+            "examples": [{"name": "hht", "alpha": -0.05}],
+        },
+        "dt": positive("Time step (default: the record's sample interval, else 0.01 s).", "s", example=0.005),
+        "duration": positive("Length of the analysis (default: the record's; beyond it the ground is at rest).", "s", example=20.0),
+        "contact": {
+            **NAMED_PLUGIN, "default": "impulse",
+            "description": "Contact law: a name, or a table `{ name = ..., parameter = ... }` (see *Contact laws*).",
+            "examples": ["impulse"],
+        },
+        "restitution": number(
+            "Coefficient of restitution of the contact law (shorthand for its `restitution` parameter).", "-",
+            example=0.5, minimum=0, maximum=1,
+        ),
+        "output_every": {
+            "type": "integer", "minimum": 1, "units": "-", "default": 1,
+            "description": "Keep every N-th step in response.npz (peaks still cover every step).", "examples": [2],
+        },
+        "energy_tolerance": number(
+            "Relative energy-balance error above which a run warns and summary.json says `ok: false`.", "-",
+            example=0.02, default=0.02, exclusiveMinimum=0,
+        ),
         "impact_force": IMPACT_FORCE,
+        "silence": {
+            "type": "array", "items": {"enum": list(PLAUSIBILITY_CHECKS)}, "uniqueItems": True, "default": [],
+            "description": "Plausibility warnings not to show, by name: " + ", ".join(f"`{c}`" for c in PLAUSIBILITY_CHECKS)
+            + " (see *Plausibility warnings*). Also `--silence NAME` on the command line.",
+            "examples": [["mass_per_area"]],
+        },
     },
 }
+
+#: Documentation of the ``[ground_motion]`` keys (read by :func:`pounding.io.ground_motion.load_record`,
+#: which checks their values). Keys the reader accepts but this table lacks are added undocumented by
+#: :func:`ground_motion_schema`, so a scene never fails here for a new key, and the reference test does.
+GROUND_MOTION_KEYS = {
+    "record": {
+        "type": "string",
+        "description": "Required in the table: \"elcentro\" (the packaged El Centro 1940 NS record: 1560 samples at "
+        "0.02 s, PGA 0.3188 g) or the path of a record file, relative to the scene file. Without a [ground_motion] "
+        "table the scene runs El Centro as recorded, along x.",
+        "examples": ["records/RSN6_IMPVALL.I_I-ELC180.AT2"],
+    },
+    "format": {
+        "enum": ["auto", "at2", "single_column", "two_columns"], "default": "auto",
+        "description": "Record file layout: PEER .AT2; one acceleration per line (needs `dt`); `time, acceleration` "
+        "per line. auto: .AT2 by extension, otherwise by the number of values on the first data line.",
+        "examples": ["single_column"],
+    },
+    "dt": positive("Sample interval of a single-column record (rejected for the others: their times come from the file).", "s", example=0.01),
+    "units": {
+        "enum": ["g", "m/s2", "m/s^2", "cm/s2", "cm/s^2"], "default": "g",
+        "description": "Units of the record's accelerations. AT2 files state their own; if given it must agree.",
+        "examples": ["cm/s2"],
+    },
+    "pga": positive("Scale the record so that its peak |acceleration| is this (or `scale`, not both).", "g", example=0.32),
+    "scale": positive("Multiply the record by this factor (or `pga`, not both).", "-", example=1.5),
+    "angle": number("Plan direction of shaking, counter-clockwise from the global x axis (90 = along y).", "deg", example=30.0, default=0.0),
+}
+
+
+def ground_motion_schema() -> dict:
+    """Schema of ``[ground_motion]``: the documented keys plus any key the reader accepts (undocumented).
+
+    The reader may document its keys itself, as ``pounding.io.ground_motion.SPEC_SCHEMA``
+    (``{key: schema with description, units, examples}``); those take precedence.
+    """
+    from pounding.io import ground_motion
+
+    props = {**GROUND_MOTION_KEYS, **getattr(ground_motion, "SPEC_SCHEMA", {})}
+    for key in ground_motion.SPEC_KEYS:
+        props.setdefault(key, {})
+    return {
+        "type": "object",
+        "additionalProperties": False,
+        "description": "The ground motion: one horizontal component, applied to both buildings (default: El Centro 1940 NS as recorded, along x).",
+        "properties": props,
+    }
+
 
 SCENE = {
     "type": "object",
     "required": ["building"],
     "additionalProperties": False,
     "properties": {
-        "title": {"type": "string"},
-        "building": {"type": "array", "items": BUILDING, "minItems": 1},
-        "ground_motion": {"type": "object"},
+        "title": {"type": "string", "description": "A title, shown by `pounding check` and in plots.", "examples": ["L-shaped 10 storeys beside 6 storeys"]},
+        "building": {"type": "array", "items": BUILDING, "minItems": 1, "description": "The buildings (`[[building]]`), one table each."},
+        "ground_motion": {"type": "object", "description": "See *[ground_motion]*."},
         "analysis": ANALYSIS,
     },
 }
+
+
+def scene_schema() -> dict:
+    """The whole scene's schema with ``[ground_motion]`` filled in (element tables are checked by their plugin's schema)."""
+    return {**SCENE, "properties": {**SCENE["properties"], "ground_motion": ground_motion_schema()}}

@@ -31,12 +31,14 @@ class Brace(PlanarElement):
         "type": "object",
         "required": ["start", "end", "storey", "E", "A"],
         "additionalProperties": False,
+        "description": "Diagonal bar across one storey, in a vertical plane: a drift spring E A cos^2(theta) / L.",
+        # every key documented: the scene reference page (docs/scene-reference.md) is generated from these
         "properties": {
-            "start": POINT_SCHEMA,
-            "end": POINT_SCHEMA,
-            "storey": {"type": "integer", "minimum": 1},
-            "E": {"type": "number", "exclusiveMinimum": 0},
-            "A": {"type": "number", "exclusiveMinimum": 0},
+            "start": {**POINT_SCHEMA, "description": "Plan position of the lower end [x, y].", "examples": [[0.0, 0.0]]},
+            "end": {**POINT_SCHEMA, "description": "Plan position of the upper end [x, y].", "examples": [[6.0, 0.0]]},
+            "storey": {"type": "integer", "minimum": 1, "units": "-", "description": "The storey it braces (1 = ground to first floor).", "examples": [1]},
+            "E": {"type": "number", "exclusiveMinimum": 0, "units": "Pa", "description": "Young's modulus of the bar.", "examples": [200e9]},
+            "A": {"type": "number", "exclusiveMinimum": 0, "units": "m2", "description": "Cross-section area of the bar.", "examples": [0.002]},
         },
     }
 
