@@ -168,6 +168,10 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     scene = load_scene(scene_path)
     if overrides:
         scene = scene.with_analysis(**overrides)
+    if not quiet:
+        from pounding import compiler
+
+        compiler.on_first_compile(lambda: print("compiling the numerical core (first run only: cached for the next ones, about a minute)...", file=sys.stderr, flush=True))
     update, bar = _progress(quiet)
     try:
         result = run(scene, progress=update)
@@ -189,6 +193,11 @@ def human_summary(result, out: Path) -> str:
     from collections import Counter
 
     lines = [f"{result.steps} steps of {result.dt:g} s with {result.integrator['name']} in {result.runtime_s * 1e3:.1f} ms (solver)"]
+    tm = getattr(result, "timings", {})
+    if tm.get("compile_s", 0.0) > 0.0:
+        lines[0] += f"; compiling the core took {tm['compile_s']:.1f} s (first run only)"
+    elif tm.get("load_and_compile_s"):
+        lines[0] += f"; loading the compiled core {tm['load_and_compile_s'] * 1e3:.0f} ms"
     per = Counter(result.impact_storey(i) for i in result.impacts)
     if result.impacts:
         lines.append(f"impacts: {result.n_impacts} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")

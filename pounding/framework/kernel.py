@@ -242,17 +242,17 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
             if I[j] > 0:
                 r = log.n_impacts[0]
                 rec = log.impacts[r]
-                rec.time = t
-                rec.pair = p
-                rec.striker = who[j]
-                rec.vertex = -1 if face[j] >= 0 else idx[j]
-                rec.impulse = I[j]
-                rec.nx = Np[j, 0]
-                rec.ny = Np[j, 1]
-                rec.approach_velocity = b[j]
-                rec.energy_loss = 0.5 * I[j] * (b[j] + after[j])
-                rec.px = Qp[j, 0]
-                rec.py = Qp[j, 1]
+                rec["time"] = t
+                rec["pair"] = p
+                rec["striker"] = who[j]
+                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
+                rec["impulse"] = I[j]
+                rec["nx"] = Np[j, 0]
+                rec["ny"] = Np[j, 1]
+                rec["approach_velocity"] = b[j]
+                rec["energy_loss"] = 0.5 * I[j] * (b[j] + after[j])
+                rec["px"] = Qp[j, 0]
+                rec["py"] = Qp[j, 1]
                 log.n_impacts[0] += 1
         # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
         # of ever smaller impacts that accumulates in finite time and ends with the points

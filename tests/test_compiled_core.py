@@ -1,0 +1,132 @@
+"""The declared interface to the compiled core: what is compiled, when, and its cache key.
+
+Each test states one property of :mod:`pounding.compiler` and the driver's use of it.
+Timings are measured in ``benchmarks/bench_compile.py``, never asserted here.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pounding import compiler
+
+PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"
+COMPILED_PACKAGES = ("pounding.contact.geometry", "pounding.contact.base", "pounding.framework.pairs",
+                     "pounding.framework.kernel", "pounding.framework.held")
+
+needs_numba = pytest.mark.skipif(not compiler.enabled(), reason="numba is not compiling here (missing or NUMBA_DISABLE_JIT)")
+
+
+def _python(code: str, env: dict | None = None, timeout: float = 900) -> dict:
+    """Run ``code`` in a fresh interpreter; it prints one JSON object, returned."""
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
+                         env={**os.environ, **(env or {})}, timeout=timeout)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_cache_key_covers_every_compiled_module():
+    """numba keys a cached function on its own file only, so the cache folder is keyed on every
+    module that declares compiled functions: every module holding a compiled function (after
+    importing all of them) is among the scanned ``compiled_modules()``."""
+    for name in COMPILED_PACKAGES:
+        importlib.import_module(name)
+    scanned = {str(p) for p in compiler.compiled_modules()}
+    declaring = {str(Path(sys.modules[k.__module__].__file__).resolve()) for k in compiler.kernels()}
+    if compiler.enabled():
+        assert declaring, "no compiled function declared"
+    assert declaring <= scanned, sorted(declaring - scanned)
+
+
+def test_cache_key_changes_with_a_compiled_module(tmp_path, monkeypatch):
+    """The key is a digest of the compiled modules' source: editing one changes it."""
+    root = tmp_path / "pkg"
+    root.mkdir()
+    (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
+    (root / "b.py").write_text("def g(x):\n    return x\n")
+    monkeypatch.setattr(compiler, "PACKAGE_ROOT", root)
+    assert [p.name for p in compiler.compiled_modules()] == ["a.py"]
+    k0 = compiler.cache_key()
+    (root / "b.py").write_text("def g(x):\n    return 2 * x\n")
+    assert compiler.cache_key() == k0  # not a compiled module
+    (root / "a.py").write_text("@njit\ndef f(x):\n    return 2 * x\n")
+    assert compiler.cache_key() != k0
+
+
+def test_loading_a_scene_and_info_import_no_numba():
+    """Loading a scene (with its rest-gap check) and assembling its buildings for ``pounding info``
+    import no numba and compile nothing: the rest gaps run interpreted."""
+    code = (
+        "import sys, json\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.assembly import assemble\n"
+        "from pounding.framework.modal import modal_summary\n"
+        f"s = load_scene({str(PAPER)!r})\n"
+        "[modal_summary(assemble(b), 6) for b in s.buildings]\n"
+        "print(json.dumps({'numba': 'numba' in sys.modules}))\n"
+    )
+    assert _python(code) == {"numba": False}
+
+
+@needs_numba
+def test_contact_off_loads_no_contact_code():
+    """With contact "none" the run uses the free stretch only: no function of the geometry,
+    the pair queries, the contact laws or the held stretch is compiled or loaded."""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.analysis import run\n"
+        f"r = run(load_scene({str(PAPER)!r}).with_analysis(contact='none', contact_params={{}}, duration=2.0))\n"
+        "print(json.dumps({k.__module__ + '.' + k.__name__: len(k.signatures) for k in compiler.kernels() if k.signatures}))\n"
+    )
+    used = _python(code)
+    assert "pounding.framework.kernel.advance_free" in used
+    contact = [name for name in used if name.startswith(("pounding.contact.", "pounding.framework.pairs", "pounding.framework.held"))]
+    assert contact == []
+
+
+@needs_numba
+def test_one_specialization_per_compiled_function(tmp_path):
+    """Every call site gives a compiled function the same argument types, so a run compiles each
+    function once: after the paper pair with pounding (impacts, located events, held pairs),
+    compiled from an empty cache, every dispatcher holds a single signature."""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.analysis import run\n"
+        f"r = run(load_scene({str(PAPER)!r}).with_analysis(duration=3.0))\n"
+        "sigs = {k.__module__ + '.' + k.__name__: [str(s) for s in k.signatures] for k in compiler.kernels() if k.signatures}\n"
+        "print(json.dumps({'impacts': r.n_impacts, 'sigs': sigs}))\n"
+    )
+    out = _python(code, env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
+    assert out["impacts"] > 0
+    assert "pounding.framework.kernel.advance" in out["sigs"]
+    many = {name: s for name, s in out["sigs"].items() if len(s) > 1}
+    assert many == {}
+
+
+def test_kernel_and_python_path_log_the_same_impact_records():
+    """Both paths apply Newton impulses through one function (kernel.impulses_at) and log
+    :data:`IMPACT_DTYPE` records: the first 3 s of the paper pair, with the kernel and step by
+    step in Python, give the same impacts. The paths differ only in where steps are
+    grouped, not in arithmetic, so the agreement is to rounding (1e-12 of the peak)."""
+    from pounding.framework.analysis import run
+    from pounding.io.scene import load_scene
+
+    scene = load_scene(PAPER).with_analysis(duration=3.0)
+    a, b = run(scene), run(scene, use_kernel=False)
+    assert a.n_impacts == b.n_impacts > 0
+    for x, y in zip(a.impacts, b.impacts):
+        assert (x.pair, x.striker, x.vertex) == (y.pair, y.striker, y.vertex)
+        assert abs(x.time - y.time) <= 1e-12 * max(1.0, x.time)
+        assert abs(x.impulse - y.impulse) <= 1e-12 * max(abs(i.impulse) for i in a.impacts)
+    assert np.abs(a.q - b.q).max() <= 1e-12 * np.abs(a.q).max()
