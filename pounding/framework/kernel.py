@@ -4,14 +4,18 @@
 transition, records the state at the output rate, accumulates the energy
 terms, and after each step checks the slab pairs that could touch: first a
 cheap lower bound on their clear distance, then the exact signed gap only
-when that bound is below the tolerance. It stops at the first step that ends
-with a pair within the tolerance (status 1: the state is the end of that
-step) or overlapping (status 2: the state is rolled back to the start of that
-step), so that the Python driver can locate the impact.
+when that bound is below the tolerance. A step that ends with a pair within
+the tolerance and closing gets Newton impulses right there (:func:`impulses_at`,
+when the law declares them compiled) or stops the kernel (``Status.CONTACT``:
+the state is the end of that step); a step that ends overlapping stops it with
+the state rolled back to the step's start (``Status.OVERLAP``), so that the
+driver can locate the impact. :func:`advance_free` is the same stepping with no
+pair to watch (contact off): it compiles and loads no contact code.
 
-The same function runs compiled by numba (cache on, so a second process
-starts warm) or as plain Python over numpy arrays when numba is missing; the
-arithmetic is identical.
+The entry points take the bundles of :mod:`pounding.framework.bundles`. The same
+functions run compiled by numba (:mod:`pounding.compiler`, cache on, so a second
+process starts warm) or as plain Python over numpy arrays when numba is missing;
+the arithmetic is identical.
 """
 
 from __future__ import annotations

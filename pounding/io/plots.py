@@ -273,14 +273,16 @@ def energy_histories(result, scene=None) -> dict:
     ks = np.zeros_like(t)
     pdamp = np.zeros_like(t)
     pin = np.zeros_like(t)
-    ag = scene.ground_motion.at(t) if scene is not None else None
+    # (nt, c): one column per ground-motion component
+    ag = np.asarray(scene.ground_motion.at(t), dtype=float).reshape(len(t), -1) if scene is not None else None
     for i, s in enumerate(result.systems):
         q, qd = result.modal(result.names[i]), result.modal(result.names[i], velocity=True)
         ks += 0.5 * np.sum(qd**2, axis=1) + 0.5 * np.sum((s.omega * q) ** 2, axis=1)
         pdamp += np.sum(2.0 * s.zeta * s.omega * qd**2, axis=1)
         if ag is not None:
-            L = s.participation(s.influence(scene.ground_motion.direction()))
-            pin += (qd @ L) * (-ag)
+            L = np.asarray(s.participation(s.influence(scene.ground_motion.direction()))).reshape(s.n_dof, -1)
+            for j in range(L.shape[1]):  # p = -L ag summed over the components, as the driver does
+                pin += (qd @ L[:, j]) * (-ag[:, j])
 
     def cumtrapz(p):
         out = np.zeros_like(p)
