@@ -169,9 +169,7 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     if overrides:
         scene = scene.with_analysis(**overrides)
     if not quiet:
-        from pounding import compiler
-
-        compiler.on_first_compile(lambda: print("compiling the numerical core (first run only: cached for the next ones, about a minute)...", file=sys.stderr, flush=True))
+        announce_compiling()
     update, bar = _progress(quiet)
     try:
         result = run(scene, progress=update)
@@ -187,6 +185,13 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
 
     write_results(result, out, scene_path.read_text(), extra=extra, scene_path=scene_path)
     return scene, result
+
+
+def announce_compiling() -> None:
+    """Say on stderr, once and only if it happens, that the numerical core is being compiled."""
+    from pounding import compiler
+
+    compiler.on_first_compile(lambda: print("compiling the numerical core (first run only: cached for the next ones, about a minute)...", file=sys.stderr, flush=True))
 
 
 def human_summary(result, out: Path) -> str:
@@ -290,6 +295,7 @@ def cmd_demo(args) -> int:
 
     far, near = paper_scene_paths()
     out = args.out
+    announce_compiling()
     results = {}
     for label, path in (("gap_0.5", far), ("gap_0.03", near)):
         scene = load_scene(path)

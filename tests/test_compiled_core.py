@@ -130,3 +130,40 @@ def test_kernel_and_python_path_log_the_same_impact_records():
         assert abs(x.time - y.time) <= 1e-12 * max(1.0, x.time)
         assert abs(x.impulse - y.impulse) <= 1e-12 * max(abs(i.impulse) for i in a.impacts)
     assert np.abs(a.q - b.q).max() <= 1e-12 * np.abs(a.q).max()
+
+
+@needs_numba
+def test_first_compilation_is_announced_and_timed(tmp_path):
+    """A compilation (not a cache load) runs the registered first-compile callbacks once, before
+    it starts, and adds its wall time to compile_seconds(): what the command line uses to say
+    it is compiling and to report the compile time apart from the solve. (A fresh interpreter
+    and an empty cache, so that the function is compiled, not loaded.)"""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "calls = []\n"
+        "compiler.on_first_compile(lambda: calls.append(compiler.compile_seconds()))\n"
+        "def plus_one(x):\n"
+        "    return x + 1.0\n"
+        "f = compiler.njit(plus_one)\n"
+        "print(json.dumps({'values': [f(1.0), f(2.0)], 'calls': calls, 'seconds': compiler.compile_seconds()}))\n"
+    )
+    script = tmp_path / "plus_one.py"  # numba caches functions that have a source file
+    script.write_text(code)
+    out = _python(f"import runpy; runpy.run_path({str(script)!r}, run_name='__main__')", env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
+    assert out["values"] == [2.0, 3.0]
+    assert out["calls"] == [0.0]  # once, before anything was compiled
+    assert out["seconds"] > 0.0
+
+
+def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
+    """summary.json keeps runtime_s as the solve and reports loading and compiling apart."""
+    from pounding.framework.analysis import run
+    from pounding.io.results import write_results
+    from pounding.io.scene import load_scene
+
+    r = run(load_scene(PAPER).with_analysis(duration=1.0))
+    write_results(r, tmp_path / "out", PAPER.read_text(), scene_path=PAPER)
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["timings_s"]["solve"] == s["runtime_s"] == r.runtime_s
+    assert s["timings_s"]["load_and_compile"] >= s["timings_s"]["compile"] >= 0.0
