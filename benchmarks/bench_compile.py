@@ -135,5 +135,12 @@ def main(argv=None) -> dict:
     return res
 
 
+def run(quick: bool = False) -> dict:
+    """Entry of ``benchmarks/run.py --only compile``: results/compile[_quick].json."""
+    tag = "_quick" if quick else ""
+    reps = ["--reps", "3", "--cold-reps", "1"] if quick else []
+    return main(reps + ["--out", str(HERE / "results" / f"compile{tag}.json")])
+
+
 if __name__ == "__main__":
     main()

@@ -37,14 +37,13 @@ import hashlib
 import importlib.util
 import os
 import re
-import threading
 from pathlib import Path
 
 #: the package's root folder (``pounding/``)
 PACKAGE_ROOT = Path(__file__).resolve().parent
 
 _KERNELS: list["Kernel"] = []
-_state = threading.local()
+_interpreted = [0]  # depth of interpreted() blocks (scene loading: single-threaded)
 _active = False
 _compile_time = [0.0]
 _first_compile_hooks: list = []
@@ -93,9 +92,13 @@ class Kernel:
         return [] if self._dispatcher is None else list(self._dispatcher.signatures)
 
     def __call__(self, *args):
-        if getattr(_state, "interpreted", False):
+        # the driver calls compiled functions hundreds of times a run: keep this path short
+        if _interpreted[0]:
             return self.py_func(*args)
-        return self.dispatcher(*args)
+        d = self._dispatcher
+        if d is None:
+            d = self.dispatcher
+        return d(*args)
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
@@ -116,12 +119,11 @@ def interpreted():
 
     For one-off calls from Python where compiling would cost seconds and running
     interpreted costs microseconds (the rest gaps of a scene's slabs at load)."""
-    before = getattr(_state, "interpreted", False)
-    _state.interpreted = True
+    _interpreted[0] += 1
     try:
         yield
     finally:
-        _state.interpreted = before
+        _interpreted[0] -= 1
 
 
 def kernels() -> list[Kernel]:
