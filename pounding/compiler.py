@@ -25,7 +25,8 @@ list. ``NUMBA_CACHE_DIR``, when set, is numba's and is left alone.
 Timing
 ------
 :func:`compile_seconds` is the wall time this process has spent compiling (numba's
-``numba:compile`` events, cache loads excluded); :func:`on_first_compile` registers a
+``numba:compile`` events, cache loads excluded); :func:`load_seconds` the time spent making
+compiled functions ready (compiling or loading each from the cache before its first call); :func:`on_first_compile` registers a
 callback run once, just before the first compilation (the command line prints that it
 is compiling).
 """
@@ -44,6 +45,9 @@ PACKAGE_ROOT = Path(__file__).resolve().parent
 
 _KERNELS: list["Kernel"] = []
 _interpreted = [0]  # depth of interpreted() blocks (scene loading: single-threaded)
+_loading = [0]  # inside Kernel._first_call
+_load_time = [0.0]
+_compile_outside = [0.0]  # compile time not inside a first call (a second signature)
 _active = False
 _compile_time = [0.0]
 _first_compile_hooks: list = []
@@ -97,8 +101,28 @@ class Kernel:
             return self.py_func(*args)
         d = self._dispatcher
         if d is None:
-            d = self.dispatcher
+            d = self._first_call(args)
         return d(*args)
+
+    def _first_call(self, args):
+        """Compile, or load from the cache, the machine code for these arguments' types before the
+        first call runs it, timed apart (:func:`load_seconds`)."""
+        import time
+
+        t0 = time.perf_counter()
+        d = self.dispatcher
+        if hasattr(d, "compile"):  # not with NUMBA_DISABLE_JIT
+            from numba import typeof
+
+            _loading[0] += 1
+            try:
+                d.compile(tuple(typeof(a) for a in args))
+            except Exception:  # noqa: BLE001 - the call itself reports a typing error, with numba's message
+                pass
+            finally:
+                _loading[0] -= 1
+        _load_time[0] += time.perf_counter() - t0
+        return d
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
@@ -224,6 +248,8 @@ def _compile_listener():
             self.depth -= 1
             if self.depth == 0:
                 _compile_time[0] += time.perf_counter() - self.start
+                if not _loading[0]:
+                    _compile_outside[0] += time.perf_counter() - self.start
 
     return CompileTimer()
 
@@ -231,6 +257,12 @@ def _compile_listener():
 def compile_seconds() -> float:
     """Wall time [s] this process has spent compiling (cache loads excluded)."""
     return _compile_time[0]
+
+
+def load_seconds() -> float:
+    """Wall time [s] this process has spent making compiled functions ready: the first call of
+    each (compile or cache load) and any later compilation. Time that is not the solve."""
+    return _load_time[0] + _compile_outside[0]
 
 
 def on_first_compile(callback) -> None:
