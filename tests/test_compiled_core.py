@@ -115,10 +115,11 @@ def test_one_specialization_per_compiled_function(tmp_path):
 
 
 def test_kernel_and_python_path_log_the_same_impact_records():
-    """Both paths apply Newton impulses through one function (kernel.impulses_at) and log
-    :data:`IMPACT_DTYPE` records: the first 3 s of the paper pair, with the kernel and step by
-    step in Python, give the same impacts. The paths differ only in where steps are
-    grouped, not in arithmetic, so the agreement is to rounding (1e-12 of the peak)."""
+    """The kernel (kernel.impulses_at) and the driver's Python path apply the same Newton
+    impulses and log the same :data:`IMPACT_DTYPE` records: the first 3 s of the paper pair,
+    with the kernel and step by step in Python, give the same impacts. The paths differ in the
+    rounding of W w^T products (numba against numpy, 1e-16 relative), so the agreement is to
+    rounding (1e-12 of the peak)."""
     from pounding.framework.analysis import run
     from pounding.io.scene import load_scene
 
