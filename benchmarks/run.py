@@ -5,7 +5,7 @@
     python benchmarks/run.py --only peer     # one benchmark (comma-separate several)
     python benchmarks/run.py --list
 
-Benchmarks: workprecision, peer, scaling, targets, profile, components. Results go to
+Benchmarks: workprecision, peer, scaling, targets, profile, components, compile. Results go to
 benchmarks/results/ (CSV, PNG, JSON, profile text; --quick files carry a _quick
 suffix), and the headline table of benchmarks/README.md is rewritten from them.
 Nothing is asserted: these are measurements.
@@ -21,7 +21,7 @@ from pathlib import Path
 
 USER_ENV = dict(os.environ)
 
-BENCHMARKS = ["workprecision", "peer", "scaling", "targets", "profile", "components"]
+BENCHMARKS = ["workprecision", "peer", "scaling", "targets", "profile", "components", "compile"]
 
 
 def main(argv=None) -> int:

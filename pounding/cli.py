@@ -183,6 +183,8 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     if overrides:
         scene = scene.with_analysis(**overrides)
     plausibility.warn(scene, silence)
+    if not quiet:
+        announce_compiling()
     update, bar = _progress(quiet)
     try:
         result = run(scene, progress=update)
@@ -201,10 +203,22 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     return scene, result
 
 
+def announce_compiling() -> None:
+    """Say on stderr, once and only if it happens, that the numerical core is being compiled."""
+    from pounding import compiler
+
+    compiler.on_first_compile(lambda: print("compiling the numerical core (first run only: cached for the next ones, about a minute)...", file=sys.stderr, flush=True))
+
+
 def human_summary(result, out: Path) -> str:
     from collections import Counter
 
     lines = [f"{result.steps} steps of {result.dt:g} s with {result.integrator['name']} in {result.runtime_s * 1e3:.1f} ms (solver)"]
+    tm = getattr(result, "timings", {})
+    if tm.get("compile_s", 0.0) > 0.0:
+        lines[0] += f"; compiling the core took {tm['compile_s']:.1f} s (first run only)"
+    elif tm.get("load_and_compile_s"):
+        lines[0] += f"; loading the compiled core {tm['load_and_compile_s'] * 1e3:.0f} ms"
     per = Counter(result.impact_storey(i) for i in result.impacts)
     if result.impacts:
         lines.append(f"{plural(result.n_impacts, 'impact')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")
@@ -320,6 +334,7 @@ def cmd_demo(args) -> int:
 
     far, near = paper_scene_paths()
     out = args.out
+    announce_compiling()
     results = {}
     for label, path in (("gap_0.5", far), ("gap_0.03", near)):
         scene = load_scene(path)

@@ -24,10 +24,29 @@ A contact law is one of two kinds:
     compliances ``S_q``, ``S_v`` (m, m) of those gaps and rates to end-of-step
     forces, return ``lambda >= 0`` (m,) [N].
 
-To add a law: subclass :class:`ContactLaw`, set ``name`` and ``kind``, take
-parameters keyword-only (``restitution`` always accepted), implement the
-method of its kind, and register it under the entry-point group
-``pounding.contact``.
+``none`` laws switch contact off: no slab pair is watched and no contact
+    code is loaded.
+
+Contract for an implementer
+---------------------------
+Everything the driver reads from a law is declared on :class:`ContactLaw`, with
+a default and its meaning:
+
+1. ``name`` (the registered name) and ``kind`` (one of :data:`KINDS`).
+2. Parameters keyword-only in ``__init__`` (``restitution`` always accepted),
+   validated there with :class:`pounding.errors.InputError` naming the field.
+3. ``tolerance`` [m]: a pair within it is in contact (impulse laws) or watched
+   (force laws).
+4. Impulse laws: :meth:`ContactLaw.impulses`; ``locate`` (how an impact instant is
+   found inside an overlapping step) and ``after_impact`` (what happens to the
+   accelerations). ``compiled_impulses``: True declares that ``impulses(W, b)`` is
+   exactly :func:`newton_impulses` with ``restitution``, so the compiled core may apply
+   them itself between Python steps; leave it False for any other rule (the driver
+   then calls :meth:`~ContactLaw.impulses` at every impact).
+5. Force laws: :meth:`ContactLaw.forces`.
+6. Register the class under the entry-point group ``pounding.contact`` (or pass the
+   class itself as the scene's contact law). The registry checks the class when it
+   is loaded (:meth:`ContactLaw.check_contract`), not in the middle of a run.
 """
 
 from __future__ import annotations
@@ -37,30 +56,68 @@ from typing import ClassVar
 
 import numpy as np
 
-from pounding.contact.geometry import njit
+from pounding.compiler import njit
 from pounding.errors import InputError
 
 
-class ContactLaw(ABC):
-    """Base class of every contact law (see the module docstring)."""
+#: the kinds of contact law the driver knows (see the module docstring)
+KINDS = ("impulse", "force", "none")
+#: the ways an impulse law's impact instant can be located
+LOCATORS = ("halving", "root")
+#: what an impulse law does to the accelerations after an impact
+AFTER_IMPACT = ("keep", "equilibrium")
 
+
+class ContactLaw(ABC):
+    """Base class of every contact law (see the module docstring for the contract).
+
+    Every attribute below is read by the driver; a subclass overrides what it needs.
+    """
+
+    #: registered name
     name: ClassVar[str] = ""
+    #: "impulse", "force" or "none" (:data:`KINDS`)
     kind: ClassVar[str] = "impulse"
+    #: True when :meth:`impulses` is exactly :func:`newton_impulses` with ``restitution``:
+    #: the compiled core then applies the impulses itself (impulse laws only)
+    compiled_impulses: ClassVar[bool] = False
+    #: contact length tolerance [m]
+    tolerance: float = 1e-4
+    #: impact-instant location inside an overlapping step (impulse laws): "halving" or "root"
+    locate: str = "halving"
+    #: accelerations after an impact (impulse laws): "keep" or "equilibrium"
+    after_impact: str = "keep"
 
     def __init__(self, *, restitution: float = 0.5):
         if not (isinstance(restitution, (int, float)) and 0.0 <= restitution <= 1.0):
             raise InputError(f"expected a coefficient of restitution in [0, 1], got {restitution!r}", field="restitution")
         self.restitution = float(restitution)
 
+    @classmethod
+    def check_contract(cls) -> None:
+        """Raise :class:`TypeError` naming what a law class declares wrong (called on registration)."""
+        if cls.kind not in KINDS:
+            raise TypeError(f"contact law {cls.__name__} declares kind={cls.kind!r}; expected one of {KINDS}")
+        if cls.kind == "impulse" and cls.impulses is ContactLaw.impulses:
+            raise TypeError(f"contact law {cls.__name__} is an impulse law but does not implement impulses(W, b)")
+        if cls.kind == "force" and cls.forces is ContactLaw.forces:
+            raise TypeError(f"contact law {cls.__name__} is a force law but does not implement forces(...)")
+        if cls.compiled_impulses and cls.kind != "impulse":
+            raise TypeError(f"contact law {cls.__name__} declares compiled_impulses but is not an impulse law")
+
     def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:
-        """Impulses [N s] at the touching features of one slab pair (impulse laws)."""
+        """Impulses I >= 0 [N s] (m,) at the touching features of one slab pair (impulse laws),
+        given the Delassus matrix W (m, m) [1/kg] and the closing speeds b (m,) [m/s]."""
         raise NotImplementedError
 
     def forces(self, gap: np.ndarray, rate: np.ndarray, S_q: np.ndarray, S_v: np.ndarray, W: np.ndarray) -> np.ndarray:
-        """End-of-step contact forces [N] (force laws)."""
+        """End-of-step contact forces lambda >= 0 [N] (m,) (force laws), given the end-of-step gaps
+        (m,) [m] and gap rates (m,) [m/s] without contact forces, their compliances to end-of-step
+        forces S_q, S_v (m, m), and the Delassus matrix W (m, m)."""
         raise NotImplementedError
 
     def describe(self) -> dict:
+        """Name and parameters, for summary.json."""
         return {"name": self.name, **{k: v for k, v in vars(self).items() if not k.startswith("_")}}
 
 

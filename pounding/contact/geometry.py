@@ -60,74 +60,20 @@ slabs tens of metres from the origin.
 
 Compilation
 -----------
-The kernels are written with plain loops over float64 arrays and compiled with
-``numba.njit(cache=True)`` when numba imports; otherwise they run as plain
-Python (``func.py_func`` is then the function itself). No fastmath: both
-paths give bit-identical results.
+The kernels are written with plain loops over float64 arrays and declared with
+:func:`pounding.compiler.njit`: compiled by numba on first use, or plain Python
+without it. No fastmath: both paths give bit-identical results. One-off calls
+from Python (the rest gaps of a scene at load) run interpreted
+(:func:`rest_gap`), so loading a scene compiles nothing.
 """
 
 from __future__ import annotations
 
 import math
-import os
 
 import numpy as np
 
-try:  # numba is a hard dependency of the package, but keep the geometry usable without it
-    import numba as _numba
-except ImportError:  # pragma: no cover - depends on the environment
-    _numba = None
-
-#: The modules whose compiled functions call one another. numba keys a cached function on its
-#: own file only, so a change in a function it calls (in another module) would leave it stale:
-#: the cache folder is keyed on all of them instead.
-COMPILED_MODULES = ("contact/geometry.py", "contact/base.py", "framework/pairs.py", "framework/kernel.py", "framework/held.py")
-
-
-def _cache_dir() -> str | None:
-    """numba's cache folder for this exact version of the compiled modules (None: numba's default).
-
-    Folders of earlier versions stay behind (a few MB each); delete ``pounding/__pycache__/numba-*``
-    to reclaim them."""
-    import hashlib
-
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    digest = hashlib.sha1()
-    try:
-        for rel in COMPILED_MODULES:
-            with open(os.path.join(root, rel), "rb") as fh:
-                digest.update(fh.read())
-    except OSError:  # pragma: no cover - a frozen or zipped install
-        return None
-    for base in (os.path.join(root, "__pycache__"), os.path.join(os.path.expanduser("~"), ".cache", "pounding")):
-        folder = os.path.join(base, "numba-" + digest.hexdigest()[:12])
-        try:
-            os.makedirs(folder, exist_ok=True)
-            if os.access(folder, os.W_OK):
-                return folder
-        except OSError:
-            continue
-    return None
-
-
-if _numba is not None and not os.environ.get("NUMBA_CACHE_DIR"):
-    _folder = _cache_dir()
-    if _folder is not None:
-        _numba.config.CACHE_DIR = _folder
-
-
-def njit(func):
-    """Compile ``func`` with ``numba.njit(cache=True)`` if numba imports, else return it.
-
-    In both cases the result has a ``py_func`` attribute with the pure-Python function.
-    """
-    if _numba is None:  # pragma: no cover
-        func.py_func = func
-        return func
-    out = _numba.njit(cache=True)(func)
-    if not hasattr(out, "py_func"):  # NUMBA_DISABLE_JIT=1 returns the function itself
-        out.py_func = out
-    return out
+from pounding.compiler import interpreted, njit  # noqa: F401 (njit re-exported for plugins)
 
 
 EPS_REL = 1e-12
@@ -755,17 +701,19 @@ def _candidates(A, B, eps):
     cap = k + l + nA + nB
     F = np.zeros((cap, 8))
     I = np.zeros((cap, 6), np.int64)
-    c, inB = _strike(B, A, 1, eps, F, I, 0)
-    c, inA = _strike(A, B, 0, eps, F, I, c)
+    # typed int64, not literals: each helper is compiled once, not once per constant
+    zero, one = np.int64(0), np.int64(1)
+    c, inB = _strike(B, A, one, eps, F, I, zero)
+    c, inA = _strike(A, B, zero, eps, F, I, c)
     npen = 0
     if nA > 0 or nB > 0 or inA or inB:  # interiors overlap
         fA = _entering_edges(A, nA, eA)
         fB = _entering_edges(B, nB, eB)
-        npen += _penetrate(B, A, 0, nB, eB, b0, b1, nA, fA, eps, F, I)
+        npen += _penetrate(B, A, zero, nB, eB, b0, b1, nA, fA, eps, F, I)
         npen += _penetrate(A, B, l, nA, eA, a0, a1, nB, fB, eps, F, I)
         if npen == 0:  # "plus sign": boundaries cross, no vertex inside
-            c = _midpoints(B, A, 1, nB, eB, b0, b1, nA, fA, eps, F, I, c)
-            c = _midpoints(A, B, 0, nA, eA, a0, a1, nB, fB, eps, F, I, c)
+            c = _midpoints(B, A, one, nB, eB, b0, b1, nA, fA, eps, F, I, c)
+            c = _midpoints(A, B, zero, nA, eA, a0, a1, nB, fB, eps, F, I, c)
     else:
         for r in range(k + l):
             I[r, _I_PEN] = 0
@@ -817,6 +765,13 @@ def signed_gap(A, B):
         if F[r, _F_GAP] < g:
             g = F[r, _F_GAP]
     return g
+
+
+def rest_gap(A, B) -> float:
+    """:func:`signed_gap` [m] of two polygons (k, 2), (l, 2) run interpreted: for one-off calls
+    from Python (a scene's slabs at rest), which would otherwise compile the gap (seconds)."""
+    with interpreted():
+        return float(signed_gap(np.ascontiguousarray(A, dtype=float), np.ascontiguousarray(B, dtype=float)))
 
 
 @njit

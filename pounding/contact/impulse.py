@@ -18,7 +18,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from pounding.contact.base import ContactLaw, newton_impulses
+from pounding.contact.base import AFTER_IMPACT, LOCATORS, ContactLaw, newton_impulses
 from pounding.errors import InputError
 
 
@@ -42,20 +42,21 @@ class Impulse(ContactLaw):
 
     name: ClassVar[str] = "impulse"
     kind: ClassVar[str] = "impulse"
+    #: impulses() is newton_impulses: the compiled core applies them itself (a subclass that
+    #: overrides impulses() must set this to False)
+    compiled_impulses: ClassVar[bool] = True
 
     def __init__(self, *, restitution: float = 0.5, locate: str = "halving", tolerance: float = 1e-4, after_impact: str = "keep"):
         super().__init__(restitution=restitution)
-        if locate not in ("halving", "root"):
+        if locate not in LOCATORS:
             raise InputError(f"expected 'halving' or 'root', got {locate!r}", field="locate")
         if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
             raise InputError(f"expected a length tolerance in (0, 1) m, got {tolerance!r}", field="tolerance")
-        if after_impact not in ("keep", "equilibrium"):
+        if after_impact not in AFTER_IMPACT:
             raise InputError(f"expected 'keep' or 'equilibrium', got {after_impact!r}", field="after_impact")
         self.locate = locate
         self.tolerance = float(tolerance)
         self.after_impact = after_impact
 
     def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:
-        # The compiled kernel applies these very impulses itself between Python steps
-        # (Driver: a law whose ``impulses`` is this method); override both or neither.
         return newton_impulses(W, b, self.restitution)

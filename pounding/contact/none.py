@@ -8,7 +8,7 @@ from pounding.contact.base import ContactLaw
 
 
 class NoContact(ContactLaw):
-    """Ignore contact altogether; no geometry is checked.
+    """Ignore contact altogether: no slab pair is watched, no contact code is loaded.
 
     Parameters
     ----------

@@ -22,11 +22,14 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
-from pounding.contact.geometry import njit
+from pounding.compiler import njit
+from pounding.framework.bundles import Status
 from pounding.framework.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.pairs import closing, features_of, pair_gap
 
-DONE, CONTACT, OVERLAP, RELEASED = 0, 1, 2, 3
+#: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
+#: and the driver share one specialization
+_DEEP = np.bool_(True)
 
 
 @njit
@@ -78,7 +81,7 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, geo):
     """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
 
     v_cut [m/s]: the largest opening speed of a pressed point that is rounding, not a rebound.
@@ -177,7 +180,7 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, pa, pb, ro
     D = grow[:, 0].copy()
     found = False
     for attempt in range(4):
-        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
         found = True
         m = g1f.shape[0]
         if m == 0:
@@ -274,24 +277,27 @@ def stop_closing(z, W, v_min):
 
 
 @njit
-def held_stretch(
-    A, B, L, c2, om2, dt, ag, z, fc, held_mask, k0, k1, every, Q, V, E, GA, GB, gc, gw, WA1, WA2, WM, bidx,
-    tol, overlap, v_min, slab_building, peak, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis,
-):
+def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
-    Arrays as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
+    Bundles as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
     current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
     Each step: :func:`stop_closing` (its kinetic-energy change booked as contact work),
     :func:`held_step`, then the same checks as the driver's Python step.
 
-    Returns (k, status, pair): the grid index reached and
-    DONE (k1 reached), RELEASED (every held pair let go at the end of step k - 1),
-    OVERLAP (a free pair would overlap in step k: the state and the energy account are
-    as at its start) or CONTACT (a free pair touches and closes at the end of step k - 1).
+    Returns (k, status, pair): the grid index reached and a
+    :class:`~pounding.framework.bundles.Status`: DONE (k1 reached), RELEASED (every held
+    pair let go at the end of step k - 1), OVERLAP (a free pair would overlap in step k: the
+    state and the energy account are as at its start) or CONTACT (a free pair touches and
+    closes at the end of step k - 1).
     """
+    A, B = tr.A, tr.B
+    L, c2, om2, bidx = modes.L, modes.c2, modes.om2, modes.bidx
+    dt, ag = ground.dt, ground.ag
+    E = rec.E
+    tol, overlap, v_min = settings.tol, settings.overlap, settings.v_min
     n = z.shape[0]
-    P = pa.shape[0]
+    P = geo.pa.shape[0]
     g0 = np.empty(n)
     g1 = np.empty(n)
     have = False  # start features known (the last step's end features)
@@ -300,39 +306,39 @@ def held_stretch(
     for k in range(k0, k1):
         held = np.nonzero(held_mask)[0]
         if not have:
-            _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, True, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+            _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
         v_before = z[:, 1].copy()
         E_before = E.copy()
         stop_closing(z, WS, v_min)
-        book_velocity_change(E, bidx, v_before, z[:, 1])
+        book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
-        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, geo)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
-            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) < overlap:
+            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, geo) < overlap:
                 # back to the step's start as it was: the driver's Python step stops and books anew
                 for i in range(n):
                     z[i, 1] = v_before[i]
                 E[:, :] = E_before
-                return k, OVERLAP, p
-        book_velocity_change(E, bidx, z[:, 1], z0[:, 1])  # pressed points' start velocity projected (held_step)
-        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
+                return k, Status.OVERLAP, p
+        book_velocity_change(E, bidx, z[:, 1].copy(), z0[:, 1].copy())  # pressed points' start velocity projected (held_step)
+        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
         for i in range(n):
             z[i, 0] = z1[i, 0]
             z[i, 1] = z1[i, 1]
             z[i, 2] = z1[i, 2]
             fc[i] = f1[i]
-        if every > 1:
-            update_peaks(rows, z[:, 0], n_modes, slab_building, peak)
-        _record(z, k + 1, every, Q, V)
+        if rec.every > 1:
+            update_peaks(geo.rows, z[:, 0], geo.n_modes, modes.slab_building, rec.peak)
+        _record(z, k + 1, rec)
         # release the held pairs that opened beyond the tolerance
         q = z[:, 0].copy()
         any_held = False
         for p in range(P):
             if held_mask[p]:
-                if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) > tol:
+                if pair_gap(q, p, tol, geo) > tol:
                     held_mask[p] = False
                     have = False  # the held set changed
                 else:
@@ -341,10 +347,8 @@ def held_stretch(
         for p in range(P):
             if held_mask[p]:
                 continue
-            if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) <= tol and closing(
-                q, z[:, 1], p, tol, v_min, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis
-            ):
-                return k + 1, CONTACT, p
+            if pair_gap(q, p, tol, geo) <= tol and closing(q, z[:, 1].copy(), p, tol, v_min, n, geo):
+                return k + 1, Status.CONTACT, p
         if not any_held:
-            return k + 1, RELEASED, -1
-    return k1, DONE, -1
+            return k + 1, Status.RELEASED, -1
+    return k1, Status.DONE, -1

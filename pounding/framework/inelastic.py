@@ -582,6 +582,9 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
     if an.contact != "none" and len(scene.buildings) > 1:
         raise InputError("pounding with yielding storeys is not available yet: set contact = \"none\"", field="analysis.contact")
     gm = scene.ground_motion
+    if len(gm.components) != 1:
+        raise InputError("yielding storeys under two ground-motion components are not available yet: "
+                         "give one component (record = ...)", field="ground_motion.components")
     dt = float(an.dt or gm.dt or 0.01)
     duration = float(an.duration or gm.duration)
     nsteps = max(1, int(np.ceil(duration / dt - 1e-9)))

@@ -4,25 +4,29 @@
 transition, records the state at the output rate, accumulates the energy
 terms, and after each step checks the slab pairs that could touch: first a
 cheap lower bound on their clear distance, then the exact signed gap only
-when that bound is below the tolerance. It stops at the first step that ends
-with a pair within the tolerance (status 1: the state is the end of that
-step) or overlapping (status 2: the state is rolled back to the start of that
-step), so that the Python driver can locate the impact.
+when that bound is below the tolerance. A step that ends with a pair within
+the tolerance and closing gets Newton impulses right there (:func:`impulses_at`,
+when the law declares them compiled) or stops the kernel (``Status.CONTACT``:
+the state is the end of that step); a step that ends overlapping stops it with
+the state rolled back to the step's start (``Status.OVERLAP``), so that the
+driver can locate the impact. :func:`advance_free` is the same stepping with no
+pair to watch (contact off): it compiles and loads no contact code.
 
-The same function runs compiled by numba (cache on, so a second process
-starts warm) or as plain Python over numpy arrays when numba is missing; the
-arithmetic is identical.
+The entry points take the bundles of :mod:`pounding.framework.bundles`. The same
+functions run compiled by numba (:mod:`pounding.compiler`, cache on, so a second
+process starts warm) or as plain Python over numpy arrays when numba is missing;
+the arithmetic is identical.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from pounding.compiler import njit
 from pounding.contact.base import newton_lcp
-from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, njit, signed_gap
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
+from pounding.framework.bundles import Status
 from pounding.framework.pairs import closing, pair_features, pair_gap
-
-DONE, CONTACT, OVERLAP, HELD = 0, 1, 2, 4
 
 
 @njit
@@ -36,113 +40,62 @@ def _slab_dofs(rows, q, out):
 
 
 @njit
-def advance(
-    A, B, L, c2, dt, ag, z, k0, k1, every, Q, V, E, GA, GB, gc, gw, WA1, WA2, WM,
-    bidx, pair_a, pair_b, rows, off, n_modes,
-    verts, nvert, centres, radii, rest_gap, axis, tol, overlap, v_min, slab_building, peak,
-    restitution, after_eq, om2, imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
-):
-    """Advance z from step k0 towards k1 (exclusive of events).
+def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
+    """Advance z from grid index k0 towards k1 (exclusive of events).
 
     Parameters
     ----------
-    A : (n, 3, 3), B : (n, 3, 2)
-        Per-mode transition for the grid step dt.
-    L : (n, c)
-        Modal load per unit ground acceleration of each of the c components:
-        p_i = -sum_j L[i, j] ag[k, j].
-    c2 : (n,)
-        Modal damping 2 zeta omega [1/s].
-    dt : float
-        Grid step [s].
-    ag : (nsteps + 1, c)
-        Ground acceleration of each component on the grid [m/s^2].
+    tr : Transition
+        The integrator's per-mode step of the grid step and its energy rule.
+    modes : Modes
+        Modal load L (n, c), damping 2 zeta omega, omega^2, building of every mode and slab.
+    ground : Ground
+        Grid step dt [s] and ground acceleration ag (nsteps + 1, c) [m/s^2].
     z : (n, 3)
         Modal state (q, q', q''), updated in place.
     k0, k1 : int
         First and last grid index.
-    every : int
-        Output rate: the state at grid index k is stored in Q[k // every] when k % every == 0.
-    Q, V : (n_out, n)
-        Recorded modal displacements and velocities.
-    E : (n_buildings, 3)
-        Accumulated ground-motion work and damping work [J] (column 2, contact-force
-        work, is the driver's).
-    GA, GB : (nq, n, 3, 3), (nq, n, 3, 2)
-        Transitions from the step start to the quadrature points c_j dt (nq = 0:
-        trapezoidal rule on step-end values).
-    gc, gw : (nq,)
-        Quadrature points and weights on [0, 1].
-    WA1, WA2 : (n, 4), WM : (n, 4, 4)
-        Closed-form work integrals of the step when the integrator has them (``work_maps``;
-        shape (0, ...) otherwise): with x = (q0, q'0, p0, p1), int q' = WA1 x,
-        int s q' = WA2 x, int q'^2 = x WM x.
-    bidx : (n,) int
-        Building of every mode. The remaining arrays describe the slab pairs
-        that share a level: ``pair_a``/``pair_b`` (P, 2) = (building, storey),
-        ``rows`` (S, 3, nmax) the Phi rows of slab s (slab index =
-        ``off[building] + storey``), ``n_modes`` (n_buildings,) with
-        the first mode index of each building in ``n_modes[:, 0]`` and the
-        count in ``n_modes[:, 1]``, ``verts`` (S, kmax, 2) rest polygons,
-        ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,), ``rest_gap`` (P,), and
-        ``axis`` (P, 2) the unit direction of the closest points at rest (see
-        :mod:`pounding.framework.pairs`).
-    tol : float
-        Contact tolerance [m]: a step ending with a gap <= tol is reported.
-    overlap : float
-        Gap [m] below which a step is rejected: -tol for impulse laws (touching within
-        the tolerance is contact), 0 for force laws (any penetration needs the force).
-    v_min : float
-        Closing speed [m/s] below which a touching point is not approaching (rounding).
-    slab_building : (S,) int, peak : (S, 3)
-        Building of every slab, and the running peak |u|, |v|, |phi| of every slab,
-        updated at every step when the output is thinned (every > 1).
+    rec : Recorder
+        Recorded modal displacements and velocities, the energy account (ground-motion and
+        damping work; column 2, contact-force work, is the driver's), and the running slab
+        peaks, updated at every step when the output is thinned (every > 1).
+    geo : PairArrays
+        The slab pairs that could touch (none: no contact check).
+    settings : Settings
+        Tolerance, overlap threshold, rounding speed v_min; with ``restitution`` >= 0 the
+        kernel applies Newton impulses itself (:func:`impulses_at`) and runs on, with -1
+        it stops for the driver.
+    log : EventLog
+        Impacts and event states the kernel appends; ``zeno`` is set for a pair whose
+        rebound is too slow to open the tolerance in a step (the kernel stops: HELD).
 
     A step ending with a pair within the tolerance stops the kernel only if a touching
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
     the driver's contact step takes, so a pair separating after an impact runs on.
-
-    restitution : float
-        With a law whose impulses are Newton's (:func:`~pounding.contact.base.newton_impulses`
-        with this restitution), the kernel applies the impulses of such a step itself, as the
-        driver would (:func:`impulses_at`), and runs on; -1 leaves them to the driver.
-    after_eq : bool
-        After impulses, reset the accelerations to equilibrium (``after_impact = "equilibrium"``).
-    om2 : (n,)
-        omega^2 [1/s^2].
-    imp : (cap, 11), imp_n : (1,) int
-        Impact records the kernel appends (see :func:`impulses_at`) and their count.
-    ev_t : (cape,), ev_q, ev_v : (cape, n), ev_n : (1,) int
-        The states just before the impulses of each impact instant, and their count.
-    zeno : (P,) bool
-        Set for a pair whose rebound is too slow to open the tolerance in a step: the
-        kernel stops (status HELD) so that the driver holds it in sustained contact.
+    A step ending with a pair below ``overlap`` is rolled back to its start.
 
     Returns
     -------
-    (k, status, pair) : the grid index reached, DONE/CONTACT/OVERLAP/HELD, the pair index (or -1).
+    (k, status, pair) : the grid index reached, a :class:`~pounding.framework.bundles.Status`
+    (DONE, CONTACT, OVERLAP or HELD), the pair index (or -1).
     """
+    A, B = tr.A, tr.B
+    L = modes.L
+    dt, ag = ground.dt, ground.ag
+    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
+    tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
     n = z.shape[0]
     z0 = np.empty((n, 3))
     da = np.empty(3)
     db = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
+    free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
     for k in range(k0, k1):
-        for i in range(n):
-            z0[i, 0] = z[i, 0]
-            z0[i, 1] = z[i, 1]
-            z0[i, 2] = z[i, 2]
-        a0 = ag[k]
-        a1 = ag[k + 1]
-        for i in range(n):
-            p0 = modal_load(L, i, a0)
-            p1 = modal_load(L, i, a1)
-            for r in range(3):
-                z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
+        _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
         # contact check on the pairs that could touch; a rejected step books no energy.
         # The cascade of pairs.pair_gap written out: a call per pair and step, with its many
         # array arguments, costs more than the check itself (0.8 -> 1.4 us/step measured).
-        status = DONE
+        status = Status.DONE
         hit = -1
         for p in range(pair_a.shape[0]):
             sa = off[pair_a[p, 0]] + pair_a[p, 1]
@@ -163,51 +116,103 @@ def advance(
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
-                return k, OVERLAP, p
-            if g <= tol and status == DONE and closing(
-                z[:, 0], z[:, 1], p, tol, v_min, n, pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis
-            ):
+                return k, Status.OVERLAP, p
+            if g <= tol and status == Status.DONE and closing(z[:, 0].copy(), z[:, 1].copy(), p, tol, v_min, n, geo):
                 # keep checking the other pairs: one of them may overlap in this same step
-                status = CONTACT
+                status = Status.CONTACT
                 hit = p
-        _accumulate_forces(A, B, L, c2, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, GA, GB, gc, gw, WA1, WA2, WM, bidx)
+        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
         held = False
-        if status == CONTACT:
+        if status == Status.CONTACT:
             P = pair_a.shape[0]
-            if restitution < 0 or imp_n[0] + P * MAX_FEATURES > imp.shape[0] or ev_n[0] >= ev_t.shape[0]:
-                _record(z, k + 1, every, Q, V)  # the driver applies the impulses and records again
-                return k + 1, CONTACT, hit
-            held = impulses_at((k + 1) * dt, ag[k + 1], z, L, c2, om2, restitution, after_eq, tol, v_min, dt,
-                               imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
-                               pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis)
-        if every > 1:
-            update_peaks(rows, z[:, 0], n_modes, slab_building, peak)
-        _record(z, k + 1, every, Q, V)
+            if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
+                _record(z, k + 1, rec)  # the driver applies the impulses and records again
+                return k + 1, Status.CONTACT, hit
+            _, held = impulses_at((k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
+        if rec.every > 1:
+            update_peaks(rows, z[:, 0], n_modes, modes.slab_building, rec.peak)
+        _record(z, k + 1, rec)
         if held:
-            return k + 1, HELD, -1
-    return k1, DONE, -1
+            return k + 1, Status.HELD, -1
+    return k1, Status.DONE, -1
 
 
 @njit
-def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp, imp_n, ev_t, ev_q, ev_v, ev_n, zeno,
-                pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
-    """Newton impulses at time t [s] on every touching, approaching pair: the driver's contact step
-    (``Driver.contact_at``) for a law whose impulses are :func:`~pounding.contact.base.newton_impulses`.
+def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
+    """:func:`advance` without slab pairs (contact off): grid steps k0 -> k1 with the same
+    arithmetic and records, and no contact code compiled or loaded (``geo`` gives only the slabs'
+    Phi rows, for their peaks). Returns (k1, DONE, -1)."""
+    A, B = tr.A, tr.B
+    dt, ag = ground.dt, ground.ag
+    n = z.shape[0]
+    z0 = np.empty((n, 3))
+    no_force = np.zeros(n)
+    for k in range(k0, k1):
+        _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
+        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
+        if rec.every > 1:
+            update_peaks(geo.rows, z[:, 0], geo.n_modes, modes.slab_building, rec.peak)
+        _record(z, k + 1, rec)
+    return k1, Status.DONE, -1
+
+
+@njit
+def _free_step(A, B, L, ag0, ag1, z0, z):
+    """One step of every mode: z0 <- z, then z = A z0 + B[:, :, 0] p0 + B[:, :, 1] p1 with the
+    modal ground loads p0, p1 at the step's ends (ag0, ag1 (c,))."""
+    n = z.shape[0]
+    for i in range(n):
+        z0[i, 0] = z[i, 0]
+        z0[i, 1] = z[i, 1]
+        z0[i, 2] = z[i, 2]
+    for i in range(n):
+        p0 = modal_load(L, i, ag0)
+        p1 = modal_load(L, i, ag1)
+        for r in range(3):
+            z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
+
+
+@njit
+def modal_load(L, i, ag):
+    """Modal ground-motion load of mode i, p_i = -sum_j L[i, j] ag[j], for L (n, c) and ag (c,).
+
+    Written as sum_j L[i, j] (-ag[j]) starting from the first term, so that with one
+    component it is L[i, 0] * -ag[0] to the bit."""
+    p = L[i, 0] * -ag[0]
+    for j in range(1, L.shape[1]):
+        p += L[i, j] * -ag[j]
+    return p
+
+
+@njit
+def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
+    """Newton impulses at time t [s] on every touching, approaching pair among ``candidates``
+    (P,) bool that is not held: the contact step of a law whose impulses are
+    :func:`~pounding.contact.base.newton_lcp` with ``settings.restitution``.
+
+    The one implementation of impulses at an instant: the kernel calls it after a step that
+    ends in contact, the driver's Python path (``Driver.contact_at``) for laws that declare
+    ``compiled_impulses``. ag (c,) is the ground acceleration at t and fc (n,) the modal contact
+    force acting (held pairs), for the equilibrium accelerations of ``after_eq``.
 
     Pairs are taken in order, each with the velocities the previous ones left. Each impact
-    appends a row (t, pair, striker, vertex, impulse, nx, ny, b, energy loss, Qx, Qy) to imp;
-    the state before the first impulse at t goes to ev_*. Returns True if a pair's rebound is
-    too slow to open the tolerance within one step (zeno is set for it). ag (c,) is the ground
-    acceleration of every component at t.
+    appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to ``log.impacts``;
+    the state before the first impulse at t goes to the log's event states unless the last
+    one recorded (``log.last_t``) is already at t. Returns (acted, zeno): whether an impulse acted, and whether
+    a pair's rebound is too slow to open the tolerance within one step (``log.zeno`` is set
+    for it).
     """
+    tol, v_min = settings.tol, settings.v_min
     n = z.shape[0]
     q = z[:, 0].copy()
     held = False
-    recorded = False
-    for p in range(pa.shape[0]):
-        if pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis) > tol:
+    acted = False
+    for p in range(candidates.shape[0]):
+        if not candidates[p]:
             continue
-        count, Qp, Np, _, who, idx, face, Wp = pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        if pair_gap(q, p, tol, geo) > tol:
+            continue
+        count, Qp, Np, _, who, idx, face, Wp = pair_features(q, p, tol, n, geo)
         if count == 0:
             continue
         W = Wp[:count].copy()
@@ -218,44 +223,49 @@ def impulses_at(t, ag, z, L, c2, om2, restitution, after_eq, tol, v_min, dt, imp
             if b[j] > 0.0 and b[j] <= v_min:
                 b[j] = 0.0
         D = W @ W.T
-        I = newton_lcp(D, b, restitution)
+        I = newton_lcp(D, b, settings.restitution)
         if not np.any(I > 0):
             continue
         after = b - D @ I
-        if not recorded:
-            j = ev_n[0]
-            ev_t[j] = t
+        if log.last_t[0] != t:
+            ne = log.n_events[0]
+            log.t[ne] = t
             for i in range(n):
-                ev_q[j, i] = z[i, 0]
-                ev_v[j, i] = z[i, 1]
-            ev_n[0] += 1
-            recorded = True
+                log.q[ne, i] = z[i, 0]
+                log.v[ne, i] = z[i, 1]
+            log.n_events[0] += 1
+            log.last_t[0] = t
+        acted = True
         dv = W.T @ I
         for i in range(n):
             z[i, 1] += dv[i]
-        if after_eq:
+        if settings.after_eq:
             for i in range(n):
-                z[i, 2] = modal_load(L, i, ag) - c2[i] * z[i, 1] - om2[i] * z[i, 0]
+                z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
         for j in range(count):
             if I[j] > 0:
-                r = imp_n[0]
-                imp[r, 0] = t
-                imp[r, 1] = p
-                imp[r, 2] = who[j]
-                imp[r, 3] = -1 if face[j] >= 0 else idx[j]
-                imp[r, 4] = I[j]
-                imp[r, 5] = Np[j, 0]
-                imp[r, 6] = Np[j, 1]
-                imp[r, 7] = b[j]
-                imp[r, 8] = 0.5 * I[j] * (b[j] + after[j])
-                imp[r, 9] = Qp[j, 0]
-                imp[r, 10] = Qp[j, 1]
-                imp_n[0] += 1
-        # Zeno: a rebound too slow to open the tolerance within one step (see Driver.contact_at)
+                r = log.n_impacts[0]
+                rec = log.impacts[r]
+                rec["time"] = t
+                rec["pair"] = p
+                rec["striker"] = who[j]
+                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
+                rec["impulse"] = I[j]
+                rec["nx"] = Np[j, 0]
+                rec["ny"] = Np[j, 1]
+                rec["approach_velocity"] = b[j]
+                rec["energy_loss"] = 0.5 * I[j] * (b[j] + after[j])
+                rec["px"] = Qp[j, 0]
+                rec["py"] = Qp[j, 1]
+                log.n_impacts[0] += 1
+        # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
+        # of ever smaller impacts that accumulates in finite time and ends with the points
+        # moving together, all their closing kinetic energy lost. The pair is held: its next
+        # approach is stopped plastically (the sequence's limit), see held.stop_closing.
         if np.max(b) * dt < tol:
-            zeno[p] = True
+            log.zeno[p] = True
             held = True
-    return held
+    return acted, held
 
 
 @njit
@@ -276,46 +286,35 @@ def _pair_gap(va, ca, da, vb, cb, db):
 
 
 @njit
-def _record(z, k, every, Q, V):
-    if k % every == 0:
-        j = k // every
+def _record(z, k, rec):
+    if k % rec.every == 0:
+        j = k // rec.every
         for i in range(z.shape[0]):
-            Q[j, i] = z[i, 0]
-            V[j, i] = z[i, 1]
+            rec.Q[j, i] = z[i, 0]
+            rec.V[j, i] = z[i, 1]
 
 
 @njit
-def modal_load(L, i, a):
-    """Modal ground load of mode i, -sum_j L[i, j] a[j], for component accelerations a (c,).
+def _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E):
+    """Add a step of dt [s] to E (n_buildings, 3): ground-motion work (column 0), damping (1) and
+    the work of the modal contact forces f0 -> f1 (n,) at its ends, linear in between (2). The
+    forces drive the velocity too. ag0, ag1 (c,) are the ground accelerations at the ends.
 
-    The sum starts from the first component's product, so one component gives exactly
-    -(L[i, 0] a[0]) (= L[i, 0] (-a[0]) in IEEE arithmetic).
+    Three rules, by what the integrator offers (``tr``): closed-form integrals on its
+    trajectory (WA1, WA2, WM: with x = (q0, q'0, p0, p1), int q' = WA1 x, int s q' = WA2 x,
+    int q'^2 = x WM x), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule on the
+    step-end velocities (no points: average acceleration's exact identity).
     """
-    s = L[i, 0] * a[0]
-    for j in range(1, a.shape[0]):
-        s += L[i, j] * a[j]
-    return -s
-
-
-@njit
-def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, gw, WA1, WA2, WM, bidx):
-    """Add a step's work to E: ground motion (column 0), damping (1) and the modal contact
-    forces f0 -> f1 (n,) at its ends, linear in between (2). The forces drive the velocity too.
-
-    ag0, ag1 (c,) are the component accelerations at the step's ends; L (n, c).
-    Three rules, by what the integrator offers: closed-form integrals on its trajectory
-    (WA1, WA2, WM, see advance), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule
-    on the step-end velocities (nq = 0: average acceleration's exact identity).
-    """
+    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr
+    L, c2, bidx = modes.L, modes.c2, modes.bidx
     n = z.shape[0]
-    c = ag0.shape[0]
     nq = gc.shape[0]
     maps = WA1.shape[0] > 0
     x = np.empty(4)
     for i in range(n):
+        g0 = modal_load(L, i, ag0)
+        g1 = modal_load(L, i, ag1)
         if maps:
-            g0 = modal_load(L, i, ag0)
-            g1 = modal_load(L, i, ag1)
             x[0] = z0[i, 0]
             x[1] = z0[i, 1]
             x[2] = g0 + f0[i]
@@ -333,19 +332,34 @@ def _accumulate_forces(A, B, L, c2, dt, ag0, ag1, z0, z, f0, f1, E, GA, GB, gc, 
             E[bidx[i], 2] += f0[i] * iv0 + (f1[i] - f0[i]) / dt * iv1
         elif nq == 0:
             vm = 0.5 * (z0[i, 1] + z[i, 1])
-            for j in range(c):
-                E[bidx[i], 0] += dt * vm * 0.5 * L[i, j] * (-ag0[j] + -ag1[j])
+            E[bidx[i], 0] += _load_sum(dt * vm * 0.5, L, i, ag0, ag1)
             E[bidx[i], 1] += dt * c2[i] * vm * vm
             E[bidx[i], 2] += dt * vm * 0.5 * (f0[i] + f1[i])
         else:
-            g0 = modal_load(L, i, ag0)
             for j in range(nq):
-                pj = L[i, 0] * (-ag0[0] + gc[j] * (-ag1[0] - -ag0[0]))
-                for m in range(1, c):
-                    pj += L[i, m] * (-ag0[m] + gc[j] * (-ag1[m] - -ag0[m]))
+                pj = _load_between(L, i, ag0, ag1, gc[j])
                 fj = f0[i] + gc[j] * (f1[i] - f0[i])
                 vj = (GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2]
                       + GB[j, i, 1, 0] * (g0 + f0[i]) + GB[j, i, 1, 1] * (pj + fj))
                 E[bidx[i], 0] += dt * gw[j] * vj * pj
                 E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
                 E[bidx[i], 2] += dt * gw[j] * vj * fj
+
+
+@njit
+def _load_sum(x, L, i, ag0, ag1):
+    """x (p_i(0) + p_i(1)) written as sum_j (x L[i, j]) (-ag0[j] + -ag1[j]) (with one component,
+    to the bit the trapezoidal rule's x L (p0 + p1))."""
+    s = x * L[i, 0] * (-ag0[0] + -ag1[0])
+    for j in range(1, L.shape[1]):
+        s += x * L[i, j] * (-ag0[j] + -ag1[j])
+    return s
+
+
+@njit
+def _load_between(L, i, ag0, ag1, c):
+    """p_i at the fraction c of a step, sum_j L[i, j] (p0_j + c (p1_j - p0_j)) with p = -ag."""
+    s = L[i, 0] * (-ag0[0] + c * (-ag1[0] - -ag0[0]))
+    for j in range(1, L.shape[1]):
+        s += L[i, j] * (-ag0[j] + c * (-ag1[j] - -ag0[j]))
+    return s

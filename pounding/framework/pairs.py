@@ -4,7 +4,8 @@ The driver asks these questions many times per contact event (every trial step
 of an impact search, every held step), so each is one compiled call over flat
 arrays rather than a chain of small numpy operations. The arrays are the
 stacked modal model's (:class:`~pounding.framework.analysis.Model`), packed
-once into :class:`PairArrays`:
+once into :class:`~pounding.framework.bundles.PairArrays` (``geo``), which every function
+takes as one argument:
 
 ``pa``, ``pb`` (P, 2) int
     (building, storey) of the two slabs of every pair.
@@ -28,27 +29,11 @@ without numba, as plain Python with the same arithmetic.
 
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 
-from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, njit, signed_gap
-
-
-class PairArrays(NamedTuple):
-    """The flat arrays describing every slab pair (see the module docstring)."""
-
-    pa: np.ndarray
-    pb: np.ndarray
-    rows: np.ndarray
-    off: np.ndarray
-    n_modes: np.ndarray
-    verts: np.ndarray
-    nvert: np.ndarray
-    centres: np.ndarray
-    radii: np.ndarray
-    rest: np.ndarray
-    axis: np.ndarray
+from pounding.compiler import njit
+from pounding.framework.bundles import PairArrays  # noqa: F401 (the bundle these functions take)
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
 
 
 @njit
@@ -65,7 +50,7 @@ def slab_dofs(rows, off, n_modes, building, storey, x, out):
 
 
 @njit
-def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def pair_gap(q, p, cutoff, geo):
     """Signed gap [m] of pair p for modal displacements q (n,).
 
     With a finite ``cutoff``, a cheap lower bound is returned whenever it already
@@ -75,12 +60,13 @@ def pair_gap(q, p, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, ra
     that compare the gap with thresholds <= cutoff get the same answers without the
     polygon test. Pass ``np.inf`` for the exact gap.
     """
-    return pair_gap_into(q, p, cutoff, np.empty(3), np.empty(3), pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+    return pair_gap_into(q, p, cutoff, np.empty(3), np.empty(3), geo)
 
 
 @njit
-def pair_gap_into(q, p, cutoff, da, db, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def pair_gap_into(q, p, cutoff, da, db, geo):
     """:func:`pair_gap` with scratch arrays da, db (3,) for the slabs' (u, v, phi), for hot loops."""
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
     slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q, da)
     slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q, db)
     sa = off[pa[p, 0]] + pa[p, 1]
@@ -98,16 +84,16 @@ def pair_gap_into(q, p, cutoff, da, db, pa, pb, rows, off, n_modes, verts, nvert
 
 
 @njit
-def pair_gaps(q, plist, cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def pair_gaps(q, plist, cutoff, geo):
     """Gaps [m] (m,) of the pairs ``plist`` (m,) int; lower bounds where they exceed ``cutoff``."""
     out = np.empty(plist.shape[0])
     for j in range(plist.shape[0]):
-        out[j] = pair_gap(q, plist[j], cutoff, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        out[j] = pair_gap(q, plist[j], cutoff, geo)
     return out
 
 
 @njit
-def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def pair_features(q, p, tol, n, geo):
     """Touching features of pair p within ``tol`` of its smallest gap, with their modal rows.
 
     Returns
@@ -126,6 +112,7 @@ def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centre
         Modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
         apart changes q' by W[k] I_k.
     """
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
     da = np.empty(3)
     db = np.empty(3)
     a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
@@ -138,24 +125,52 @@ def pair_features(q, p, tol, n, pa, pb, rows, off, n_modes, verts, nvert, centre
     count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
     W = np.zeros((MAX_FEATURES, n))
     for k in range(count):
-        for side in range(2):
-            if side == 0:
-                sign, bld, s, d = -1.0, a, sa, da
-            else:
-                sign, bld, s, d = 1.0, b, sb, db
-            rx = Q[k, 0] - (centres[s, 0] + d[0])
-            ry = Q[k, 1] - (centres[s, 1] + d[1])
-            g0 = N[k, 0]
-            g1 = N[k, 1]
-            g2 = rx * N[k, 1] - ry * N[k, 0]
-            i0 = n_modes[bld, 0]
-            for i in range(n_modes[bld, 1]):
-                W[k, i0 + i] += sign * (rows[s, 0, i] * g0 + rows[s, 1, i] * g1 + rows[s, 2, i] * g2)
+        contact_row(geo, a, sa, da, b, sb, db, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
     return count, Q, N, gap, who, idx, face, W
 
 
 @njit
-def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def contact_row(geo, a, sa, da, b, sb, db, qx, qy, nx, ny, w):
+    """Add the modal row of a contact at (qx, qy) [m] with unit normal (nx, ny) from slab a to
+    slab b into w (n,): d gap = w . dq, and an impulse pair I pushing the slabs apart changes q'
+    by w I. Slabs a, b (building, slab index) are displaced by da, db (3,) = (u, v, phi).
+
+    The one implementation of the row: the compiled pair queries and the driver's
+    :meth:`~pounding.framework.analysis.Model.row` both call it.
+    """
+    rows, n_modes, centres = geo.rows, geo.n_modes, geo.centres
+    for side in range(2):
+        if side == 0:
+            sign, bld, s, d = -1.0, a, sa, da
+        else:
+            sign, bld, s, d = 1.0, b, sb, db
+        rx = qx - (centres[s, 0] + d[0])
+        ry = qy - (centres[s, 1] + d[1])
+        g0 = nx
+        g1 = ny
+        g2 = rx * ny - ry * nx
+        i0 = n_modes[bld, 0]
+        for i in range(n_modes[bld, 1]):
+            w[i0 + i] += sign * (rows[s, 0, i] * g0 + rows[s, 1, i] * g1 + rows[s, 2, i] * g2)
+
+
+@njit
+def pair_row(q, p, qx, qy, nx, ny, geo):
+    """The modal row (n,) of a contact of pair p at (qx, qy) with normal (nx, ny), for modal
+    displacements q (n,) (see :func:`contact_row`)."""
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    da = np.empty(3)
+    db = np.empty(3)
+    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
+    slab_dofs(rows, off, n_modes, a, fa, q, da)
+    slab_dofs(rows, off, n_modes, b, fb, q, db)
+    w = np.zeros(q.shape[0])
+    contact_row(geo, a, off[a] + fa, da, b, off[b] + fb, db, qx, qy, nx, ny, w)
+    return w
+
+
+@njit
+def features_of(q, plist, tol, deep, n, geo):
     """Touching features of several pairs, stacked: (pair, gap, W) of every feature.
 
     A pair is searched when its gap is within ``tol``; with ``deep`` the search
@@ -175,11 +190,11 @@ def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert
     m = 0
     for j in range(plist.shape[0]):
         p = plist[j]
-        g = pair_gap(q, p, tol, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        g = pair_gap(q, p, tol, geo)
         if g >= tol:
             continue
         t = max(tol, tol - g) if deep else tol
-        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis)
+        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, geo)
         for k in range(count):
             pair[m] = p
             gaps[m] = gp[k]
@@ -191,7 +206,7 @@ def features_of(q, plist, tol, deep, n, pa, pb, rows, off, n_modes, verts, nvert
 
 
 @njit
-def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def stepped_min_gap(A, B, z, p0, p1, plist, geo):
     """Smallest gap [m] of the pairs ``plist`` after one step z1 = A z + B[:, :, 0] p0 + B[:, :, 1] p1.
 
     A (n, 3, 3), B (n, 3, 2): the step's per-mode transition; z (n, 3) the start state;
@@ -203,7 +218,7 @@ def stepped_min_gap(A, B, z, p0, p1, plist, pa, pb, rows, off, n_modes, verts, n
         q1[i] = A[i, 0, 0] * z[i, 0] + A[i, 0, 1] * z[i, 1] + A[i, 0, 2] * z[i, 2] + B[i, 0, 0] * p0[i] + B[i, 0, 1] * p1[i]
     g = np.inf
     for j in range(plist.shape[0]):
-        g = min(g, pair_gap(q1, plist[j], np.inf, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis))
+        g = min(g, pair_gap(q1, plist[j], np.inf, geo))
     return g
 
 
@@ -217,10 +232,11 @@ def rest_axis(A: np.ndarray, B: np.ndarray, rest_gap: float) -> np.ndarray:
 
 
 @njit
-def closing(q, v, p, tol, v_min, n, pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis):
+def closing(q, v, p, tol, v_min, n, geo):
     """Whether a touching point of pair p (within ``tol``) closes faster than v_min [m/s],
     n . (v_Q(a) - v_Q(b)) > v_min with n from a to b, for modal displacements q and
     velocities v (n,): the velocity condition of an impact (eq. 7 of the paper)."""
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
     da = np.empty(3)
     db = np.empty(3)
     va = np.empty(3)

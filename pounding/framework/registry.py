@@ -6,8 +6,12 @@ packages announce through a Python entry-point group
 ``pounding.hysteresis``).
 Entry points are read once, lazily, on the first lookup. A plugin is checked
 when it is loaded (it must subclass the family's base class and carry a
-``name``), not in the middle of a run. A plugin that fails to import gives a
-warning and is left out; two plugins with one name are reported.
+``name``, and satisfy its base class's ``check_contract()`` when it has one), not in
+the middle of a run. A broken plugin (it fails to import, is not a subclass, its
+``name`` disagrees with its registration, or it breaks its family's contract) is
+reported when it is looked up, as an :class:`~pounding.errors.InputError` naming it
+and what is wrong (exit code 2 on the command line); the other plugins are unaffected.
+Two plugins with one name give a warning.
 
 Lookup accepts a registered name or the class itself, as
 ``scipy.integrate.solve_ivp(method=...)`` does.
@@ -98,6 +102,12 @@ class Registry(Generic[T]):
             raise InputError(
                 f"{self.kind} registered as {name!r} declares name={getattr(obj, 'name', None)!r}; they must agree"
             )
+        check = getattr(obj, "check_contract", None)
+        if check is not None:
+            try:
+                check()
+            except TypeError as exc:
+                raise InputError(f"{self.kind} {name!r}: {exc}") from exc
 
     # -- lookup ------------------------------------------------------------------
     def get(self, name_or_class: str | type, *, field: str | None = None) -> type:

@@ -48,6 +48,12 @@ class Impact:
     energy_loss: float
     point: np.ndarray
 
+    @classmethod
+    def from_record(cls, r) -> "Impact":
+        """From a record of :data:`~pounding.framework.bundles.IMPACT_DTYPE`."""
+        return cls(float(r["time"]), int(r["pair"]), int(r["striker"]), int(r["vertex"]), float(r["impulse"]),
+                   np.array([r["nx"], r["ny"]]), float(r["approach_velocity"]), float(r["energy_loss"]), np.array([r["px"], r["py"]]))
+
 
 @dataclass
 class Result:
@@ -94,50 +100,13 @@ class Result:
     #: peak |u|, |v|, |phi| of every slab over every step [m, m, rad], shape (slabs, 3), slabs numbered
     #: building by building; filled from the histories when every step is in the output (output_every = 1)
     slab_peaks: np.ndarray | None = None
+    #: wall times [s]: loading and compiling the compiled core (``load_and_compile_s``, of which
+    #: ``compile_s`` compiling), and the solve (``solve_s`` = ``runtime_s``)
+    timings: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:
             self.slab_peaks = np.vstack([np.max(np.abs(self.cm(name)), axis=0) for name in self.names]) if len(self.t) else np.zeros((0, 3))
-
-    @classmethod
-    def from_run(cls, d, runtime: float) -> "Result":
-        m = d.model
-        k_out = np.arange(0, d.nsteps + 1, d.every)
-        energy = {}
-        z = d.z
-        for i, s in enumerate(m.systems):
-            sl = slice(m.mode_start[i], m.mode_start[i] + s.n_dof)
-            energy[s.name] = {
-                "input": float(d.E[i, 0]),
-                "damping": float(d.E[i, 1]),
-                "contact_forces": float(d.E[i, 2]),
-                "kinetic": float(0.5 * np.sum(z[sl, 1] ** 2)),
-                "strain": float(0.5 * np.sum((s.omega * z[sl, 0]) ** 2)),
-            }
-        gm = d.gm
-        return cls(
-            t=d.t_grid[k_out],
-            names=[s.name for s in m.systems],
-            q=d.Q,
-            qd=d.V,
-            systems=m.systems,
-            mode_start=m.mode_start,
-            pairs=m.pairs,
-            impacts=d.impacts,
-            energy=energy,
-            runtime_s=runtime,
-            dt=d.dt,
-            steps=d.nsteps,
-            integrator=d.integrator.describe(),
-            contact=d.law.describe(),
-            ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
-            info={"located_events": d.n_located, "sustained_pairs_at_end": sorted(d.sustained)},
-            energy_tolerance=d.scene.analysis.energy_tolerance,
-            slab_peaks=d.peak.copy() if d.every > 1 else None,
-            event_t=np.array([e[0] for e in d.event_states]),
-            event_q=np.array([e[1] for e in d.event_states]).reshape(len(d.event_states), m.n),
-            event_qd=np.array([e[2] for e in d.event_states]).reshape(len(d.event_states), m.n),
-        )
 
     # ------------------------------------------------------------- physical histories
     def _index(self, name: str) -> int:

@@ -14,8 +14,9 @@ are kept.
   :mod:`pounding.framework.response` as ``B_<quantity>`` (drift ratios, storey
   and element shears, overturning moments, floor accelerations, the impacts'
   floor velocity jumps; units in the README).
-* ``summary.json``: steps, runtime_s (solver time), integrator, dt, per
-  building periods, peak |u|, |v|, |phi| and the peak response quantities per
+* ``summary.json``: steps, runtime_s (solver time; ``timings_s`` adds the time spent loading
+  and compiling the compiled core, ``load_and_compile`` of which ``compile``), integrator, dt,
+  per building periods, peak |u|, |v|, |phi| and the peak response quantities per
   storey, its own energy account (:mod:`pounding.framework.energy_account`),
   n_impacts, impacts per storey, the pair's energy balance with the flag of a
   contact rule that creates energy.
@@ -79,6 +80,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
     return {
         "steps": result.steps,
         "runtime_s": result.runtime_s,
+        "timings_s": {"solve": result.runtime_s, **{k[:-2]: v for k, v in getattr(result, "timings", {}).items() if k != "solve_s"}},
         "integrator": result.integrator,
         "contact": result.contact,
         "dt": result.dt,

@@ -22,22 +22,17 @@ from the geometry) and ``gap`` (the smallest signed gap of the slab's pairs
 
 Instants written: every ``every``-th output step, plus every impact instant at
 its *exact* time, with the driver's own state at that instant (kept in the
-Result). For other requested times the state is reconstructed from the last
-output step at or before it by integrating the modal equations
-``q'' + 2 zeta omega q' + omega^2 q = -L a_g(t)`` (RK4, sub-steps <= dt/8)
-and applying the logged impulses of the impacts in between; the velocity
-written at an impact frame is the one just *before* that instant's impulses.
-The reconstruction differs from the driver's own integrator by its local
-truncation error (well below the contact tolerance for the example scenes);
-contact *forces* (penalty law, sustained contact) are not logged and hence
-not included, so a frame inside sustained contact is approximate.
+Result: ``event_t``, ``event_q``, ``event_qd``); the velocity written at an
+impact frame is the one just *before* that instant's impulses. The writer reads
+the states the run recorded and never integrates (:class:`StateAt`): an
+``impact_times`` entry that is neither an output step nor an impact instant is
+an error.
 
 ``vtk`` is imported inside the functions that write files only.
 """
 
 from __future__ import annotations
 
-import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -387,116 +382,30 @@ def _floor_motion(d: np.ndarray, centres: np.ndarray, f: np.ndarray, x: np.ndarr
 
 
 class StateAt:
-    """Modal state of a Result at any time, reconstructed from the output steps (see the module docstring)."""
+    """Modal state of a Result at the instants the run recorded (see the module docstring).
+
+    Writers read states, they do not integrate: an impact instant gives the driver's own
+    state just before its impulses (``Result.event_t``, ``event_q``, ``event_qd``), an output
+    step the recorded one. Any other instant is refused.
+    """
 
     def __init__(self, scene, result):
         self.r = result
-        self.gm = scene.ground_motion
-        directions = np.asarray(self.gm.directions(), float).reshape(-1, 2)
-        systems = result.systems
-        self.omega = np.concatenate([s.omega for s in systems])
-        self.c2 = np.concatenate([2.0 * s.zeta * s.omega for s in systems])
-        # L (n, c): one column per ground-motion component
-        self.L = np.stack([np.concatenate([s.participation(s.influence(d)) for s in systems]) for d in directions], axis=1)
-        self.h_max = min(float(result.dt) / 8.0, 0.2 / max(float(np.max(self.omega)), 1e-12))
-        self.events = sorted(result.impacts, key=lambda i: i.time)
-        self.ev_t = np.array([i.time for i in self.events], dtype=float)
-
-    # ------------------------------------------------------------------ helpers
-    def _slab_cm(self, q: np.ndarray, b: int, f: int) -> np.ndarray:
-        s = self.r.systems[b]
-        i0 = self.r.mode_start[b]
-        return s.modes[3 * f : 3 * f + 3, :] @ q[i0 : i0 + s.n_dof]
-
-    def row(self, q: np.ndarray, imp) -> np.ndarray:
-        """Modal row w of an impact: d gap = w . dq; its impulse I changes q' by w I."""
-        a, fa, b, fb, _ = self.r.pairs[imp.pair]
-        w = np.zeros(self.r.q.shape[1])
-        n = np.asarray(imp.normal, float)
-        for sign, bld, f in ((-1.0, a, fa), (1.0, b, fb)):
-            s = self.r.systems[bld]
-            slab = s.slabs[f]
-            c = slab.centre + self._slab_cm(q, bld, f)[:2]
-            rr = np.asarray(imp.point, float) - c
-            g = np.array([n[0], n[1], rr[0] * n[1] - rr[1] * n[0]])
-            i0 = self.r.mode_start[bld]
-            w[i0 : i0 + s.n_dof] += sign * (s.modes[3 * f : 3 * f + 3, :].T @ g)
-        return w
-
-    def _rhs(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        a = np.asarray(self.gm.samples(t), float).reshape(-1)
-        return -(self.L @ a) - self.c2 * v - self.omega**2 * q
-
-    def _integrate(self, q, v, t0, t1):
-        if t1 <= t0:
-            return q, v
-        m = max(1, int(math.ceil((t1 - t0) / self.h_max)))
-        h = (t1 - t0) / m
-        t = t0
-        for _ in range(m):
-            k1q, k1v = v, self._rhs(t, q, v)
-            k2q, k2v = v + 0.5 * h * k1v, self._rhs(t + 0.5 * h, q + 0.5 * h * k1q, v + 0.5 * h * k1v)
-            k3q, k3v = v + 0.5 * h * k2v, self._rhs(t + 0.5 * h, q + 0.5 * h * k2q, v + 0.5 * h * k2v)
-            k4q, k4v = v + h * k3v, self._rhs(t + h, q + h * k3q, v + h * k3v)
-            q = q + h / 6.0 * (k1q + 2 * k2q + 2 * k3q + k4q)
-            v = v + h / 6.0 * (k1v + 2 * k2v + 2 * k3v + k4v)
-            t += h
-        return q, v
-
-    def _apply(self, q, v, imps):
-        """Apply the impulses of simultaneous impacts (rows taken before any of them)."""
-        rows = [self.row(q, i) for i in imps]
-        for w, i in zip(rows, imps):
-            v = v + w * i.impulse
-        return v
-
-    def _recorded_pre(self, q, v, imps) -> bool:
-        """Whether the recorded velocity at an impact instant on the output grid is before its impulses."""
-        d_pre = d_post = 0.0
-        for i in imps:
-            b = -(self.row(q, i) @ v)
-            after = 2.0 * i.energy_loss / i.impulse - i.approach_velocity if i.impulse > 0 else i.approach_velocity
-            d_pre += abs(b - i.approach_velocity)
-            d_post += abs(b - after)
-        return d_pre <= d_post
 
     def __call__(self, t: float) -> tuple[np.ndarray, np.ndarray]:
-        """(q, q') at time t; q' just before the impulses of impacts at exactly t."""
+        """(q, q') (n,) at time t [s]; q' just before the impulses of impacts at exactly t."""
         r = self.r
-        # The driver keeps its own state at every impact instant: use it, exactly.
-        ev_t = getattr(r, "event_t", np.zeros(0))
+        eps = 1e-12 * max(1.0, abs(t))
+        ev_t = np.asarray(getattr(r, "event_t", np.zeros(0)), dtype=float)
         if len(ev_t):
             j = int(np.argmin(np.abs(ev_t - t)))
-            if abs(ev_t[j] - t) <= 1e-12 * max(1.0, abs(t)):
+            if abs(ev_t[j] - t) <= eps:
                 return r.event_q[j].astype(float), r.event_qd[j].astype(float)
-        tt = r.t
-        k = int(np.searchsorted(tt, t + 1e-12, side="right")) - 1
-        k = min(max(k, 0), len(tt) - 1)
-        q, v = r.q[k].astype(float), r.qd[k].astype(float)
-        tk = float(tt[k])
-        eps = 1e-12 * max(1.0, abs(t))
-        # impacts at the output instant itself: the record may hold the velocity before or after them
-        at_k = [i for i in self.events if abs(i.time - tk) <= eps]
-        if abs(t - tk) <= eps:
-            if at_k and not self._recorded_pre(q, v, at_k):
-                # recorded after: undo them to report the velocity before the impulses
-                rows = [self.row(q, i) for i in at_k]
-                for w, i in zip(rows, at_k):
-                    v = v - w * i.impulse
-            return q, v
-        if at_k and self._recorded_pre(q, v, at_k):
-            v = self._apply(q, v, at_k)
-        between = [i for i in self.events if tk + eps < i.time < t - eps]
-        cur = tk
-        groups: dict = {}
-        for i in between:
-            groups.setdefault(i.time, []).append(i)
-        for te in sorted(groups):
-            q, v = self._integrate(q, v, cur, te)
-            v = self._apply(q, v, groups[te])
-            cur = te
-        q, v = self._integrate(q, v, cur, t)
-        return q, v
+        tt = np.asarray(r.t, dtype=float)
+        k = int(np.argmin(np.abs(tt - t))) if len(tt) else -1
+        if k >= 0 and abs(tt[k] - t) <= eps:
+            return r.q[k].astype(float), r.qd[k].astype(float)
+        raise ValueError(f"t = {t!r} s is neither an output step nor an impact instant of the run: no state was recorded there")
 
     def cm(self, q: np.ndarray) -> list[np.ndarray]:
         """(storeys, 3) centre-of-mass motion of every building for a stacked modal vector q."""

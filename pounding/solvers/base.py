@@ -35,6 +35,7 @@ Contract for an implementer
 4. Explicit (conditionally stable) schemes override :meth:`check_dt`.
 5. Optionally override :meth:`transition` with a closed form; the default
    probes :meth:`step` with unit inputs (exact, because the step is linear).
+   Optionally set ``energy_nodes`` or override :meth:`work_maps` for the energy audit.
 6. Register the class under the entry-point group ``pounding.integrators``.
 """
 
@@ -83,6 +84,12 @@ class Integrator(ABC):
     #: integrals of its intra-step trajectory, see :meth:`pounding.solvers.exact.Exact.work_maps`)
     #: is audited with those instead.
     energy_nodes: ClassVar[int] = 0
+
+    def work_maps(self, omega: np.ndarray, zeta: np.ndarray, dt: float):
+        """Closed-form work integrals of the scheme's intra-step trajectory, or None (the default:
+        the audit uses ``energy_nodes``). When given: (a1 (n, 4), a2 (n, 4), M (n, 4, 4)) with
+        x = (q0, q'0, p0, p1): int q' = a1 x, int s q' = a2 x, int q'^2 = x M x over the step."""
+        return None
 
     @abstractmethod
     def step(self, q, qd, qdd, p0, p1, omega, zeta, dt):

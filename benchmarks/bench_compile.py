@@ -1,0 +1,146 @@
+"""Start-up targets of the compiled core (issue 12): measured, never asserted.
+
+Whole processes, median of N (default 5), in one run beside the baseline
+``python -c "import numpy, scipy.linalg"``:
+
+* cold ``pounding run`` of the paper pair with pounding: an empty numba cache
+  (``NUMBA_CACHE_DIR`` a fresh temporary folder for every process); target < 10 s;
+* warm ``pounding run`` of it (the cache filled by a first run); target < 0.8 s and
+  < 2x the baseline;
+* ``pounding info`` of it; target < 1.5x the baseline;
+* warm in-process solver time (``Result.runtime_s``, median of 7) of the paper pair and
+  of two 60-storey buildings with pounding; target: no worse than before;
+* where a cold run's time goes: every compiled function and its compile time
+  (one cold process).
+
+``--python`` and ``--root`` measure another checkout the same way (e.g. the code
+before the change, for the "before" column): ``--python /work/main/.venv/bin/python
+--root /work/main``.
+
+    .venv/bin/python benchmarks/bench_compile.py [--reps 5] [--cold-reps 5] [--out results/compile.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+
+
+def timed(cmd: list[str], env: dict, cwd: Path) -> float:
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, env=env, cwd=cwd, capture_output=True, text=True)
+    dt = time.perf_counter() - t0
+    if p.returncode != 0:
+        raise RuntimeError(f"{' '.join(cmd)} failed: {p.stderr.strip()[-400:]}")
+    return dt
+
+
+def median_of(cmd, env, cwd, reps) -> dict:
+    times = [timed(cmd, env, cwd) for _ in range(reps)]
+    return {"median_s": statistics.median(times), "min_s": min(times), "runs": reps}
+
+
+SOLVER = r"""
+import json, statistics, sys, warnings
+warnings.simplefilter("ignore")
+sys.path.insert(0, {bench!r})
+from pounding.io.scene import load_scene
+from pounding.framework.analysis import run
+from scenes import uniform_pair
+out = {{}}
+for name, scene in (("paper", load_scene({paper!r})), ("sixty", uniform_pair(60))):
+    run(scene)  # warm: compiled or loaded once
+    t = [run(scene).runtime_s for _ in range({reps})]
+    out[name] = {{"solver_median_s": statistics.median(t), "solver_min_s": min(t), "runs": len(t)}}
+print(json.dumps(out))
+"""
+
+BREAKDOWN = r"""
+import json, sys, time
+t0 = time.perf_counter()
+from pounding.io.scene import load_scene
+scene = load_scene({paper!r})
+t1 = time.perf_counter()
+from pounding.framework.analysis import run
+r = run(scene)
+t2 = time.perf_counter()
+rows = []
+for name, mod in list(sys.modules.items()):
+    if not name.startswith("pounding"):
+        continue
+    for attr, obj in list(vars(mod).items()):
+        d = getattr(obj, "_dispatcher", None) or obj
+        if type(d).__name__ != "CPUDispatcher" or getattr(d, "__module__", None) != name or not d.signatures:
+            continue
+        secs = sum((cr.metadata or {{}}).get("timers", {{}}).get("compiler_lock", 0.0) for cr in d.overloads.values())
+        rows.append({{"function": name + "." + attr, "signatures": len(d.signatures), "compile_s": secs}})
+rows.sort(key=lambda x: -x["compile_s"])
+print(json.dumps({{"load_scene_s": t1 - t0, "run_s": t2 - t1, "timings": getattr(r, "timings", {{}}),
+                  "functions": rows}}))
+"""
+
+
+def main(argv=None) -> dict:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--python", default=sys.executable, help="interpreter of the checkout to measure")
+    ap.add_argument("--root", default=str(HERE.parent), help="that checkout's folder")
+    ap.add_argument("--reps", type=int, default=5)
+    ap.add_argument("--cold-reps", type=int, default=5)
+    ap.add_argument("--out", default=None, help="JSON file for the figures")
+    args = ap.parse_args(argv)
+    root = Path(args.root)
+    py = args.python
+    exe = str(Path(py).parent / "pounding")
+    paper = str(root / "examples" / "paper" / "pair_gap_0.03.toml")
+    env = dict(os.environ)
+    env.pop("NUMBA_CACHE_DIR", None)
+    res: dict = {"root": str(root), "python": py}
+    log = lambda m: print(m, file=sys.stderr, flush=True)  # noqa: E731
+
+    res["baseline_numpy_scipy"] = median_of([py, "-c", "import numpy, scipy.linalg"], env, root, args.reps)
+    log(f"baseline import numpy, scipy.linalg: {res['baseline_numpy_scipy']['median_s']:.3f} s")
+    with tempfile.TemporaryDirectory() as tmp:
+        timed([exe, "run", paper, "--out", f"{tmp}/warmup", "--quiet"], env, root)  # fill the cache
+        res["info"] = median_of([exe, "info", paper], env, root, args.reps)
+        log(f"pounding info: {res['info']['median_s']:.3f} s")
+        res["warm_run"] = median_of([exe, "run", paper, "--out", f"{tmp}/w", "--quiet"], env, root, args.reps)
+        log(f"warm pounding run: {res['warm_run']['median_s']:.3f} s")
+        cold = []
+        for i in range(args.cold_reps):
+            with tempfile.TemporaryDirectory() as cache:
+                cold.append(timed([exe, "run", paper, "--out", f"{tmp}/c{i}", "--quiet"], dict(env, NUMBA_CACHE_DIR=cache), root))
+            log(f"cold pounding run {i + 1}: {cold[-1]:.1f} s")
+        res["cold_run"] = {"median_s": statistics.median(cold), "min_s": min(cold), "runs": len(cold)}
+        with tempfile.TemporaryDirectory() as cache:
+            p = subprocess.run([py, "-c", BREAKDOWN.format(paper=paper)], env=dict(env, NUMBA_CACHE_DIR=cache), cwd=root,
+                               capture_output=True, text=True)
+        res["cold_breakdown"] = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else {"failed": p.stderr[-400:]}
+    p = subprocess.run([py, "-c", SOLVER.format(paper=paper, bench=str(HERE), reps=7)], env=env, cwd=root, capture_output=True, text=True)
+    res["solver"] = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else {"failed": p.stderr[-400:]}
+    log(f"warm solver: {res['solver']}")
+    base = res["baseline_numpy_scipy"]["median_s"]
+    res["ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_s"] / base, "info": res["info"]["median_s"] / base}
+    if args.out:
+        Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
+    print(json.dumps(res, indent=1))
+    return res
+
+
+def run(quick: bool = False) -> dict:
+    """Entry of ``benchmarks/run.py --only compile``: results/compile[_quick].json."""
+    tag = "_quick" if quick else ""
+    reps = ["--reps", "3", "--cold-reps", "1"] if quick else []
+    return main(reps + ["--out", str(HERE / "results" / f"compile{tag}.json")])
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,170 @@
+"""The declared interface to the compiled core: what is compiled, when, and its cache key.
+
+Each test states one property of :mod:`pounding.compiler` and the driver's use of it.
+Timings are measured in ``benchmarks/bench_compile.py``, never asserted here.
+"""
+
+from __future__ import annotations
+
+import importlib
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pounding import compiler
+
+PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"
+COMPILED_PACKAGES = ("pounding.contact.geometry", "pounding.contact.base", "pounding.framework.pairs",
+                     "pounding.framework.kernel", "pounding.framework.held")
+
+needs_numba = pytest.mark.skipif(not compiler.enabled(), reason="numba is not compiling here (missing or NUMBA_DISABLE_JIT)")
+
+
+def _python(code: str, env: dict | None = None, timeout: float = 900) -> dict:
+    """Run ``code`` in a fresh interpreter; it prints one JSON object, returned."""
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True,
+                         env={**os.environ, **(env or {})}, timeout=timeout)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def test_cache_key_covers_every_compiled_module():
+    """numba keys a cached function on its own file only, so the cache folder is keyed on every
+    module that declares compiled functions: every module holding a compiled function (after
+    importing all of them) is among the scanned ``compiled_modules()``."""
+    for name in COMPILED_PACKAGES:
+        importlib.import_module(name)
+    scanned = {str(p) for p in compiler.compiled_modules()}
+    declaring = {str(Path(sys.modules[k.__module__].__file__).resolve()) for k in compiler.kernels()}
+    if compiler.enabled():
+        assert declaring, "no compiled function declared"
+    assert declaring <= scanned, sorted(declaring - scanned)
+
+
+def test_cache_key_changes_with_a_compiled_module(tmp_path, monkeypatch):
+    """The key is a digest of the compiled modules' source: editing one changes it."""
+    root = tmp_path / "pkg"
+    root.mkdir()
+    (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
+    (root / "b.py").write_text("def g(x):\n    return x\n")
+    monkeypatch.setattr(compiler, "PACKAGE_ROOT", root)
+    assert [p.name for p in compiler.compiled_modules()] == ["a.py"]
+    k0 = compiler.cache_key()
+    (root / "b.py").write_text("def g(x):\n    return 2 * x\n")
+    assert compiler.cache_key() == k0  # not a compiled module
+    (root / "a.py").write_text("@njit\ndef f(x):\n    return 2 * x\n")
+    assert compiler.cache_key() != k0
+
+
+def test_loading_a_scene_and_info_import_no_numba():
+    """Loading a scene (with its rest-gap check) and assembling its buildings for ``pounding info``
+    import no numba and compile nothing: the rest gaps run interpreted."""
+    code = (
+        "import sys, json\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.assembly import assemble\n"
+        "from pounding.framework.modal import modal_summary\n"
+        f"s = load_scene({str(PAPER)!r})\n"
+        "[modal_summary(assemble(b), 6) for b in s.buildings]\n"
+        "print(json.dumps({'numba': 'numba' in sys.modules}))\n"
+    )
+    assert _python(code) == {"numba": False}
+
+
+@needs_numba
+def test_contact_off_loads_no_contact_code():
+    """With contact "none" the run uses the free stretch only: no function of the geometry,
+    the pair queries, the contact laws or the held stretch is compiled or loaded."""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.analysis import run\n"
+        f"r = run(load_scene({str(PAPER)!r}).with_analysis(contact='none', contact_params={{}}, duration=2.0))\n"
+        "print(json.dumps({k.__module__ + '.' + k.__name__: len(k.signatures) for k in compiler.kernels() if k.signatures}))\n"
+    )
+    used = _python(code)
+    assert "pounding.framework.kernel.advance_free" in used
+    contact = [name for name in used if name.startswith(("pounding.contact.", "pounding.framework.pairs", "pounding.framework.held"))]
+    assert contact == []
+
+
+@needs_numba
+def test_one_specialization_per_compiled_function(tmp_path):
+    """Every call site gives a compiled function the same argument types, so a run compiles each
+    function once: after the paper pair with pounding (impacts, located events, held pairs),
+    compiled from an empty cache, every dispatcher holds a single signature."""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "from pounding.io.scene import load_scene\n"
+        "from pounding.framework.analysis import run\n"
+        f"r = run(load_scene({str(PAPER)!r}).with_analysis(duration=3.0))\n"
+        "sigs = {k.__module__ + '.' + k.__name__: [str(s) for s in k.signatures] for k in compiler.kernels() if k.signatures}\n"
+        "print(json.dumps({'impacts': r.n_impacts, 'sigs': sigs}))\n"
+    )
+    out = _python(code, env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
+    assert out["impacts"] > 0
+    assert "pounding.framework.kernel.advance" in out["sigs"]
+    many = {name: s for name, s in out["sigs"].items() if len(s) > 1}
+    assert many == {}
+
+
+def test_kernel_and_python_path_log_the_same_impact_records():
+    """The kernel (kernel.impulses_at) and the driver's Python path apply the same Newton
+    impulses and log the same :data:`IMPACT_DTYPE` records: the first 3 s of the paper pair,
+    with the kernel and step by step in Python, give the same impacts. The paths differ in the
+    rounding of W w^T products (numba against numpy, 1e-16 relative), so the agreement is to
+    rounding (1e-12 of the peak)."""
+    from pounding.framework.analysis import run
+    from pounding.io.scene import load_scene
+
+    scene = load_scene(PAPER).with_analysis(duration=3.0)
+    a, b = run(scene), run(scene, use_kernel=False)
+    assert a.n_impacts == b.n_impacts > 0
+    for x, y in zip(a.impacts, b.impacts):
+        assert (x.pair, x.striker, x.vertex) == (y.pair, y.striker, y.vertex)
+        assert abs(x.time - y.time) <= 1e-12 * max(1.0, x.time)
+        assert abs(x.impulse - y.impulse) <= 1e-12 * max(abs(i.impulse) for i in a.impacts)
+    assert np.abs(a.q - b.q).max() <= 1e-12 * np.abs(a.q).max()
+
+
+@needs_numba
+def test_first_compilation_is_announced_and_timed(tmp_path):
+    """A compilation (not a cache load) runs the registered first-compile callbacks once, before
+    it starts, and adds its wall time to compile_seconds(): what the command line uses to say
+    it is compiling and to report the compile time apart from the solve. (A fresh interpreter
+    and an empty cache, so that the function is compiled, not loaded.)"""
+    code = (
+        "import json\n"
+        "from pounding import compiler\n"
+        "calls = []\n"
+        "compiler.on_first_compile(lambda: calls.append(compiler.compile_seconds()))\n"
+        "def plus_one(x):\n"
+        "    return x + 1.0\n"
+        "f = compiler.njit(plus_one)\n"
+        "print(json.dumps({'values': [f(1.0), f(2.0)], 'calls': calls, 'seconds': compiler.compile_seconds()}))\n"
+    )
+    script = tmp_path / "plus_one.py"  # numba caches functions that have a source file
+    script.write_text(code)
+    out = _python(f"import runpy; runpy.run_path({str(script)!r}, run_name='__main__')", env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
+    assert out["values"] == [2.0, 3.0]
+    assert out["calls"] == [0.0]  # once, before anything was compiled
+    assert out["seconds"] > 0.0
+
+
+def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
+    """summary.json keeps runtime_s as the solve and reports loading and compiling apart."""
+    from pounding.framework.analysis import run
+    from pounding.io.results import write_results
+    from pounding.io.scene import load_scene
+
+    r = run(load_scene(PAPER).with_analysis(duration=1.0))
+    write_results(r, tmp_path / "out", PAPER.read_text(), scene_path=PAPER)
+    s = json.loads((tmp_path / "out" / "summary.json").read_text())
+    assert s["timings_s"]["solve"] == s["runtime_s"] == r.runtime_s
+    assert s["timings_s"]["load_and_compile"] >= s["timings_s"]["compile"] >= 0.0
