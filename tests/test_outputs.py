@@ -112,6 +112,23 @@ def test_plot_refuses_an_out_folder_with_other_files(tmp_path):
     assert (figs / "paper.tex").read_text() == "x" and (figs / "plan.png").is_file()
 
 
+def test_sweep_refuses_a_folder_with_other_files_and_reruns_over_its_own(tmp_path):
+    """`sweep --out DIR` with a file pounding did not write: exit 2 and nothing run or written; a sweep's own
+    table (claimed in the manifest before its first row) does not block a rerun, and a hand-made file survives
+    --overwrite."""
+    out = tmp_path / "s"
+    out.mkdir()
+    (out / "notes.txt").write_text("keep me")
+    args = ("sweep", PAPER, "--gaps", "0.5", "--duration", "0.3", "--serial", "--no-plots", "--out", out)
+    proc = pounding(*args, check=False)
+    assert proc.returncode == 2 and "notes.txt" in proc.stderr and files(out) == {"notes.txt"}
+    pounding(*args, "--overwrite")
+    assert (out / "notes.txt").read_text() == "keep me" and (out / "sweep.csv").is_file()
+    (out / "notes.txt").unlink()
+    pounding(*args)  # its own files only: no --overwrite needed
+    assert "sweep.csv" in outputs.read_manifest(out)["sweep"]
+
+
 def test_run_help_names_the_paraview_file_it_writes(tmp_path):
     """`run --help` names the .pvd that `run --vtk` actually writes."""
     from pounding.cli import VTK_SERIES

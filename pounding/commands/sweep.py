@@ -26,6 +26,7 @@ def add_parser(sub) -> None:
     )
     p.add_argument("scene", type=Path, help="scene file (TOML)")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the scene's name + '_sweep', beside it)")
+    p.add_argument("--overwrite", action="store_true", help="write into --out even if it holds files pounding did not write (they are kept)")
     p.add_argument("--gaps", default=None, metavar="LIST", help="clear distances at rest along --direction [m]; the second building is moved")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--pga-scale", default=None, metavar="LIST", help="factors on the scene's ground motion (after its pga/scale)")
@@ -85,6 +86,9 @@ def cmd_sweep(args: argparse.Namespace) -> int:
         print(f"[{done}/{total}] run {row['run']}: gap {gap}, pga x{row['pga_scale']:g}, {row['record']}, {angle}"
               f"k {row['restitution']}, {row['integrator']}: {what} ({row['runtime_s']:.2f} s)", file=sys.stderr, flush=True)
 
+    from pounding.io.outputs import check_target
+
+    check_target(out, overwrite=args.overwrite)
     res = run_sweep(args.scene, out, gaps=gaps, pga_scales=scales, records=args.records, restitutions=rest, integrators=integrators,
                     direction=args.direction, overrides=overrides, keep=args.keep, workers=args.workers, scheduler=args.scheduler,
                     serial=args.serial, plots=not args.no_plots, progress=progress, angles=angles,

@@ -526,7 +526,9 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     spec, cases, texts = prepare(scene_path, gaps=gaps, pga_scales=pga_scales, records=records, restitutions=restitutions,
                                  integrators=integrators, direction=direction, overrides=overrides, keep=(out / "runs") if keep else None,
                                  angles=angles, min_gap=min_gap)
-    out.mkdir(parents=True, exist_ok=True)
+    from pounding.io.outputs import record
+
+    record(out, "sweep", [TABLE_CSV])  # claimed before the first row: an interrupted sweep's table is pounding's
     cols = columns(spec["storeys"], spec["names"])
     table = _Table(out / TABLE_CSV, cols)
     rows: dict[int, dict] = {}
@@ -554,6 +556,7 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     paths = plot_sweep(ordered, spec["names"], out) if plots else []
     if plots and angles:
         paths += plot_sweep_angles(ordered, out)
+    record(out, "sweep", [p for p in [out / TABLE_CSV, parquet, *paths] if p is not None])
     return SweepResult(ordered, cols, out / TABLE_CSV, parquet, paths, time.perf_counter() - t0, n_workers)
 
 

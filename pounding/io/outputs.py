@@ -77,6 +77,18 @@ def foreign(folder: Path) -> list[Path]:
     return sorted(out)
 
 
+def record(folder: str | Path, command: str, paths) -> None:
+    """Add ``paths`` (in ``folder``) to what ``command`` wrote there, for a command that writes its
+    files in place as it goes (a sweep's table row by row): recorded before the first row, the
+    files of an interrupted command are still pounding's, so its rerun is not refused."""
+    folder = Path(folder).resolve()
+    folder.mkdir(parents=True, exist_ok=True)
+    files = read_manifest(folder)
+    rel = {str(Path(p).resolve().relative_to(folder)) if Path(p).is_absolute() else str(p) for p in paths}
+    files[command] = sorted(set(files.get(command, ())) | rel)
+    _write_manifest(folder, files)
+
+
 def check_target(folder: Path, *, overwrite: bool, option: str = "--out") -> None:
     """Refuse a folder that holds files pounding did not write (unless ``overwrite``) or is a file.
 
