@@ -91,12 +91,15 @@ def test_csv_parquet_and_plots_are_written(serial_sweep):
     rows = read_table(serial_sweep.csv)
     assert comparable(rows) == comparable(serial_sweep.rows)
     header = next(csv.reader(open(serial_sweep.csv)))
-    for col in ("run", "gap", "pga_scale", "record", "restitution", "integrator", "status", "error", "n_impacts",
-                "impacts_storey_1", "impacts_storey_3", "low_peak_u", "high_peak_drift", "max_impulse", "energy_loss"):
+    for col in ("run", "gap [m]", "pga_scale [-]", "record", "restitution [-]", "integrator", "status", "error", "n_impacts",
+                "impacts_storey_1", "impacts_storey_3", "low_peak_u [m]", "high_peak_phi [rad]", "high_peak_drift [-]",
+                "max_impulse [N s]", "energy_loss [J]", "runtime_s"):
         assert col in header
     import pyarrow.parquet as pq
 
-    table = pq.read_table(serial_sweep.parquet).to_pylist()
+    parquet = pq.read_table(serial_sweep.parquet)
+    assert parquet.schema.field("gap").metadata == {b"units": b"m"}
+    table = parquet.to_pylist()
     assert comparable(table) == comparable(serial_sweep.rows)
     assert [p.name for p in serial_sweep.plots] == ["impacts_vs_gap.png", "drift_vs_gap.png"]
     assert all(p.stat().st_size > 1000 for p in serial_sweep.plots)

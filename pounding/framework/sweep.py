@@ -394,6 +394,22 @@ def _format(v) -> str:
     return str(v)
 
 
+def column_units(col: str) -> str | None:
+    """Units of a table column ("-" for a ratio; None for text, counts and ``runtime_s``)."""
+    if col in ("gap", "min_gap") or col.endswith(("_peak_u", "_peak_v")):
+        return "m"
+    if col.endswith("_peak_phi"):
+        return "rad"
+    if col.endswith("_peak_drift") or col in ("pga_scale", "restitution"):
+        return "-"
+    return {"angle": "deg", "max_impulse": "N s", "energy_loss": "J"}.get(col)
+
+
+def header(cols: list[str]) -> list[str]:
+    """The CSV header: ``name [unit]`` where the column has units (:func:`column_units`)."""
+    return [c if column_units(c) is None else f"{c} [{column_units(c)}]" for c in cols]
+
+
 class _Table:
     """The CSV table, appended and flushed row by row."""
 
@@ -402,7 +418,7 @@ class _Table:
         self.cols = cols
         self.fh = open(path, "w", newline="")
         self.writer = csv.writer(self.fh)
-        self.writer.writerow(cols)
+        self.writer.writerow(header(cols))
         self.fh.flush()
 
     def append(self, row: dict) -> None:
@@ -418,7 +434,7 @@ def write_csv(rows: list[dict], cols: list[str], path: Path) -> Path:
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     with open(tmp, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(cols)
+        w.writerow(header(cols))
         for r in rows:
             w.writerow([_format(r.get(c)) for c in cols])
     os.replace(tmp, path)
@@ -442,7 +458,8 @@ def write_parquet(rows: list[dict], cols: list[str], path: Path) -> Path | None:
             types[c] = pa.int64()
         else:
             types[c] = pa.float64()
-    table = pa.table({c: pa.array(data[c], type=types[c]) for c in cols})
+    fields = [pa.field(c, types[c], metadata=None if column_units(c) is None else {"units": column_units(c)}) for c in cols]
+    table = pa.table({c: pa.array(data[c], type=types[c]) for c in cols}, schema=pa.schema(fields))
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     pq.write_table(table, tmp)
     os.replace(tmp, path)
@@ -450,12 +467,13 @@ def write_parquet(rows: list[dict], cols: list[str], path: Path) -> Path | None:
 
 
 def read_table(path) -> list[dict]:
-    """Rows of a sweep CSV with numbers parsed back (empty cells -> None)."""
+    """Rows of a sweep CSV with numbers parsed back (empty cells -> None), keyed by column name (units dropped)."""
     out = []
     with open(path, newline="") as fh:
         for r in csv.DictReader(fh):
             row = {}
             for k, v in r.items():
+                k = k.split(" [", 1)[0]
                 if v == "":
                     row[k] = None
                 elif k in ("record", "integrator", "status", "error", "warnings"):
