@@ -7,6 +7,7 @@ import math
 import sys
 from pathlib import Path
 
+from pounding.commands.cluster_options import add_cluster_options, check_cluster_options
 from pounding.errors import InputError
 
 
@@ -39,9 +40,7 @@ def add_parser(sub) -> None:
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes of the local cluster (default: the number of cores)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use an existing dask.distributed scheduler (tcp://host:port)")
-    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    add_cluster_options(p)
     p.add_argument("--no-plots", action="store_true", help="do not draw the plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
     p.set_defaults(func=cmd_fragility)
@@ -51,12 +50,7 @@ def cmd_fragility(args: argparse.Namespace) -> int:
     from pounding.framework.fragility import run_fragility
     from pounding.framework.sweep import parse_values
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"expected a positive number of workers, got {args.workers}", field="--workers")
-    if args.serial and (args.scheduler or args.workers):
-        raise InputError("--serial runs without Dask: drop --scheduler/--workers", field="--serial")
-    if args.scheduler and args.workers:
-        raise InputError("--workers sizes the local cluster; an existing cluster (--scheduler) has its own workers", field="--workers")
+    check_cluster_options(args)
     levels = parse_values(args.levels, "--levels")
     gaps = parse_values(args.gaps, "--gaps", minimum=0.0) if args.gaps is not None else None
     targets = parse_values(args.target, "--target", minimum=0.0, maximum=1.0)

@@ -6,6 +6,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from pounding.commands.cluster_options import add_cluster_options, check_cluster_options
 from pounding.errors import InputError
 from pounding.words import plural
 
@@ -44,9 +45,7 @@ def add_parser(sub) -> None:
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
     p.add_argument("--keep", action="store_true", help="also write every run's result folder (OUT/runs/run_NNNN)")
-    p.add_argument("--workers", type=int, default=None, metavar="N", help="worker processes of the local cluster (default: the number of cores)")
-    p.add_argument("--scheduler", default=None, metavar="ADDRESS", help="use an existing dask.distributed scheduler (tcp://host:port)")
-    p.add_argument("--serial", action="store_true", help="run in this process, without Dask")
+    add_cluster_options(p)
     p.add_argument("--no-plots", action="store_true", help="do not draw the plots")
     p.add_argument("--quiet", action="store_true", help="no progress lines")
     p.set_defaults(func=cmd_sweep)
@@ -59,12 +58,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
 
     require_elastic(load_scene(args.scene))  # the driver does not step yielding storey springs yet
 
-    if args.workers is not None and args.workers < 1:
-        raise InputError(f"expected a positive number of workers, got {args.workers}", field="--workers")
-    if args.serial and (args.scheduler or args.workers):
-        raise InputError("--serial runs without Dask: drop --scheduler/--workers", field="--serial")
-    if args.scheduler and args.workers:
-        raise InputError("--workers sizes the local cluster; an existing cluster (--scheduler) has its own workers", field="--workers")
+    check_cluster_options(args)
     gaps = parse_values(args.gaps, "--gaps", minimum=0.0) if args.gaps is not None else None
     scales = parse_values(args.pga_scale, "--pga-scale") if args.pga_scale is not None else None
     if scales and any(s <= 0 for s in scales):

@@ -54,6 +54,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding.errors import InputError
+from pounding.framework.sweep import format_cell
 
 RUNS_CSV = "runs.csv"
 CONSEQUENCES_CSV = "consequences.csv"
@@ -349,14 +350,6 @@ def summarise_consequences(free_rows: list[dict], rows: list[dict], names: list[
 _TEXT = {"record", "im", "status", "error", "striking", "struck", "warnings", "fit", "building"}
 
 
-def _format(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, float):
-        return repr(v)
-    return str(v)
-
-
 def _parse(key: str, v: str):
     if v == "":
         return None
@@ -396,7 +389,7 @@ def write_rows(path: Path, cols: list[str], rows: list[dict]) -> Path:
         w = csv.writer(fh)
         w.writerow(cols)
         for r in rows:
-            w.writerow([_format(r.get(c)) for c in cols])
+            w.writerow([format_cell(r.get(c)) for c in cols])
     os.replace(tmp, path)
     return path
 
@@ -410,7 +403,7 @@ class _Appender:
         self.writer = csv.writer(self.fh)
 
     def append(self, row: dict) -> None:
-        self.writer.writerow([_format(row.get(c)) for c in self.cols])
+        self.writer.writerow([format_cell(row.get(c)) for c in self.cols])
         self.fh.flush()
 
     def close(self) -> None:

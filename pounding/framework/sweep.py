@@ -386,7 +386,8 @@ def _record_key(spec: dict, case: Case) -> str | None:
     return "" if spec["scene_record"] is not None else None
 
 
-def _format(v) -> str:
+def format_cell(v) -> str:
+    """A table cell: empty for None, floats with every digit (repr), anything else as str."""
     if v is None:
         return ""
     if isinstance(v, float):
@@ -422,7 +423,7 @@ class _Table:
         self.fh.flush()
 
     def append(self, row: dict) -> None:
-        self.writer.writerow([_format(row.get(c)) for c in self.cols])
+        self.writer.writerow([format_cell(row.get(c)) for c in self.cols])
         self.fh.flush()
 
     def close(self) -> None:
@@ -436,7 +437,7 @@ def write_csv(rows: list[dict], cols: list[str], path: Path) -> Path:
         w = csv.writer(fh)
         w.writerow(header(cols))
         for r in rows:
-            w.writerow([_format(r.get(c)) for c in cols])
+            w.writerow([format_cell(r.get(c)) for c in cols])
     os.replace(tmp, path)
     return path
 

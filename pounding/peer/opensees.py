@@ -465,6 +465,22 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
 
 
 # --------------------------------------------------------------------------- P-Delta peer
+def _gravity_step(ops) -> None:
+    """One linear static step under the gravity loads of the current pattern, then held constant
+    (``loadConst``) with the time reset, so the geometric stiffness of the PDelta transformation
+    acts in what follows."""
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("BandGeneral")
+    ops.test("NormDispIncr", 1e-12, 10)
+    ops.algorithm("Linear")
+    ops.integrator("LoadControl", 1.0)
+    ops.analysis("Static")
+    if ops.analyze(1) != 0:
+        raise RuntimeError("OpenSees gravity step failed")
+    ops.loadConst("-time", 0.0)
+
+
 def pdelta_frame_periods(ops, frame, floor_masses: Sequence[float], floor_loads: Sequence[float], n: int) -> np.ndarray:
     """Periods [s] of one planar frame with OpenSees' ``PDelta`` transformation under gravity loads.
 
@@ -516,16 +532,7 @@ def pdelta_frame_periods(ops, frame, floor_masses: Sequence[float], floor_loads:
     for level in range(1, len(z)):
         for j in range(nc):
             ops.load(tag(level, j), 0.0, -float(floor_loads[level - 1]) / nc, 0.0)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 10)
-    ops.algorithm("Linear")
-    ops.integrator("LoadControl", 1.0)
-    ops.analysis("Static")
-    if ops.analyze(1) != 0:
-        raise RuntimeError("OpenSees gravity step failed")
-    ops.loadConst("-time", 0.0)
+    _gravity_step(ops)
     ops.wipeAnalysis()
     ops.constraints("Transformation")
     ops.numberer("RCM")
@@ -576,16 +583,7 @@ def pdelta_building_periods(ops, building, leaning: np.ndarray, floor_loads: Seq
     for f in range(len(masters)):
         for c in chains:
             ops.load(c[f + 1], 0.0, 0.0, -float(floor_loads[f]) / k, 0.0, 0.0, 0.0)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("BandGeneral")
-    ops.test("NormDispIncr", 1e-12, 10)
-    ops.algorithm("Linear")
-    ops.integrator("LoadControl", 1.0)
-    ops.analysis("Static")
-    if ops.analyze(1) != 0:
-        raise RuntimeError("OpenSees gravity step failed")
-    ops.loadConst("-time", 0.0)
+    _gravity_step(ops)
     periods = eigen_periods(ops, n)
     ops.wipe()
     return periods
