@@ -109,7 +109,9 @@ def describe(scene, path: Path | None = None) -> str:
 
     gdt = f"{gm.dt:g} s" if gm.dt is not None else "non-uniform steps"
     lines.append(f"ground motion: {gm.name} ({gm.source}), {len(gm.t)} samples at {gdt}, {gm.duration:g} s, "
-                 f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, along {gm.angle:g} deg from x")
+                 f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
+                     f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
+                     f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
     dt = an.dt or gm.dt or 0.01  # as the driver chooses (pounding.framework.analysis)
     duration = an.duration or gm.duration
     dt_src = "" if an.dt else (" (the record's)" if gm.dt else " (default)")
