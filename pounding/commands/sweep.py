@@ -56,7 +56,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from pounding.framework.sweep import parse_values, run_sweep
     from pounding.io.scene import load_scene
 
-    require_elastic(load_scene(args.scene))  # the driver does not step yielding storey springs yet
+    require_elastic(load_scene(args.scene), "`pounding sweep`")  # its batch runs step the elastic model only
 
     if args.workers is not None and args.workers < 1:
         raise InputError(f"expected a positive number of workers, got {args.workers}", field="--workers")

@@ -161,6 +161,7 @@ class Result:
         damp = sum(v["damping"] for v in e.values())
         contact = sum(v["contact_forces"] for v in e.values())
         lost = sum(i.energy_loss for i in self.impacts)
-        err = inp + contact - stored - damp - lost
+        hyst = sum(v.get("hysteretic", 0.0) for v in e.values())  # yielding storey springs
+        err = inp + contact - stored - damp - lost - hyst
         rel = err / inp if inp else 0.0
-        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "error": err, "relative_error": rel}
+        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "hysteretic": hyst, "error": err, "relative_error": rel}
