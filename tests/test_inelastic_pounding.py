@@ -20,10 +20,18 @@ from test_impacts import RecordingDriver, closing_speed, kinetic, lever_arms, mo
 EPS = np.finfo(float).eps
 
 
-def pair(gap: float, *, strength: float = 1.0, duration: float = 5.0, dt: float = 0.01, contact="impulse",
-         contact_params=None, yielding: bool = True):
-    """The pair, ``gap`` [m] apart; ``strength`` scales both buildings' yield forces (the right one
-    has half the left one's); ``yielding=False`` drops yield_force (elastic springs)."""
+def pair(gap: float, *, contact_params=None, **kw):
+    """The pair, ``gap`` [m] apart (:func:`pair_data`), parsed; ``contact_params`` replace the law's."""
+    scene = parse_scene(pair_data(gap, **kw))
+    if contact_params is not None:
+        scene = scene.with_analysis(contact_params=contact_params)
+    return scene
+
+
+def pair_data(gap: float, *, strength: float = 1.0, duration: float = 5.0, dt: float = 0.01, contact="impulse",
+              yielding: bool = True) -> dict:
+    """The pair's scene dict, ``gap`` [m] apart; ``strength`` scales both buildings' yield forces (the
+    right one has half the left one's); ``yielding=False`` drops yield_force (elastic springs)."""
     left = eccentric_building("left", strength=strength)
     right = eccentric_building("right", x0=15.0 + gap, strength=0.5 * strength)
     for e in right["element"]:  # and 0.6 times as stiff, so that the pair moves out of phase
@@ -33,14 +41,11 @@ def pair(gap: float, *, strength: float = 1.0, duration: float = 5.0, dt: float 
             for e in b["element"]:
                 for key in ("yield_force", "hardening", "hysteresis"):
                     e.pop(key, None)
-    scene = parse_scene({
+    return {
         "building": [left, right],
         "ground_motion": {"record": "elcentro", "pga": 0.32, "angle": 0.0},
         "analysis": {"integrator": "newmark", "dt": dt, "duration": duration, "contact": contact},
-    })
-    if contact_params is not None:
-        scene = scene.with_analysis(contact_params=contact_params)
-    return scene
+    }
 
 
 EQUILIBRIUM = {"restitution": 0.5, "after_impact": "equilibrium"}

@@ -268,6 +268,9 @@ class Driver:
         self.springs = Yielding.of(scene, self.model)
         if self.springs is not None:
             self.use_kernel = False
+            ns = self.springs.size
+            # spring deformation [m], force [N] and the law's dissipated energy [J] at the output rows
+            self.spring_hist = np.zeros((3, n_out, ns))
 
     # ---------------------------------------------------------------- stepping
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
@@ -442,6 +445,7 @@ class Driver:
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained)},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
+            springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
             event_t=np.array([e[0] for e in self.event_states]),
             event_q=np.array([e[1] for e in self.event_states]).reshape(ne, m.n),
             event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
@@ -506,6 +510,8 @@ class Driver:
         if k % self.every == 0:
             self.Q[k // self.every] = self.z[:, 0]
             self.V[k // self.every] = self.z[:, 1]
+            if self.springs is not None:
+                self.springs.record(self.spring_hist[:, k // self.every])
 
 
     # ---------------------------------------------------------------- one step in Python

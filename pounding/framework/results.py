@@ -73,7 +73,8 @@ class Result:
         0-based indices; storey numbers in files are 1-based.
     impacts : list of Impact
     energy : dict
-        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J].
+        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J]; with
+        yielding storey springs also hysteretic [J] (strain is then what the springs store).
     """
 
     t: np.ndarray
@@ -103,6 +104,8 @@ class Result:
     #: wall times [s]: loading and compiling the compiled core (``load_and_compile_s``, of which
     #: ``compile_s`` compiling), and the solve (``solve_s`` = ``runtime_s``)
     timings: dict = field(default_factory=dict)
+    #: per building with yielding storey springs: :func:`pounding.framework.yielding.spring_record`
+    springs: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:

@@ -123,6 +123,28 @@ class Yielding:
         out.work = np.zeros(len(model.systems))
         return out
 
+    @property
+    def size(self) -> int:
+        return sum(grp.springs.size for grp in self.groups)
+
+    def record(self, row: np.ndarray) -> None:
+        """row (3, ns): deformation, force and dissipated energy of every spring, groups in order."""
+        j = 0
+        for grp in self.groups:
+            ns = grp.springs.size
+            row[:, j:j + ns] = grp.state[:, :3].T
+            j += ns
+
+    def histories(self, hist: np.ndarray, names: list) -> dict:
+        """Per building name with yielding springs: :func:`spring_record` of its springs."""
+        out, j = {}, 0
+        for grp in self.groups:
+            ns = grp.springs.size
+            d, r, h = hist[0, :, j:j + ns], hist[1, :, j:j + ns], hist[2, :, j:j + ns]
+            out[names[grp.building]] = spring_record(grp.springs, d, r, h, grp.peak.copy(), grp.G)
+            j += ns
+        return out
+
     def end_load(self, f: list) -> np.ndarray:
         g = np.zeros(self.n)
         for grp, f1 in zip(self.groups, f):
@@ -179,6 +201,21 @@ class Yielding:
             return {"elastic_springs": elastic, "stored": float(stored),
                     "hysteretic": elastic + float(self.work[building]) - float(stored)}
         return {"elastic_springs": 0.0, "stored": 0.0, "hysteretic": 0.0}
+
+
+def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
+    """What a run keeps of one building's yielding springs (arrays at the output rate unless stated).
+
+    Keys: ``element``, ``storey`` (ns,) int (0-based element index, 1-based storey),
+    ``height`` (ns,) [m], ``k0`` (ns,) [N/m], ``yield_deformation`` (ns,) [m], ``G`` (ns, n_b)
+    spring rows over the building's modes, ``deformation`` (nt, ns) [m], ``force`` (nt, ns) [N],
+    ``dissipated`` (nt, ns) [J] (the law's own), ``peak`` (ns,) [m] peak |deformation| over every
+    step.
+    """
+    return {"element": springs.element.copy(), "storey": springs.storey.copy(), "height": springs.height.copy(),
+            "k0": springs.k0.copy(), "yield_deformation": springs.yield_deformation.copy(), "G": G,
+            "deformation": np.ascontiguousarray(d), "force": np.ascontiguousarray(r), "dissipated": np.ascontiguousarray(h),
+            "peak": peak}
 
 
 def check_springs(scene) -> None:
