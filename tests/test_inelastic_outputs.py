@@ -78,3 +78,29 @@ def test_a_run_folder_reloads_its_springs_and_energy(written):
             np.testing.assert_array_equal(loaded.springs[name][key], sp[key])
         assert loaded.energy[name]["hysteretic"] == result.energy[name]["hysteretic"]
     assert loaded.energy_balance()["error"] == pytest.approx(result.energy_balance()["error"], abs=1e3 * EPS * result.energy_balance()["input"])
+
+
+def test_pounding_plot_draws_hysteresis_loops_and_spring_profiles(written, tmp_path):
+    """`pounding plot RUN --reference REF --spring B:E:S` writes hysteresis_loops.png and
+    spring_profiles.png besides the other figures; a spring that is not in the run is one clear
+    message naming --spring, exit 2, nothing written."""
+    import subprocess
+    import sys
+
+    pytest.importorskip("matplotlib")
+    scene, result, out = written
+    name = result.names[0]
+    sp = result.springs[name]
+    spring = f"{name}:{int(sp['element'][0])}:{int(sp['storey'][0])}"
+    plots = tmp_path / "plots"
+    cmd = [sys.executable, "-m", "pounding", "plot", str(out), "--reference", str(out), "--out", str(plots), "--spring", spring]
+    proc = subprocess.run(cmd, capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    for png in ("hysteresis_loops.png", "spring_profiles.png"):
+        assert (plots / png).stat().st_size > 10_000
+    bad = tmp_path / "bad"
+    proc = subprocess.run([sys.executable, "-m", "pounding", "plot", str(out), "--out", str(bad), "--spring", f"{name}:99:1"],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "--spring" in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
+    assert not bad.exists()
