@@ -44,7 +44,5 @@ def assemble(building):
 def run(scene, **options):
     """Run the time-history analysis; see :func:`pounding.framework.analysis.run`."""
     from pounding.framework.analysis import run as _run
-    from pounding.framework.inelastic import require_elastic
 
-    require_elastic(scene)  # the driver does not step yielding storey springs yet
     return _run(scene, **options)

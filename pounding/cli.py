@@ -172,13 +172,13 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     """
     from pounding.framework import plausibility
     from pounding.framework.analysis import run
-    from pounding.framework.inelastic import require_elastic
+    from pounding.framework.yielding import check_springs
     from pounding.io.outputs import check_target
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
 
     scene = load_scene(scene_path)
-    require_elastic(scene)
+    check_springs(scene)  # one hysteresis law per building: said before anything runs
     check_target(out, overwrite=overwrite)
     if overrides:
         scene = scene.with_analysis(**overrides)

@@ -158,21 +158,24 @@ def test_cli_exit_code_2_for_a_bad_yield_force(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["scene.toml"]
 
 
-def test_pounding_run_refuses_yielding_springs_instead_of_running_them_elastic(tmp_path):
-    """Until the driver steps yielding springs, `pounding run` says so (exit 2, the key named,
-    nothing written) rather than analysing the initial elastic model as if nothing could yield.
-    Elastic storey springs run."""
+def test_pounding_run_refuses_mixed_laws_in_a_building_and_runs_yielding_springs(tmp_path):
+    """`pounding run` steps yielding springs (with or without contact), one hysteresis law per
+    building: a building mixing bilinear and Bouc-Wen lines is refused before anything runs (exit
+    2, the file and key named, nothing written); with one law it runs. `pounding gap`, whose
+    compiled batch runs step the elastic model only, refuses yielding springs (exit 2, the key
+    named) rather than treat them as elastic."""
     path = tmp_path / "scene.toml"
     path.write_text(BASE)
     out = tmp_path / "out"
     proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(path), "--out", str(out)], capture_output=True, text=True)
     assert proc.returncode == 2
-    assert E1 + ".yield_force" in proc.stderr and "run_inelastic" in proc.stderr
+    assert "mixes hysteresis laws" in proc.stderr and str(path) in proc.stderr
     assert not out.exists()
-    elastic = BASE.replace('  yield_force = [3.0e5, 2.5e5]\n  hardening = 0.02\n  hysteresis = "bilinear"\n', "")
-    elastic = elastic.replace('  yield_force = 2.5e5\n  hardening = 0.02\n  hysteresis = { name = "bouc_wen", n = 2, beta = 0.5, gamma = 0.5 }\n', "")
-    assert "yield_force" not in elastic
-    path.write_text(elastic)
+    one_law = BASE.replace('hysteresis = { name = "bouc_wen", n = 2, beta = 0.5, gamma = 0.5 }', 'hysteresis = "bilinear"')
+    path.write_text(one_law)
     proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(path), "--out", str(out)], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert (out / "summary.json").exists()
+    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert E1 + ".yield_force" in proc.stderr and "pounding gap" in proc.stderr

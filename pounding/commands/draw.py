@@ -7,6 +7,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from pounding.errors import InputError
 
 
@@ -20,6 +22,11 @@ def add_parser(sub) -> None:
         "--point", action="append", default=None, metavar="BUILDING:STOREY:VERTEX[:x|y]",
         help="a slab vertex whose displacement history to plot (storey 1-based, vertex 0-based as in impacts.csv, "
         "component x by default); repeat for more (default: the lower building's corners facing the other)",
+    )
+    p.add_argument(
+        "--spring", action="append", default=None, metavar="BUILDING:ELEMENT:STOREY",
+        help="a yielding storey spring whose hysteresis loop to draw (element 0-based as in summary.json's "
+        "yielding_springs, storey 1-based); repeat for more (default: the most ductile spring of every building)",
     )
     p.add_argument("--spectra", action="store_true", help="also floor response spectra of every floor (floor_spectra.png, floor_spectra.csv): pseudo-acceleration [m/s2], 0.02-5 s, impacts included")
     p.add_argument("--spectra-damping", type=float, default=0.05, metavar="ZETA", help="damping ratio of the spectra's oscillators (default 0.05)")
@@ -43,11 +50,12 @@ def cmd_plot(args) -> int:
     scene, result = load_result(args.run)
     reference = load_result(args.reference)[1] if args.reference else None
     points = [parse_point(text, scene) for text in args.point] if args.point else None
+    springs = [parse_spring(text, result) for text in args.spring] if args.spring else None
     if not 0 <= args.spectra_damping < 1:
         raise InputError(f"expected a damping ratio in [0, 1), got {args.spectra_damping}", field="--spectra-damping")
 
     def write(tmp):
-        paths = plot_all(scene, result, tmp, reference=reference, points=points)
+        paths = plot_all(scene, result, tmp, reference=reference, points=points, springs=springs)
         if args.spectra:
             from pounding.io.profile_plots import write_floor_spectra
 
@@ -76,6 +84,23 @@ def cmd_render(args) -> int:
         raise InputError(str(exc)) from None
     print("\n".join(str(p) for p in paths))
     return 0
+
+
+def parse_spring(text: str, result) -> tuple:
+    """'low:0:2' -> (building, element, storey), checked against the run's yielding springs."""
+    parts = text.split(":")
+    if len(parts) != 3 or not (parts[1].isdigit() and parts[2].isdigit()):
+        raise InputError(f"expected BUILDING:ELEMENT:STOREY (element 0-based, storey 1-based), got {text!r}", field="--spring")
+    name, element, storey = parts[0], int(parts[1]), int(parts[2])
+    if name not in result.springs:
+        known = ", ".join(result.springs) or "none"
+        raise InputError(f"no yielding springs in building {name!r}; buildings with yielding springs: {known}", field="--spring")
+    sp = result.springs[name]
+    if not np.any((sp["element"] == element) & (sp["storey"] == storey)):
+        have = sorted({int(e) for e in sp["element"]})
+        raise InputError(f"building {name!r} has no yielding spring at element {element}, storey {storey} "
+                         f"(yielding elements: {have})", field="--spring")
+    return name, element, storey
 
 
 def parse_point(text: str, scene) -> tuple:

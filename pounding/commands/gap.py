@@ -49,7 +49,7 @@ def cmd_gap(args: argparse.Namespace) -> int:
 
     direction = direction_vector(args.direction)
     scene = load_scene(args.scene)
-    require_elastic(scene)
+    require_elastic(scene, "`pounding gap`")
     from pounding.cli import time_overrides
 
     overrides = time_overrides(args)

@@ -69,6 +69,7 @@ class Step:
     z1: np.ndarray
     f0: np.ndarray
     f1: np.ndarray
+    sp: object = None  # the yielding springs' trial (:class:`pounding.framework.yielding.SpringTrial`)
 
 
 class Model:
@@ -260,6 +261,16 @@ class Driver:
         )
         self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
         self.timings = {"compile_s": 0.0, "load_s": 0.0}
+        from pounding.framework.yielding import Yielding
+
+        #: yielding storey springs (None: every building elastic). The compiled core steps elastic
+        #: buildings only, so a scene with yielding springs runs on the Python path.
+        self.springs = Yielding.of(scene, self.model)
+        if self.springs is not None:
+            self.use_kernel = False
+            ns = self.springs.size
+            # spring deformation [m], force [N] and the law's dissipated energy [J] at the output rows
+            self.spring_hist = np.zeros((3, n_out, ns))
 
     # ---------------------------------------------------------------- stepping
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
@@ -424,7 +435,7 @@ class Driver:
             mode_start=m.mode_start,
             pairs=m.pairs,
             impacts=self.impacts,
-            energy=m.energy(self.z, self.E),
+            energy=self.energy(),
             runtime_s=runtime,
             dt=self.dt,
             steps=self.nsteps,
@@ -434,11 +445,25 @@ class Driver:
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained)},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
+            springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
             event_t=np.array([e[0] for e in self.event_states]),
             event_q=np.array([e[1] for e in self.event_states]).reshape(ne, m.n),
             event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
             timings={"load_and_compile_s": self.timings["load_s"], "compile_s": self.timings["compile_s"], "solve_s": runtime},
         )
+
+    def energy(self) -> dict:
+        """The energy account per building [J] (:meth:`Model.energy`); with yielding springs, strain
+        is what the springs store and ``hysteretic`` what they dissipated: their whole work (the
+        elastic part k0 u^2/2 in the modal strain plus the remainders' work) minus what they store."""
+        out = self.model.energy(self.z, self.E)
+        if self.springs is None:
+            return out
+        for i, s in enumerate(self.model.systems):
+            e = self.springs.energy(i, self.z[:, 0], s.omega, int(self.model.mode_start[i]))
+            out[s.name]["strain"] += e["stored"] - e["elastic_springs"]
+            out[s.name]["hysteretic"] = e["hysteretic"]
+        return out
 
     def needs_python(self, k: int) -> bool:
         if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
@@ -485,6 +510,8 @@ class Driver:
         if k % self.every == 0:
             self.Q[k // self.every] = self.z[:, 0]
             self.V[k // self.every] = self.z[:, 1]
+            if self.springs is not None:
+                self.springs.record(self.spring_hist[:, k // self.every])
 
 
     # ---------------------------------------------------------------- one step in Python
@@ -521,9 +548,28 @@ class Driver:
         if st.z0 is not self.z:
             # a held step may start with the normal velocity of pressed points projected out
             hold.book_velocity_change(self.E, self.model.bidx, self.z[:, 1].copy(), st.z0[:, 1].copy())
-        self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
+        if self.springs is None:
+            self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
+        else:
+            self.accumulate_with_springs(st, t, h)
+            self.springs.commit(st.sp)
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
+
+    def accumulate_with_springs(self, st: Step, t: float, h: float) -> None:
+        """Book a step with yielding springs: their remainders' modal loads -g are loads like the
+        contact forces; their work goes to the springs' account, not the contact column."""
+        from pounding.framework.yielding import force_work
+
+        g0, g1 = self.springs.g, st.sp.g
+        ftot0, ftot1 = st.f0 - g0, st.f1 - g1
+        self.accumulate(st.z0, st.z1, t, h, ftot0, ftot1)
+        if not h > 0.0:
+            return
+        w = force_work(self.transition(h), float(h), self.load(t), self.load(t + h), st.z0, st.z1, ftot0, ftot1, g0, g1)
+        per = np.bincount(self.model.bidx, weights=w, minlength=len(self.model.systems))
+        self.E[:, 2] += per  # the contact column holds the contact forces' work only
+        self.springs.work += per
 
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
@@ -541,6 +587,8 @@ class Driver:
     def trial(self, z, t, h) -> Step:
         """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
         zero = np.zeros(self.model.n)
+        if self.springs is not None:
+            return self.spring_trial(z, t, h)
         if self.law.kind == "impulse" and self.sustained:
             return self.held_trial(z, t, h)
         zf = self.step(z, t, h, self.fc)
@@ -558,12 +606,57 @@ class Driver:
         f1 = Wr.T @ lam
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
 
-    def held_trial(self, z, t, h) -> Step:
+    def spring_trial(self, z, t, h) -> Step:
+        """A trial step with yielding springs (:mod:`pounding.framework.yielding`): Newton on the
+        springs' end remainders where no force depends on the step's end, else a fixed-point loop on
+        them around the held-contact or penalty solve."""
+        sp, tr = self.springs, self.cache(h)
+        g0 = sp.g
+        if self.law.kind == "impulse" and self.sustained:
+            def solve(g1):
+                st = self.held_trial(z, t, h, g0, g1)
+                return st, st.z1[:, 0]
+
+            st, new = sp.fixed_point(solve)
+            st.sp = new
+            return st
+        if self.law.kind == "force":
+            def solve(g1):
+                st = self.force_trial(z, t, h, -g0, -g1)
+                return st, st.z1[:, 0]
+
+            st, new = sp.fixed_point(solve)
+            st.sp = new
+            return st
+        zlin = self.step(z, t, h, self.fc - g0)
+        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1])
+        return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
+
+    def force_trial(self, z, t, h, e0, e1) -> Step:
+        """A penalty-law step with extra modal loads e0, e1 (n,) at its ends (the springs' -g)."""
+        zero = np.zeros(self.model.n)
+        zf = self.step(z, t, h, self.fc + e0, e1)
+        _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        keep = gap < 0
+        if not np.any(keep):
+            return Step(z, zf, self.fc, zero)
+        Wr, gap = Wr[keep], gap[keep]
+        tr = self.cache(h)
+        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
+        f1 = Wr.T @ lam
+        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
+
+    def held_trial(self, z, t, h, e0=None, e1=None) -> Step:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.held.held_step`)."""
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
         _, gap0, W0, _, _ = m.touching(z[:, 0], held, self.tol, deep=True)
-        z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), self.load(t), self.load(t + h), np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
+        p0, p1 = self.load(t), self.load(t + h)
+        if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
+            p0, p1 = p0 - e0, p1 - e1
+        z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
                                             float(h), m.c2, m.om2, held, self.tol, 1e3 * self.v_min, gap0, W0, m.geo)
         return Step(z0, z1, f0, f1)
 
@@ -593,7 +686,7 @@ class Driver:
         def gmin(hh):
             if hh <= 0.0:
                 return float(self.model.gaps(self.z[:, 0], plist).min())
-            if self.law.kind == "impulse" and not self.sustained:
+            if self.law.kind == "impulse" and not self.sustained and self.springs is None:
                 # no contact force in the step: only its end displacements are needed
                 tr = self.cache(hh)
                 return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, self.load(t) + self.fc,
@@ -676,7 +769,8 @@ class Driver:
                 log.last_t[0] = t
             self.z[:, 1] += Wr.T @ I
             if self.law.after_impact == "equilibrium":
-                self.z[:, 2] = self.load(t) + self.fc - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
+                rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
+                self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
             acted = True
             for j in np.flatnonzero(I > 0):
                 rec = np.zeros((), dtype=IMPACT_DTYPE)

@@ -62,7 +62,7 @@ def building_balances(result) -> dict[str, dict]:
     for name in result.names:
         e = dict(result.energy[name])
         e["impacts"] = imp[name]
-        err = e["input"] + e["contact_forces"] + e["impacts"] - e["kinetic"] - e["strain"] - e["damping"]
+        err = e["input"] + e["contact_forces"] + e["impacts"] - e["kinetic"] - e["strain"] - e["damping"] - e.get("hysteretic", 0.0)
         out[name] = {**e, "error": err, "relative_error": err / e["input"] if e["input"] else 0.0}
     return out
 

@@ -54,8 +54,8 @@ Damping stays classical on the initial elastic model: C = Phi^-T diag(2 zeta ome
 whatever the springs do (Rayleigh with the initial stiffness, as OpenSees'
 ``rayleigh(a0, 0, a1, 0)``).
 
-Contact is off here; pounding with yielding buildings is to come with the
-driver (see the README).
+Contact is off here; the driver steps yielding buildings with pounding by the
+same equations (:mod:`pounding.framework.yielding`).
 """
 
 from __future__ import annotations
@@ -115,12 +115,13 @@ class SpringSet:
         return self.params[:, 1] / self.params[:, 0]
 
 
-def require_elastic(scene: Scene) -> None:
+def require_elastic(scene: Scene, command: str = "this command") -> None:
     """Raise InputError if a building of ``scene`` has yielding storey springs.
 
-    The driver (:func:`pounding.framework.analysis.run`) steps the initial elastic model only;
-    until yielding springs are wired into it, the commands that use it refuse them rather than
-    silently treat them as elastic.
+    The driver (:func:`pounding.framework.analysis.run`, ``pounding run``) steps yielding springs
+    with every contact law; the commands built on the compiled core alone (``pounding gap``,
+    ``pounding sweep``) step the initial elastic model only and refuse them rather than silently
+    treat them as elastic.
     """
     from pounding.elements.storey_springs import StoreySprings
 
@@ -128,8 +129,8 @@ def require_elastic(scene: Scene) -> None:
         for j, e in enumerate(b.elements):
             if isinstance(e, StoreySprings) and e.yields:
                 raise InputError(
-                    "yielding storey springs (yield_force) are not yet analysed by this command, which would treat them "
-                    "as elastic; analyse them without contact with pounding.framework.inelastic.run_inelastic, or omit "
+                    f"yielding storey springs (yield_force) are not yet analysed by {command}, which would treat them "
+                    "as elastic; analyse them with `pounding run` (with or without contact), or omit "
                     "yield_force for elastic springs",
                     file=str(scene.source) if scene.source else None,
                     field=f"building[{i}].element[{j}].yield_force",
@@ -580,7 +581,8 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
 
     an = scene.analysis
     if an.contact != "none" and len(scene.buildings) > 1:
-        raise InputError("pounding with yielding storeys is not available yet: set contact = \"none\"", field="analysis.contact")
+        raise InputError("run_inelastic steps buildings without contact: set contact = \"none\", or run the scene with "
+                         "pounding.run (the driver steps yielding buildings with pounding)", field="analysis.contact")
     gm = scene.ground_motion
     if len(gm.components) != 1:
         raise InputError("yielding storeys under two ground-motion components are not available yet: "

@@ -111,18 +111,26 @@ class StoreyForces:
     overturning: np.ndarray
 
 
-def storey_forces(system, cm: np.ndarray) -> StoreyForces:
+def storey_forces(system, cm: np.ndarray, springs: dict | None = None) -> StoreyForces:
     """Storey shears and overturning moments of a building (its :class:`~pounding.framework.assembly.System`)
-    from its slab histories cm (nt, N, 3)."""
+    from its slab histories cm (nt, N, 3); ``springs`` (:func:`pounding.framework.yielding.spring_record`):
+    the yielding storey springs, whose storey shear is their own force, not the elastic k0 u."""
     nt, n = cm.shape[0], system.n_storeys
     x = cm.reshape(nt, 3 * n)
     eshear = np.zeros((nt, len(system.elements), n))
     floor_force = np.zeros((nt, n, 2))
+    yielding = set() if not springs else {int(j) for j in springs["element"]}
     for j, e in enumerate(system.elements):
-        f = (x @ e.T.T) @ e.k  # (nt, n_e) floor forces along the element line [N] (k symmetric)
         per_floor = np.zeros((nt, n))
-        per_floor[:, np.asarray(e.floors) - 1] = f
-        eshear[:, j] = np.cumsum(per_floor[:, ::-1], axis=1)[:, ::-1]
+        if j in yielding:
+            sel = springs["element"] == j
+            eshear[:, j, springs["storey"][sel] - 1] = springs["force"][:, sel]
+            # floor force = the shear of the storey below the floor minus that of the storey above
+            per_floor = eshear[:, j] - np.concatenate([eshear[:, j, 1:], np.zeros((nt, 1))], axis=1)
+        else:
+            f = (x @ e.T.T) @ e.k  # (nt, n_e) floor forces along the element line [N] (k symmetric)
+            per_floor[:, np.asarray(e.floors) - 1] = f
+            eshear[:, j] = np.cumsum(per_floor[:, ::-1], axis=1)[:, ::-1]
         floor_force += per_floor[:, :, None] * e.direction
     shear = np.cumsum(floor_force[:, ::-1], axis=1)[:, ::-1]
     z = np.cumsum(system.storey_heights)
@@ -136,9 +144,13 @@ def storey_forces(system, cm: np.ndarray) -> StoreyForces:
 
 
 # --------------------------------------------------------------------------- accelerations
-def floor_acceleration(system, q: np.ndarray, qd: np.ndarray) -> np.ndarray:
-    """Absolute floor acceleration, smooth part, (nt, N, 3) [m/s^2, m/s^2, rad/s^2]: -M^-1 (K x + C v)."""
-    acc = -(q * system.omega**2 + qd * (2.0 * system.zeta * system.omega)) @ system.modes.T
+def floor_acceleration(system, q: np.ndarray, qd: np.ndarray, springs: dict | None = None) -> np.ndarray:
+    """Absolute floor acceleration, smooth part, (nt, N, 3) [m/s^2, m/s^2, rad/s^2]: -M^-1 (K x + C v),
+    plus, with yielding springs (``springs``), their remainders' share -M^-1 T^T (r - k0 u)."""
+    modal = q * system.omega**2 + qd * (2.0 * system.zeta * system.omega)
+    if springs:
+        modal = modal + (springs["force"] - springs["k0"] * springs["deformation"]) @ springs["G"]
+    acc = -modal @ system.modes.T
     return acc.reshape(q.shape[0], system.n_storeys, 3)
 
 
@@ -267,10 +279,17 @@ def building_response(result, name: str, durations: np.ndarray) -> dict[str, np.
     s = result.systems[result.names.index(name)]
     cm = result.cm(name)
     d_cm, d_corner = drift_ratios(s, cm)
-    sf = storey_forces(s, cm)
-    acc = floor_acceleration(s, result.modal(name), result.modal(name, velocity=True))
+    sp = getattr(result, "springs", {}).get(name)
+    sf = storey_forces(s, cm, sp)
+    acc = floor_acceleration(s, result.modal(name), result.modal(name, velocity=True), sp)
     times, jumps, spikes = floor_velocity_jumps(result, name, durations)
+    extra = {}
+    if sp:
+        extra = {"spring_element": sp["element"], "spring_storey": sp["storey"], "spring_deformation": sp["deformation"],
+                 "spring_force": sp["force"], "spring_dissipated": sp["dissipated"], "spring_peak": sp["peak"],
+                 "spring_yield_deformation": sp["yield_deformation"], "spring_height": sp["height"]}
     return {
+        **extra,
         "drift_ratio_cm": d_cm,
         "drift_ratio_corner": d_corner,
         "storey_shear": sf.shear,
@@ -302,4 +321,30 @@ def peaks(hist: dict[str, np.ndarray]) -> dict[str, list]:
         "peak_floor_acceleration": mag(acc[:, :, :2]).max(axis=0).tolist(),
         "peak_floor_velocity_jump": (mag(jumps[:, :, :2]).max(axis=0) if len(jumps) else np.zeros(n)).tolist(),
         "peak_floor_acceleration_impact": (spikes.max(axis=0) if len(spikes) else np.zeros(n)).tolist(),
+        **({"yielding_springs": spring_summary(hist)} if "spring_force" in hist else {}),
     }
+
+
+def spring_summary(hist: dict[str, np.ndarray]) -> list[dict]:
+    """Per yielding spring line (element), per storey it spans, bottom first: ``element`` (0-based
+    index in the building's list), ``storeys`` (1-based), ``peak_drift_ratio`` = peak |u| / h,
+    ``ductility`` = peak |u| / u_y, ``residual_drift`` [m] and ``residual_drift_ratio`` (signed u at
+    the record's end), ``peak_force`` [N], ``hysteretic_energy`` [J] (the law's own dissipation)."""
+    out = []
+    el = hist["spring_element"]
+    for j in sorted({int(e) for e in el}):
+        sel = np.flatnonzero(el == j)
+        sel = sel[np.argsort(hist["spring_storey"][sel])]
+        peak, h = hist["spring_peak"][sel], hist["spring_height"][sel]
+        res = hist["spring_deformation"][-1, sel]
+        out.append({
+            "element": j,
+            "storeys": hist["spring_storey"][sel].tolist(),
+            "peak_drift_ratio": (peak / h).tolist(),
+            "ductility": (peak / hist["spring_yield_deformation"][sel]).tolist(),
+            "residual_drift": res.tolist(),
+            "residual_drift_ratio": (res / h).tolist(),
+            "peak_force": np.abs(hist["spring_force"][:, sel]).max(axis=0).tolist(),
+            "hysteretic_energy": hist["spring_dissipated"][-1, sel].tolist(),
+        })
+    return out

@@ -73,7 +73,8 @@ class Result:
         0-based indices; storey numbers in files are 1-based.
     impacts : list of Impact
     energy : dict
-        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J].
+        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J]; with
+        yielding storey springs also hysteretic [J] (strain is then what the springs store).
     """
 
     t: np.ndarray
@@ -103,6 +104,8 @@ class Result:
     #: wall times [s]: loading and compiling the compiled core (``load_and_compile_s``, of which
     #: ``compile_s`` compiling), and the solve (``solve_s`` = ``runtime_s``)
     timings: dict = field(default_factory=dict)
+    #: per building with yielding storey springs: :func:`pounding.framework.yielding.spring_record`
+    springs: dict = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:
@@ -161,6 +164,7 @@ class Result:
         damp = sum(v["damping"] for v in e.values())
         contact = sum(v["contact_forces"] for v in e.values())
         lost = sum(i.energy_loss for i in self.impacts)
-        err = inp + contact - stored - damp - lost
+        hyst = sum(v.get("hysteretic", 0.0) for v in e.values())  # yielding storey springs
+        err = inp + contact - stored - damp - lost - hyst
         rel = err / inp if inp else 0.0
-        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "error": err, "relative_error": rel}
+        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "hysteretic": hyst, "error": err, "relative_error": rel}

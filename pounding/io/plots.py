@@ -462,7 +462,7 @@ def _draw_element_plan(ax, el, colour) -> str:
 # =============================================================================
 
 
-def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None = None) -> list[Path]:
+def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None = None, springs: Sequence | None = None) -> list[Path]:
     """Write every figure of a run into ``out_dir`` (created); returns the PNG paths.
 
     Parameters
@@ -475,12 +475,14 @@ def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None 
         The same scene without pounding, overlaid on the displacement histories.
     points : sequence of (building, storey 1-based, vertex[, "x" | "y"]), optional
         Points of the displacement histories; default :func:`default_points`.
+    springs : sequence of (building, element 0-based, storey 1-based), optional
+        Yielding springs whose hysteresis loops to draw; default: the most ductile one per building.
     """
     from pounding.io.profile_plots import plot_response_profiles
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    return [
+    paths = [
         plot_plan(result, out / "plan.png", scene=scene),
         plot_displacement_histories(result, out / "displacement_histories.png", points=points, reference=reference),
         plot_impact_timeline(result, out / "impact_timeline.png"),
@@ -488,3 +490,9 @@ def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None 
         plot_energy(result, out / "energy_balance.png", scene=scene),
         plot_response_profiles(result, out / "response_profiles.png", reference=reference),
     ]
+    if getattr(result, "springs", None):  # yielding storey springs
+        from pounding.io.spring_plots import plot_hysteresis, plot_spring_profiles
+
+        paths.append(plot_hysteresis(result, out / "hysteresis_loops.png", springs=springs, reference=reference))
+        paths.append(plot_spring_profiles(result, out / "spring_profiles.png", reference=reference))
+    return paths

@@ -172,8 +172,9 @@ def load_result(folder: str | Path):
         )
     ]
     pairs = [(int(a), int(fa), int(b), int(fb), float(g)) for (a, fa, b, fb), g in zip(data["pairs"], data["pair_rest_gap"])]
-    terms = ("input", "damping", "contact_forces", "kinetic", "strain")  # as the run booked them (the rest is derived)
-    energy = {name: {k: b["energy"][k] for k in terms} for name, b in summ["buildings"].items()}
+    terms = ("input", "damping", "contact_forces", "kinetic", "strain", "hysteretic")  # as the run booked them (the rest is derived)
+    energy = {name: {k: b["energy"][k] for k in terms if k in b["energy"]} for name, b in summ["buildings"].items()}
+    springs = _load_springs(folder, scene, summ)
     result = Result(
         t=data["t"], names=[b.name for b in scene.buildings], q=data["q"], qd=data["qd"],
         systems=[assemble(b) for b in scene.buildings], mode_start=data["mode_start"], pairs=pairs, impacts=impacts,
@@ -183,8 +184,32 @@ def load_result(folder: str | Path):
         info={"impact_force": summ["impact_force"]} if "impact_force" in summ else {},
         event_t=data["event_t"], event_q=data["event_q"], event_qd=data["event_qd"],
         slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
+        springs=springs,
     )
     return scene, result
+
+
+def _load_springs(folder: Path, scene, summ: dict) -> dict:
+    """The yielding springs' histories of a run folder (response.npz), as the run kept them."""
+    from pounding.framework.assembly import assemble
+    from pounding.framework.inelastic import spring_set
+
+    path = folder / "response.npz"
+    if not path.exists():
+        return {}
+    out = {}
+    with np.load(path) as data:
+        for i, b in enumerate(scene.buildings):
+            if f"{b.name}_spring_force" not in data:
+                continue
+            sset = spring_set(b, i)
+            G = sset.T @ assemble(b).modes
+            d = data
+            out[b.name] = {"element": sset.element, "storey": sset.storey, "height": sset.height, "k0": sset.k0,
+                           "yield_deformation": sset.yield_deformation, "G": G,
+                           "deformation": d[f"{b.name}_spring_deformation"], "force": d[f"{b.name}_spring_force"],
+                           "dissipated": d[f"{b.name}_spring_dissipated"], "peak": d[f"{b.name}_spring_peak"]}
+    return out
 
 
 def write_results(result: Result, out: str | Path, scene_text: str | None = None, extra=None, scene_path=None, *, overwrite: bool = True) -> Path:

@@ -178,3 +178,88 @@ def run_springs_transient(
             forces[b.name][k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
     ops.wipe()
     return disp, forces, iterations
+
+
+def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, tol: float = 1e-12, max_iter: int = 100):
+    """Two storey-spring buildings side by side along x pounding through zero-length gap springs.
+
+    The buildings of :func:`build_spring_building` (yielding links, each building's Rayleigh damping
+    on its initial stiffness) and, at every common storey, two ``zeroLength`` springs in x with
+    ``ElasticPPGap`` (``stiffness`` [N/m], the clear distance as its gap, never yielding) at the
+    ends of the common facade, each end a slave of its building's diaphragm, as
+    :func:`pounding.peer.opensees.run_gap_pounding` adds them to frame buildings. Newmark average
+    acceleration, Newton (``NormDispIncr`` ``tol`` [m]), ``n_steps`` steps of ``dt`` [s]; one
+    ground-motion component along x; the facades collinear and the motion planar (x only).
+
+    Returns
+    -------
+    (disp, forces, gap_forces, iterations) : dict name -> (n_steps + 1, storeys, 3) master-node
+    (ux, uy, rz); dict name -> (n_steps + 1, ns) yielding links' basic force [N];
+    (n_steps + 1, common storeys, 2) gap springs' basic force [N] (negative in compression);
+    total Newton iterations.
+    """
+    from pounding.framework.assembly import assemble, rayleigh_coefficients
+
+    low, high = scene.buildings
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    built = {b.name: build_spring_building(ops, b, 100_000 * i) for i, b in enumerate(scene.buildings)}
+    for k, b in enumerate(scene.buildings, start=1):
+        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
+        _, nodes, elements, _ = built[b.name]
+        ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, float(a1), 0.0)
+        ops.region(2 + k, "-nodeOnly", *nodes, "-rayleigh", float(a0), 0.0, 0.0, 0.0)
+    x_low = max(float(v[0]) for v in low.slabs[0].vertices)
+    x_high = min(float(v[0]) for v in high.slabs[0].vertices)
+    clear = x_high - x_low
+    ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
+    if ends_y != sorted({float(v[1]) for v in high.slabs[0].vertices}):
+        raise ValueError("run_springs_gap_pounding needs collinear facades (face-to-face contact)")
+    tag = 1_000_000
+    ops.uniaxialMaterial("ElasticPPGap", tag, float(stiffness), -1e30, -clear, 0.0, "noDamage")
+    material = tag
+    gaps = []
+    for f in range(min(low.n_storeys, high.n_storeys)):
+        z = float(low.slabs[f].elevation)
+        row = []
+        for y in ends_y:
+            ends = []
+            for b in (low, high):  # deformation u_high - u_low: compression when below -clear
+                tag += 1
+                ops.node(tag, 0.5 * (x_low + x_high), y, z)
+                ops.fix(tag, *MASTER_FIX)
+                ops.rigidDiaphragm(3, built[b.name][0][f], tag)
+                ends.append(tag)
+            tag += 1
+            ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
+            row.append(tag)
+        gaps.append(row)
+    gm = scene.ground_motion
+    if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
+        raise ValueError("run_springs_gap_pounding shakes with one component along x only")
+    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.test("NormDispIncr", float(tol), int(max_iter))
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+    disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
+    forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in scene.buildings}
+    gap_forces = np.zeros((n_steps + 1, len(gaps), 2))
+    iterations = 0
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        iterations += ops.testIter()
+        for b in scene.buildings:
+            masters, _, _, links = built[b.name]
+            for f, t in enumerate(masters):
+                disp[b.name][k, f] = (ops.nodeDisp(t, 1), ops.nodeDisp(t, 2), ops.nodeDisp(t, 6))
+            forces[b.name][k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
+        for f, row in enumerate(gaps):
+            gap_forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
+    ops.wipe()
+    return disp, forces, gap_forces, iterations
