@@ -292,6 +292,38 @@ def test_consequences_with_a_gap_above_every_required_gap_change_nothing(records
     assert len(res.consequences) == 8 and not res.failed
 
 
+YIELDING = ROOT / "examples" / "inelastic_pair" / "pair_yielding_gap_0.03.toml"
+
+
+def test_ductility_amplification_is_the_ratio_of_the_runs_peak_ductilities(records, tmp_path):
+    """Yielding buildings: each consequence row's ductility is the peak ductility demand (peak |deformation| /
+    yield deformation, worst spring) of a run with contact at that gap, the contact-free row's that of the run
+    without; the summary's median amplification is the median of their ratios. Checked against runs made
+    here with `run` (same arithmetic, so exact)."""
+    from pounding.framework.analysis import run
+    from pounding.framework.fragility import peak_ductility
+    from pounding.framework.fragility_inputs import record_set
+    from pounding.framework.gap import no_contact, with_gap
+
+    scene = load_scene(YIELDING)
+    short = {"duration": 3.0}
+    res = run_fragility(YIELDING, tmp_path / "y", records=records, levels=[0.3], overrides=short, serial=True, plots=False,
+                        consequence_gaps=[0.0])
+    assert not res.failed
+    recs = dict(record_set(records, scene))
+    ratios = []
+    for row in res.consequences:
+        free = next(r for r in res.runs if r["record"] == row["record"])
+        s = scene.with_analysis(**short).with_ground_motion(recs[row["record"]].scaled(row["scale"]))
+        for b in ("low", "high"):
+            assert row[f"{b}_peak_ductility"] == peak_ductility(run(with_gap(s, 0.0, None)), b)
+            assert free[f"{b}_peak_ductility"] == peak_ductility(run(no_contact(s)), b)
+        ratios.append(row["high_peak_ductility"] / free["high_peak_ductility"])
+    summary = next(r for r in res.consequence_summary if r["building"] == "high")
+    assert summary["median_ductility_amplification"] == pytest.approx(float(np.median(ratios)), rel=1e-12)
+    assert max(r["high_peak_ductility"] for r in res.runs) > 1.0  # the buildings do yield at this level
+
+
 def test_dask_gives_the_serial_rows(study, records, tmp_path):
     """Two local Dask workers produce the same rows, in the same order, as the serial run."""
     pytest.importorskip("dask.distributed")

@@ -21,7 +21,7 @@ def add_parser(sub) -> None:
             "gap at once. Writes OUT/runs.csv (one row per record and level, appended as runs finish), OUT/fragility.csv "
             "(P(pounding) per gap and level, and the lognormal fragility per gap fitted by maximum likelihood over the levels, "
             "with Wald bounds), OUT/target_gap.csv (the gap for each target probability per level beside the mean ABS, SRSS "
-            "and DDC estimates), plots, and with --consequences runs with contact for the drift amplification. A rerun with the "
+            "and DDC estimates), plots, and with --consequences runs with contact for the drift (and, for yielding storeys, ductility) amplification. A rerun with the "
             "same OUT resumes: finished runs are read back, failed ones run again. Runs execute on a local Dask cluster "
             "unless --scheduler or --serial is given."
         ),
@@ -36,7 +36,7 @@ def add_parser(sub) -> None:
     p.add_argument("--target", default="0.1", metavar="LIST", help="target probabilities of pounding for target_gap.csv (default 0.1)")
     p.add_argument("--plot-gaps", default=None, metavar="LIST", help="gaps [m] whose fragility curves are drawn (default: three from the data)")
     p.add_argument("--consequences", default=None, metavar="GAPS",
-                   help="also run every record and level with contact at these gaps [m]: drift amplification per level")
+                   help="also run every record and level with contact at these gaps [m]: drift (and ductility) amplification per level")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")

@@ -87,13 +87,13 @@ def run_columns(names: list[str]) -> list[str]:
     """Columns of ``runs.csv`` for buildings ``names``."""
     cols = ["record", "level", "im", "record_im", "scale", "status", "error", "required_gap_m", "required_gap_grid_m",
             "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
-    return cols + [f"{n}_peak_drift" for n in names] + ["warnings", "runtime_s"]
+    return cols + [f"{n}_peak_drift" for n in names] + [f"{n}_peak_ductility" for n in names] + ["warnings", "runtime_s"]
 
 
 def consequence_columns(names: list[str]) -> list[str]:
     """Columns of ``consequences.csv`` for buildings ``names``."""
     return ["record", "level", "gap_m", "scale", "status", "error", "n_impacts"] + [f"{n}_peak_drift" for n in names] + \
-        ["max_impulse", "energy_loss", "warnings", "runtime_s"]
+        [f"{n}_peak_ductility" for n in names] + ["max_impulse", "energy_loss", "warnings", "runtime_s"]
 
 
 def _refined_maximum(y0: float, y1: float, y2: float) -> float:
@@ -104,11 +104,24 @@ def _refined_maximum(y0: float, y1: float, y2: float) -> float:
     return y1 + (y0 - y2) ** 2 / (8.0 * curv)
 
 
+def peak_ductility(result, name: str) -> float | None:
+    """Largest ductility demand (peak |deformation| / yield deformation) of a building's yielding storey
+    springs over the run, or None for a building without yielding springs."""
+    sp = getattr(result, "springs", {}).get(name)
+    if not sp:
+        return None
+    return float(np.max(np.asarray(sp["peak"]) / np.asarray(sp["yield_deformation"])))
+
+
+_RESPONSE = ("_peak_drift", "_peak_ductility")
+
+
 def _drifts(result, scene) -> dict:
     from pounding.framework.sweep import _measures
 
     m = _measures(result, scene, [])
     return {k: v for k, v in m.items() if k.endswith("_peak_drift")} | {
+        f"{b.name}_peak_ductility": peak_ductility(result, b.name) for b in scene.buildings} | {
         "n_impacts": m["n_impacts"], "max_impulse": m["max_impulse"], "energy_loss": m["energy_loss"]}
 
 
@@ -157,7 +170,7 @@ def contact_free_run(scene, motion, scale: float, direction, row: dict) -> dict:
                    storey=rep.storey, storey_b=rep.storey_b, time_s=rep.time, striking=rep.striking, vertex=rep.vertex,
                    struck=rep.struck, edge=rep.edge, abs_m=rep.abs, srss_m=rep.srss, ddc_m=rep.ddc,
                    warnings=_caught(caught))
-        row.update({k: v for k, v in _drifts(result, s).items() if k.endswith("_peak_drift")})
+        row.update({k: v for k, v in _drifts(result, s).items() if k.endswith(_RESPONSE)})
     except Exception as exc:  # noqa: BLE001 - a failed run is reported in its row
         row.update(status="error", error=f"{type(exc).__name__}: {exc}")
     row["runtime_s"] = time.perf_counter() - t0
@@ -314,11 +327,15 @@ FRAGILITY_COLUMNS = ["gap_m", "level", "n_runs", "n_pounding", "p_pounding", "me
 TARGET_COLUMNS = ["level", "p_target", "n_runs", "gap_m", "gap_lognormal_m", "abs_mean_m", "srss_mean_m", "ddc_mean_m",
                   "p_at_abs", "p_at_srss", "p_at_ddc"]
 CONSEQUENCE_SUMMARY_COLUMNS = ["gap_m", "level", "building", "n_runs", "n_pounding", "median_amplification",
-                               "p84_amplification", "median_drift", "p84_drift", "median_drift_free", "p84_drift_free"]
+                               "p84_amplification", "median_drift", "p84_drift", "median_drift_free", "p84_drift_free",
+                               "median_ductility_amplification", "p84_ductility_amplification", "median_ductility",
+                               "p84_ductility", "median_ductility_free", "p84_ductility_free"]
 
 
 def summarise_consequences(free_rows: list[dict], rows: list[dict], names: list[str], levels: list[float], gaps: list[float]) -> list[dict]:
-    """Per gap, level and building: the drift amplification (peak drift with contact / without), median and 84th percentile.
+    """Per gap, level and building: the drift amplification (peak drift with contact / without) and, for a building
+    with yielding storey springs, the ductility amplification (peak ductility demand with contact / without), each
+    as median and 84th percentile (None for the ductility of an elastic building).
 
     Percentiles are empirical (:func:`numpy.quantile`, linear interpolation) over the records with both runs ok.
     """
@@ -336,10 +353,20 @@ def summarise_consequences(free_rows: list[dict], rows: list[dict], names: list[
                 d0 = np.array([b[key] for _, b in pairs], dtype=float)
                 amp = np.divide(d, d0, out=np.full_like(d, np.nan), where=d0 > 0)
                 q = (lambda v, p: float(np.quantile(v, p)) if v.size else math.nan)
-                out.append({"gap_m": g, "level": lv, "building": n, "n_runs": len(pairs),
-                            "n_pounding": sum(1 for a, _ in pairs if a["n_impacts"] > 0),
-                            "median_amplification": q(amp[np.isfinite(amp)], 0.5), "p84_amplification": q(amp[np.isfinite(amp)], 0.84),
-                            "median_drift": q(d, 0.5), "p84_drift": q(d, 0.84), "median_drift_free": q(d0, 0.5), "p84_drift_free": q(d0, 0.84)})
+                row = {"gap_m": g, "level": lv, "building": n, "n_runs": len(pairs),
+                       "n_pounding": sum(1 for a, _ in pairs if a["n_impacts"] > 0),
+                       "median_amplification": q(amp[np.isfinite(amp)], 0.5), "p84_amplification": q(amp[np.isfinite(amp)], 0.84),
+                       "median_drift": q(d, 0.5), "p84_drift": q(d, 0.84), "median_drift_free": q(d0, 0.5), "p84_drift_free": q(d0, 0.84)}
+                key = f"{n}_peak_ductility"
+                if all(a.get(key) is not None and b.get(key) is not None for a, b in pairs):
+                    mu = np.array([a[key] for a, _ in pairs], dtype=float)
+                    mu0 = np.array([b[key] for _, b in pairs], dtype=float)
+                    ratio = np.divide(mu, mu0, out=np.full_like(mu, np.nan), where=mu0 > 0)
+                    row.update(median_ductility_amplification=q(ratio[np.isfinite(ratio)], 0.5),
+                               p84_ductility_amplification=q(ratio[np.isfinite(ratio)], 0.84),
+                               median_ductility=q(mu, 0.5), p84_ductility=q(mu, 0.84),
+                               median_ductility_free=q(mu0, 0.5), p84_ductility_free=q(mu0, 0.84))
+                out.append(row)
     return out
 
 
