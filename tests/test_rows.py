@@ -11,6 +11,7 @@ from __future__ import annotations
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 from pounding.errors import InputError
@@ -110,3 +111,66 @@ def test_no_common_level_warning_reaches_stderr_once_and_is_silenced(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "pounding", "check", str(path), "--silence", "no_common_level"], capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
     assert "no_common_level" not in proc.stderr
+
+
+# --------------------------------------------------------------------------- runs of rows
+def _row(gap: float, *, far: float | None = None, duration: float = 2.0) -> dict:
+    """``side_by_side`` (3 storeys each, `gap` apart along x), with a third 3-storey building of
+    other columns either `gap` beyond "right" (a row of three) or `far` metres beyond it."""
+    from scenes_for_tests import box_building, side_by_side
+
+    data = side_by_side(gap, storeys=(3, 3), duration=duration, pga=0.5)
+    x0 = 10.0 + gap + 12.0 + (gap if far is None else far)
+    data["building"].append(box_building("third", x0, 9.0, 10.0, 3, 0.35, 0.45))
+    return data
+
+
+def test_a_far_third_building_changes_nothing_of_the_pair():
+    """The two-building run and the same run with a third building 200 m away (no slab pair within
+    reach) give the same responses and impacts. Tolerance 1e-12 of each building's peak: the third
+    building only lengthens the stacked modal arrays, and every per-mode step and the pair's impulse
+    solve use the same numbers in the same order, so only summation order of the energy terms may
+    differ (rounding, ~1e-16 relative)."""
+    from pounding.framework.analysis import run
+
+    from scenes_for_tests import scene
+
+    pair_data = _row(0.01)
+    pair_data["building"].pop()
+    two = run(scene(pair_data))
+    three = run(scene(_row(0.01, far=200.0)))
+    assert two.n_impacts > 0, "the pair must pound, or the comparison says nothing"
+    assert three.n_impacts == two.n_impacts
+    assert np.array_equal(three.t, two.t)
+    for name in ("left", "right"):
+        a, b = two.cm(name), three.cm(name)
+        assert np.max(np.abs(b - a)) <= 1e-12 * np.max(np.abs(a))
+    peak_impulse = max(i.impulse for i in two.impacts)
+    for i2, i3 in zip(two.impacts, three.impacts):
+        assert (i2.striker, i2.vertex) == (i3.striker, i3.vertex)
+        assert abs(i3.time - i2.time) <= 1e-12 * two.t[-1]
+        assert abs(i3.impulse - i2.impulse) <= 1e-12 * peak_impulse
+        assert np.allclose(i3.point, i2.point, rtol=0, atol=1e-12 * 22.0)  # 22 m: the pair's plan length
+    assert np.max(np.abs(three.cm("third"))) > 0, "the far building still responds to the ground"
+
+
+def test_every_impulse_in_a_row_of_three_conserves_momentum():
+    """A row of three 3-storey buildings 0.01 m apart under El Centro at 0.5 g: both pairs pound.
+    Each impulse, taken from the driver just before and after, conserves the linear and angular
+    momentum of all slabs to 1e-12 of the size of the jumps (as for the pair, test_impacts)."""
+    from test_impacts import RTOL, RecordingDriver, momenta
+
+    from scenes_for_tests import scene
+
+    d = RecordingDriver(scene(_row(0.01)))
+    result = d.run()
+    touched = {i.pair for ev in d.events for i in ev["impacts"]}
+    pairs = result.pairs
+    struck = {(pairs[p][0], pairs[p][2]) for p in touched}
+    assert struck == {(0, 1), (1, 2)}, f"both neighbours must pound, not {struck}"
+    for ev in d.events:
+        p0, L0, _, _ = momenta(d.model, ev["q"], ev["before"])
+        _, _, ps, Ls = momenta(d.model, ev["q"], ev["after"] - ev["before"])
+        p1, L1, _, _ = momenta(d.model, ev["q"], ev["after"])
+        assert np.all(np.abs(p1 - p0) <= RTOL * ps), ev["t"]
+        assert abs(L1 - L0) <= RTOL * Ls, ev["t"]
