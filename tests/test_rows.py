@@ -174,3 +174,58 @@ def test_every_impulse_in_a_row_of_three_conserves_momentum():
         p1, L1, _, _ = momenta(d.model, ev["q"], ev["after"])
         assert np.all(np.abs(p1 - p0) <= RTOL * ps), ev["t"]
         assert abs(L1 - L0) <= RTOL * Ls, ev["t"]
+
+
+# --------------------------------------------------------------------------- gap of a row
+def test_gap_of_a_row_reports_each_adjacent_pair_as_if_it_stood_alone():
+    """Row left | right | third, 3 storeys each, 0.01 m apart: the adjacent pairs are (left, right)
+    and (right, third); (left, third) is screened by "right" at every level. Each pair's required
+    gap from the one run of the row equals minimum_gap of that pair alone: without contact the
+    buildings do not interact, so the two runs give the same histories to rounding; tolerance
+    1e-12 of the gap (a few roundings of coordinates ~20 m against gaps of ~0.05 m: 1e-14 m)."""
+    from pounding.framework.gap import adjacent_pairs, minimum_gap, minimum_gaps, pair_scene
+
+    from scenes_for_tests import scene
+
+    sc = scene(_row(0.01, duration=3.0))
+    assert adjacent_pairs(sc) == ([(0, 1), (1, 2)], [(0, 2)])
+    row = minimum_gaps(sc)
+    assert [r.buildings for r in row.reports] == [("left", "right"), ("right", "third")]
+    assert row.screened == [("left", "third")]
+    for r, (i, j) in zip(row.reports, [(0, 1), (1, 2)]):
+        alone = minimum_gap(pair_scene(sc, i, j))
+        assert r.min_gap > r.current_gap, "the pair must need more than it has, or the comparison is idle"
+        assert abs(r.min_gap - alone.min_gap) <= 1e-12 * alone.min_gap
+        assert (r.storey, r.striking, r.vertex, r.time) == (alone.storey, alone.striking, alone.vertex, alone.time)
+
+
+def test_the_ends_of_a_row_face_each_other_above_a_low_middle_building():
+    """left and third (3 storeys) with a 1-storey building between: at storeys 2-3 nothing stands
+    between the ends, so they are adjacent there (a gap across the low roof), and every pair is reported."""
+    from pounding.framework.gap import adjacent_pairs
+
+    from scenes_for_tests import scene
+
+    data = _row(0.01)
+    data["building"][1]["storey_heights"] = data["building"][1]["storey_heights"][:1]
+    assert adjacent_pairs(scene(data)) == ([(0, 1), (0, 2), (1, 2)], [])
+
+
+def test_pounding_gap_on_a_row_prints_every_adjacent_pair(tmp_path):
+    """`pounding gap --json --no-check` on the row of three: two pairs in scene order and the
+    screened one; --history is refused (exit 2, one line), as it writes one pair's clearances."""
+    import json
+
+    from strategies import to_toml
+
+    path = tmp_path / "row.toml"
+    path.write_text(to_toml(_row(0.01, duration=1.0)))
+    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(path), "--json", "--no-check"], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    assert [(p["buildings"]["fixed"], p["buildings"]["moved"]) for p in out["pairs"]] == [("left", "right"), ("right", "third")]
+    assert out["screened"] == [["left", "third"]]
+    proc = subprocess.run([sys.executable, "-m", "pounding", "gap", str(path), "--history", str(tmp_path / "h.csv")],
+                          capture_output=True, text=True)
+    assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "--history" in proc.stderr
+    assert not (tmp_path / "h.csv").exists()

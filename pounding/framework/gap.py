@@ -204,12 +204,63 @@ def direction_vector(value) -> np.ndarray | None:
 def _pair_of(scene: Scene):
     """The two buildings and their common storeys [(storey a, storey b)] (0-based)."""
     if len(scene.buildings) != 2:
-        raise InputError(f"the gap design needs exactly two buildings, the scene has {len(scene.buildings)}", field="building")
+        raise InputError(f"the gap design of one pair needs exactly two buildings, the scene has {len(scene.buildings)} "
+                         "(pair_scene picks a pair; minimum_gaps designs every adjacent pair)", field="building")
     a, b = scene.buildings
     common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
     if not common:
         raise InputError(f"buildings {a.name!r} and {b.name!r} have no storey at a common level: their slabs can never meet", field="building")
     return a, b, common
+
+
+def _crosses(p: np.ndarray, q: np.ndarray, V: np.ndarray) -> bool:
+    """True if the segment p-q passes through polygon V (crosses an edge properly, or its midpoint is inside)."""
+    from pounding.io.scene import distance_to_polygon
+
+    if distance_to_polygon(V, 0.5 * (p + q)) == 0.0:
+        return True
+    a, b = V, np.roll(V, -1, axis=0)
+
+    def side(o, u, w):  # sign of the turn o -> u -> w, per edge
+        return np.sign((u[..., 0] - o[..., 0]) * (w[..., 1] - o[..., 1]) - (u[..., 1] - o[..., 1]) * (w[..., 0] - o[..., 0]))
+
+    return bool(np.any((side(p, q, a) * side(p, q, b) < 0) & (side(a, b, p) * side(a, b, q) < 0)))
+
+
+def adjacent_pairs(scene: Scene) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+    """(adjacent, screened): pairs (i, j), i < j, of buildings with slabs at a common level.
+
+    A pair is adjacent when, at one common level at least, the shortest segment between its
+    two slabs at rest passes through no other building's slab at that level: they face each
+    other there. A pair whose every such segment passes through a third building (the ends of
+    a row, with a building between them at every common level) is screened. Pairs with no
+    common level are in neither list (no slabs of theirs can meet).
+    """
+    bs = scene.buildings
+    adjacent, screened = [], []
+    for i, a in enumerate(bs):
+        for j in range(i + 1, len(bs)):
+            b = bs[j]
+            common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
+            if not common:
+                continue
+            faces = False
+            for fa, fb in common:
+                pa, pb, _ = _closest_points(a.slabs[fa].vertices, b.slabs[fb].vertices)
+                z = a.slabs[fa].elevation
+                between = [s.vertices for k, c in enumerate(bs) if k not in (i, j) for s in c.slabs if abs(s.elevation - z) < LEVEL_TOL]
+                if not any(_crosses(pa, pb, V) for V in between):
+                    faces = True
+                    break
+            (adjacent if faces else screened).append((i, j))
+    return adjacent, screened
+
+
+def pair_scene(scene: Scene, i: int, j: int) -> Scene:
+    """The scene with buildings i and j only (in that order): one adjacent pair, the others absent."""
+    from dataclasses import replace
+
+    return replace(scene, buildings=(scene.buildings[i], scene.buildings[j]))
 
 
 def _oriented(scene: Scene, direction) -> tuple[np.ndarray, float]:
@@ -500,6 +551,41 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     _oriented(scene, direction)  # bad directions fail before the run
     result = run(no_contact(scene), progress=progress)
     return gap_from_result(scene, result, direction)
+
+
+@dataclass
+class RowGaps:
+    """The required gap of every adjacent pair of a scene of three or more buildings.
+
+    ``reports`` holds one :class:`GapReport` per adjacent pair (scene order), each found from
+    one run of the whole scene without contact and measured as if the pair stood alone (the
+    second building of the pair is the one moved); ``screened`` names the pairs with slabs at a
+    common level that never face each other (a building between them at every such level).
+    """
+
+    reports: list
+    screened: list[tuple[str, str]]
+
+    def to_dict(self) -> dict:
+        return {"pairs": [r.to_dict() for r in self.reports], "screened": [list(p) for p in self.screened]}
+
+
+def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
+    """:func:`minimum_gap` of every adjacent pair (:func:`adjacent_pairs`) from one run without contact.
+
+    ``direction`` applies to every pair (None: each pair's own facing normal).
+    """
+    from pounding.framework.analysis import run
+
+    adjacent, screened = adjacent_pairs(scene)
+    if not adjacent:
+        raise InputError("no two buildings have slabs at a common level facing each other: there is no gap to design", field="building")
+    subs = [pair_scene(scene, i, j) for i, j in adjacent]
+    for sub in subs:
+        _oriented(sub, direction)  # bad directions fail before the run
+    result = run(no_contact(scene), progress=progress)
+    names = [b.name for b in scene.buildings]
+    return RowGaps([gap_from_result(sub, result, direction) for sub in subs], [(names[i], names[j]) for i, j in screened])
 
 
 def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapCheck:
