@@ -229,3 +229,17 @@ def test_pounding_gap_on_a_row_prints_every_adjacent_pair(tmp_path):
                           capture_output=True, text=True)
     assert proc.returncode == 2 and len(proc.stderr.strip().splitlines()) == 1 and "--history" in proc.stderr
     assert not (tmp_path / "h.csv").exists()
+
+
+def test_pounding_check_says_which_pairs_of_a_row_are_not_adjacent(tmp_path):
+    """`pounding check` on the row of three lists every pair of buildings; only (left, third),
+    screened by "right", is said to be not adjacent."""
+    from strategies import to_toml
+
+    path = tmp_path / "row.toml"
+    path.write_text(to_toml(_row(0.01, duration=1.0)))
+    proc = subprocess.run([sys.executable, "-m", "pounding", "check", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    lines = {ln.split(":")[0]: ln for ln in proc.stdout.splitlines() if ln.startswith("'")}
+    assert set(lines) == {"'left' and 'right'", "'left' and 'third'", "'right' and 'third'"}
+    assert [k for k, ln in lines.items() if "not adjacent" in ln] == ["'left' and 'third'"]
