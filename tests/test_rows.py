@@ -201,14 +201,23 @@ def test_gap_of_a_row_reports_each_adjacent_pair_as_if_it_stood_alone():
 
 def test_the_ends_of_a_row_face_each_other_above_a_low_middle_building():
     """left and third (3 storeys) with a 1-storey building between: at storeys 2-3 nothing stands
-    between the ends, so they are adjacent there (a gap across the low roof), and every pair is reported."""
-    from pounding.framework.gap import adjacent_pairs
+    between the ends, so they are adjacent there (a gap across the low roof), and every pair is
+    reported; the ends' required gap counts those storeys only (12.02 m apart at rest, far more than needed)."""
+    from pounding.framework.gap import adjacent_pairs, facing_storeys, minimum_gaps
 
     from scenes_for_tests import scene
 
     data = _row(0.01)
     data["building"][1]["storey_heights"] = data["building"][1]["storey_heights"][:1]
-    assert adjacent_pairs(scene(data)) == ([(0, 1), (0, 2), (1, 2)], [])
+    sc = scene(data)
+    assert adjacent_pairs(sc) == ([(0, 1), (0, 2), (1, 2)], [])
+    assert facing_storeys(sc, 0, 2) == [(1, 1), (2, 2)]
+    assert facing_storeys(sc, 0, 1) == [(0, 0)]
+    row = minimum_gaps(sc)
+    ends = row.reports[1]
+    assert ends.buildings == ("left", "third")
+    assert [fa for fa, _, _, _ in ends.required] == [2, 3], "only the storeys above the low roof"
+    assert ends.current_gap > 12.0 > ends.min_gap
 
 
 def test_pounding_gap_on_a_row_prints_every_adjacent_pair(tmp_path):
@@ -243,3 +252,22 @@ def test_pounding_check_says_which_pairs_of_a_row_are_not_adjacent(tmp_path):
     lines = {ln.split(":")[0]: ln for ln in proc.stdout.splitlines() if ln.startswith("'")}
     assert set(lines) == {"'left' and 'right'", "'left' and 'third'", "'right' and 'third'"}
     assert [k for k, ln in lines.items() if "not adjacent" in ln] == ["'left' and 'third'"]
+
+
+def test_adjacency_in_the_row_of_five_example():
+    """examples/row/row.toml: 10, 6, 8, 5, 10 storeys of 3.2 m, aligned facades, 0.04 m apart.
+    Neighbours are adjacent; so are buildings that see each other above a lower one between
+    (west_end and b3 at storeys 7-8 over b2, west_end and east_end at 9-10, b3 and east_end at
+    6-8 over b4); the rest are screened, also where the shortest segment between the slabs runs
+    along the facades of the buildings between and its midpoint falls in a gap (west_end-b4)."""
+    from pathlib import Path
+
+    from pounding.framework.gap import adjacent_pairs, facing_storeys
+
+    sc = load_scene(Path(__file__).resolve().parents[1] / "examples" / "row" / "row.toml")
+    adjacent, screened = adjacent_pairs(sc)
+    assert adjacent == [(0, 1), (0, 2), (0, 4), (1, 2), (2, 3), (2, 4), (3, 4)]
+    assert screened == [(0, 3), (1, 3), (1, 4)]
+    assert [fa for fa, _ in facing_storeys(sc, 0, 2)] == [6, 7]
+    assert [fa for fa, _ in facing_storeys(sc, 0, 4)] == [8, 9]
+    assert [fa for fa, _ in facing_storeys(sc, 2, 4)] == [5, 6, 7]

@@ -91,9 +91,14 @@ def _row(args, scene, direction) -> int:
             raise InputError(f"--{opt} needs a scene of two buildings (this one has {len(scene.buildings)})", field=f"--{opt}")
     row = minimum_gaps(scene, direction)
     names = [b.name for b in scene.buildings]
-    if not args.no_check:
-        for r in row.reports:
-            verify_gap(pair_scene(scene, *(names.index(n) for n in r.buildings)), r)
+    partial = []  # pairs facing at some of their common storeys only: alone they would meet at the others too
+    for r in row.reports:
+        a, b = (scene.buildings[names.index(n)] for n in r.buildings)
+        n_common = sum(abs(sa.elevation - sb.elevation) < 1e-6 for sa in a.slabs for sb in b.slabs)
+        if len(r.required) < n_common:
+            partial.append(r.buildings)
+        elif not args.no_check:
+            verify_gap(pair_scene(scene, names.index(a.name), names.index(b.name)), r)
     if args.json:
         json.dump(row.to_dict(), sys.stdout, indent=1)
         sys.stdout.write("\n")
@@ -101,6 +106,9 @@ def _row(args, scene, direction) -> int:
         print(f"{len(scene.buildings)} buildings, {plural(len(row.reports), 'adjacent pair')} (each measured and checked as if alone):")
         for r in row.reports:
             print(format_report(r))
+            if r.buildings in partial:
+                print(f"  faces {r.buildings[1]!r} at storeys {', '.join(str(fa) for fa, _, _, _ in r.required)} only (a building "
+                      "between them below): required gap over those storeys, not checked by runs of the pair alone")
         for a, b in row.screened:
             print(f"{a!r} and {b!r}: not adjacent (a building stands between them at every common level): no gap reported")
     if any(r.check is not None and not r.check.ok for r in row.reports):
