@@ -205,8 +205,8 @@ def _pair_of(scene: Scene, storeys=None):
     """The two buildings and their common storeys [(storey a, storey b)] (0-based; only those in
     ``storeys`` if given: a pair of a row where it faces, see :func:`facing_storeys`)."""
     if len(scene.buildings) != 2:
-        raise InputError(f"the gap design of one pair needs exactly two buildings, the scene has {len(scene.buildings)} "
-                         "(pair_scene picks a pair; minimum_gaps designs every adjacent pair)", field="building")
+        raise InputError(f"setting or designing one gap needs a scene of exactly two buildings, this one has {len(scene.buildings)} "
+                         "(`pounding gap` reports every adjacent pair of a row)", field="building")
     a, b = scene.buildings
     common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
     if storeys is not None:
