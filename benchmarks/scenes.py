@@ -124,6 +124,31 @@ def uniform_pair(storeys: int, gap: float = 0.05, contact: str = "impulse", dt: 
     return parse_scene(data, source=None)
 
 
+def uniform_row(n: int, storeys: int, gap: float = 0.05, dt: float = 0.005, duration: float | None = None):
+    """A row of ``n`` uniform-plan buildings of ``storeys`` storeys along x, ``gap`` apart, alternating
+    the two types of :func:`uniform_pair` ("west"-like 24 m wide, "east"-like 18 m with slenderer
+    columns), so that the first two are ``uniform_pair``'s pair. Every neighbour shares every level.
+    """
+    from pounding.io.scene import parse_scene
+
+    c = column_size(storeys)
+    types = [(24.0, c, 1.4, 1.0), (18.0, 0.85 * c, 1.0, 1.5)]
+    buildings, x0 = [], 0.0
+    for k in range(n):
+        width, col, sx, sy = types[k % 2]
+        buildings.append(_box(f"b{k + 1}", x0, width, 16.0, storeys, col, sx, sy))
+        x0 += width + gap
+    data = {
+        "title": f"uniform row of {n}, {storeys} storeys, gap {gap} m",
+        "ground_motion": {"record": "elcentro", "pga": 0.32, "angle": 20.0},
+        "analysis": {"integrator": "hht", "dt": dt, "contact": "impulse", "restitution": 0.5},
+        "building": buildings,
+    }
+    if duration is not None:
+        data["analysis"]["duration"] = duration
+    return parse_scene(data, source=None)
+
+
 def tiled(scene, times: int):
     """The scene with its record repeated ``times`` times end to end (same dt and scaling)."""
     from pounding.io.ground_motion import GroundMotion

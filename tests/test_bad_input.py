@@ -101,6 +101,8 @@ CASES = [
     ("negative mass", 'mass = 80000.0', 'mass = -5.0', "building[0].mass", "expected"),
     ("mass list length", 'mass = 80000.0', 'mass = [80000.0, 80000.0, 80000.0]', "building[0].mass", "2"),
     ("negative height", 'storey_heights = [3.0, 3.0]', 'storey_heights = [3.0, -3.0]', "building[0].storey_heights[1]", "expected"),
+    ("zero storey height: a slab on the one below", 'storey_heights = [3.0, 3.0]', 'storey_heights = [3.0, 0.0]', "building[0].storey_heights[1]", "expected"),
+    ("storeys overlap at different levels", 'storey_heights = [3.0]\nslab = [[10.1, 0]', 'storey_heights = [3.5]\nslab = [[9.5, 0]', "building[1].slab", "different levels"),
     ("self-intersecting slab", 'slab = [[0, 0], [10, 0], [10, 8], [0, 8]]', 'slab = [[0, 0], [10, 8], [10, 0], [0, 8]]', "building[0].slab", "simple"),
     ("repeated vertex", 'slab = [[0, 0], [10, 0], [10, 8], [0, 8]]', 'slab = [[0, 0], [10, 0], [10, 0], [10, 8], [0, 8]]', "building[0].slab", "simple"),
     ("degenerate slab", 'slab = [[0, 0], [10, 0], [10, 8], [0, 8]]', 'slab = [[0, 0], [5, 0], [10, 0]]', "building[0].slab", "simple"),

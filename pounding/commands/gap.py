@@ -18,12 +18,14 @@ def add_parser(sub) -> None:
         description=(
             "Find the smallest clear distance between the facing slab edges (at rest, along the direction) at which no "
             "pair of slabs ever touches under the scene's ground motion, from one run without contact (rotations "
-            "included, any polygon). The second building of the scene is the one moved. Reports the governing storey, "
+            "included, any polygon). The second building of the scene is the one moved. With three or more buildings "
+            "(a row or block), the same for every adjacent pair (slabs at a common level facing each other with no "
+            "building between), each pair measured and checked as if it stood alone, from one run. Reports the governing storey, "
             "instant and corner, checks the answer with two full runs at 0.99x (impacts expected) and 1.01x (none), and "
             "prints the building-code estimates ABS, SRSS and DDC from the same run. Exit code 1 if the check fails."
         ),
     )
-    p.add_argument("scene", type=Path, help="scene file (TOML) with two buildings")
+    p.add_argument("scene", type=Path, help="scene file (TOML) with two or more buildings")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE",
                    help="direction of the gap (degrees from x for ANGLE; oriented from the first building towards the second). "
                         "Default: the normal of the facing edges (shortest segment between the slabs at rest)")
@@ -61,6 +63,8 @@ def cmd_gap(args: argparse.Namespace) -> int:
 
             raise InputError("--history writes one run's clearances; with --angles there is one run per angle", field="--history")
         return _angle_study(args, scene, direction)
+    if len(scene.buildings) > 2:
+        return _row(args, scene, direction)
     report = minimum_gap(scene, direction)
     if args.history is not None:
         write_history(report, args.history)
@@ -73,6 +77,42 @@ def cmd_gap(args: argparse.Namespace) -> int:
         print(format_report(report))
     if report.check is not None and not report.check.ok:
         print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _row(args, scene, direction) -> int:
+    """Three or more buildings: the required gap of every adjacent pair, each checked alone."""
+    from pounding.errors import InputError
+    from pounding.framework.gap import minimum_gaps, pair_scene, verify_gap
+
+    for opt in ("angles", "history"):
+        if getattr(args, opt) is not None:
+            raise InputError(f"--{opt} needs a scene of two buildings (this one has {len(scene.buildings)})", field=f"--{opt}")
+    row = minimum_gaps(scene, direction)
+    names = [b.name for b in scene.buildings]
+    partial = []  # pairs facing at some of their common storeys only: alone they would meet at the others too
+    for r in row.reports:
+        a, b = (scene.buildings[names.index(n)] for n in r.buildings)
+        n_common = sum(abs(sa.elevation - sb.elevation) < 1e-6 for sa in a.slabs for sb in b.slabs)
+        if len(r.required) < n_common:
+            partial.append(r.buildings)
+        elif not args.no_check:
+            verify_gap(pair_scene(scene, names.index(a.name), names.index(b.name)), r)
+    if args.json:
+        json.dump(row.to_dict(), sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        print(f"{len(scene.buildings)} buildings, {plural(len(row.reports), 'adjacent pair')} (each measured and checked as if alone):")
+        for r in row.reports:
+            print(format_report(r))
+            if r.buildings in partial:
+                print(f"  faces {r.buildings[1]!r} at storeys {', '.join(str(fa) for fa, _, _, _ in r.required)} only (a building "
+                      "between them below): required gap over those storeys, not checked by runs of the pair alone")
+        for a, b in row.screened:
+            print(f"{a!r} and {b!r}: not adjacent (a building stands between them at every common level): no gap reported")
+    if any(r.check is not None and not r.check.ok for r in row.reports):
+        print("pounding: warning: the check runs disagree with the minimum gap of a pair (see 'check')", file=sys.stderr)
         return 1
     return 0
 

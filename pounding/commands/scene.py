@@ -170,10 +170,12 @@ def describe(scene, path: Path | None = None) -> str:
 def _facing(scene) -> list[str]:
     """The clear distance at rest between the slabs of every two buildings at a common level."""
     from pounding.contact.geometry import signed_gap
+    from pounding.framework.gap import adjacent_pairs
     from pounding.io.scene import LENGTH_TOL
 
     out = []
     bs = scene.buildings
+    screened = set(adjacent_pairs(scene)[1]) if len(bs) > 2 else set()
     for i in range(len(bs)):
         for j in range(i + 1, len(bs)):
             gaps = [(fa + 1, signed_gap(sa.vertices, sb.vertices)) for fa, sa in enumerate(bs[i].slabs) for sb in bs[j].slabs
@@ -181,7 +183,8 @@ def _facing(scene) -> list[str]:
             if gaps:
                 g = min(g for _, g in gaps)
                 levels = f"storey {gaps[0][0]}" if len(gaps) == 1 else f"storeys {gaps[0][0]}-{gaps[-1][0]}"
-                out.append(f"{bs[i].name!r} and {bs[j].name!r}: slabs at a common level at {levels}; smallest clear distance at rest {g:.4g} m")
+                out.append(f"{bs[i].name!r} and {bs[j].name!r}: slabs at a common level at {levels}; smallest clear distance at rest {g:.4g} m"
+                           + ("; not adjacent (a building stands between them at every common level)" if (i, j) in screened else ""))
             else:
                 out.append(f"{bs[i].name!r} and {bs[j].name!r}: no slabs at a common level (they cannot pound slab to slab)")
     return out

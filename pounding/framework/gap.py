@@ -201,20 +201,101 @@ def direction_vector(value) -> np.ndarray | None:
     return v / np.hypot(*v)
 
 
-def _pair_of(scene: Scene):
-    """The two buildings and their common storeys [(storey a, storey b)] (0-based)."""
+def _pair_of(scene: Scene, storeys=None):
+    """The two buildings and their common storeys [(storey a, storey b)] (0-based; only those in
+    ``storeys`` if given: a pair of a row where it faces, see :func:`facing_storeys`)."""
     if len(scene.buildings) != 2:
-        raise InputError(f"the gap design needs exactly two buildings, the scene has {len(scene.buildings)}", field="building")
+        raise InputError(f"setting or designing one gap needs a scene of exactly two buildings, this one has {len(scene.buildings)} "
+                         "(`pounding gap` reports every adjacent pair of a row)", field="building")
     a, b = scene.buildings
     common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
+    if storeys is not None:
+        common = [c for c in common if c in set(storeys)]
     if not common:
         raise InputError(f"buildings {a.name!r} and {b.name!r} have no storey at a common level: their slabs can never meet", field="building")
     return a, b, common
 
 
-def _oriented(scene: Scene, direction) -> tuple[np.ndarray, float]:
+def _crosses(p: np.ndarray, q: np.ndarray, V: np.ndarray) -> bool:
+    """True if the segment p-q meets the closed polygon V away from its ends.
+
+    The segment is shortened by LEVEL_TOL at each end (its ends lie on the pair's own slabs);
+    it meets V if its midpoint is inside V or it meets an edge of V, touching and collinear
+    overlap included (a segment running along a third building's facade is screened by it).
+    """
+    from pounding.io.scene import distance_to_polygon
+
+    L = float(np.hypot(*(q - p)))
+    if L <= 2 * LEVEL_TOL:
+        return False
+    u = (q - p) / L
+    p, q = p + LEVEL_TOL * u, q - LEVEL_TOL * u
+    if distance_to_polygon(V, 0.5 * (p + q)) == 0.0:
+        return True
+    scale = LEVEL_TOL * max(1.0, L)
+
+    def turn(o, a, b):
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    def on(o, a, x):  # x, collinear with o-a, lies within the segment's box
+        return min(o[0], a[0]) - LEVEL_TOL <= x[0] <= max(o[0], a[0]) + LEVEL_TOL and min(o[1], a[1]) - LEVEL_TOL <= x[1] <= max(o[1], a[1]) + LEVEL_TOL
+
+    for k in range(len(V)):
+        a, b = V[k], V[(k + 1) % len(V)]
+        d1, d2, d3, d4 = turn(p, q, a), turn(p, q, b), turn(a, b, p), turn(a, b, q)
+        if ((d1 > scale and d2 < -scale) or (d1 < -scale and d2 > scale)) and ((d3 > scale and d4 < -scale) or (d3 < -scale and d4 > scale)):
+            return True
+        if (abs(d1) <= scale and on(p, q, a)) or (abs(d2) <= scale and on(p, q, b)) or (abs(d3) <= scale and on(a, b, p)) or (abs(d4) <= scale and on(a, b, q)):
+            return True
+    return False
+
+
+def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple[int, int]]:
+    """Storeys (a, b), 0-based, at which buildings i and j have slabs at a common level facing each
+    other: the shortest segment between the two slabs at rest passes through no other building's
+    slab at that level (the segment's midpoint inside, or an edge crossed)."""
+    bs = scene.buildings
+    a, b = bs[i], bs[j]
+    out = []
+    for fa, sa in enumerate(a.slabs):
+        for fb, sb in enumerate(b.slabs):
+            if abs(sa.elevation - sb.elevation) >= LEVEL_TOL:
+                continue
+            pa, pb, _ = _closest_points(sa.vertices, sb.vertices)
+            between = [s.vertices for k, c in enumerate(bs) if k not in (i, j) for s in c.slabs if abs(s.elevation - sa.elevation) < LEVEL_TOL]
+            if not any(_crosses(pa, pb, V) for V in between):
+                out.append((fa, fb))
+    return out
+
+
+def adjacent_pairs(scene: Scene) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
+    """(adjacent, screened): pairs (i, j), i < j, of buildings with slabs at a common level.
+
+    A pair is adjacent when its slabs face each other at one common level at least
+    (:func:`facing_storeys`). A pair with common levels but a third building between them at
+    every one (the ends of a row of equal heights) is screened. Pairs with no common level are
+    in neither list (no slabs of theirs can meet).
+    """
+    bs = scene.buildings
+    adjacent, screened = [], []
+    for i, a in enumerate(bs):
+        for j in range(i + 1, len(bs)):
+            if not any(abs(sa.elevation - sb.elevation) < LEVEL_TOL for sa in a.slabs for sb in bs[j].slabs):
+                continue
+            (adjacent if facing_storeys(scene, i, j) else screened).append((i, j))
+    return adjacent, screened
+
+
+def pair_scene(scene: Scene, i: int, j: int) -> Scene:
+    """The scene with buildings i and j only (in that order): one adjacent pair, the others absent."""
+    from dataclasses import replace
+
+    return replace(scene, buildings=(scene.buildings[i], scene.buildings[j]))
+
+
+def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]:
     """(d, g0): the unit direction from the first building towards the second, and the rest clear distance along it."""
-    a, b, common = _pair_of(scene)
+    a, b, common = _pair_of(scene, storeys)
     d = direction_vector(direction)
     if d is None:
         # the normal of the facing edges: the shortest segment between the slabs at rest
@@ -376,7 +457,7 @@ def _point_history(cm: np.ndarray, centre: np.ndarray, point: np.ndarray, d: np.
     return ux * d[0] + uy * d[1]
 
 
-def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True) -> GapReport:
+def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, storeys=None) -> GapReport:
     """The :class:`GapReport` from a run of ``scene`` (normally without contact; output every step).
 
     ``full=False`` evaluates the exact translation to contact only at the steps that can govern:
@@ -384,10 +465,11 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True) 
     ``max_i A_i . d - min_j B_j . d`` (two polygons that touch overlap in their projections on d),
     block by block, until the bound (raised by 1e-12 of the coordinates against rounding) falls
     below the best exact value found. The answer is the same (same values, same governing step on
-    ties); ``clearance`` then holds ``inf`` at the steps not evaluated.
+    ties); ``clearance`` then holds ``inf`` at the steps not evaluated. ``storeys``: only these
+    common storeys (a, b), 0-based (a pair of a row, where it faces).
     """
-    a, b, common = _pair_of(scene)
-    d, g0 = _oriented(scene, direction)
+    a, b, common = _pair_of(scene, storeys)
+    d, g0 = _oriented(scene, direction, storeys)
     cm_a, cm_b = result.cm(a.name), result.cm(b.name)
     va, vb = result.vertices(a.name), result.vertices(b.name)
     nt = len(result.t)
@@ -500,6 +582,43 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     _oriented(scene, direction)  # bad directions fail before the run
     result = run(no_contact(scene), progress=progress)
     return gap_from_result(scene, result, direction)
+
+
+@dataclass
+class RowGaps:
+    """The required gap of every adjacent pair of a scene of three or more buildings.
+
+    ``reports`` holds one :class:`GapReport` per adjacent pair (scene order), each found from
+    one run of the whole scene without contact, over the storeys where the pair faces
+    (:func:`facing_storeys`), and measured as if the pair stood alone (the second building of
+    the pair is the one moved); ``screened`` names the pairs with slabs at a
+    common level that never face each other (a building between them at every such level).
+    """
+
+    reports: list
+    screened: list[tuple[str, str]]
+
+    def to_dict(self) -> dict:
+        return {"pairs": [r.to_dict() for r in self.reports], "screened": [list(p) for p in self.screened]}
+
+
+def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
+    """:func:`minimum_gap` of every adjacent pair (:func:`adjacent_pairs`) from one run without contact.
+
+    ``direction`` applies to every pair (None: each pair's own facing normal).
+    """
+    from pounding.framework.analysis import run
+
+    adjacent, screened = adjacent_pairs(scene)
+    if not adjacent:
+        raise InputError("no two buildings have slabs at a common level facing each other: there is no gap to design", field="building")
+    subs = [(pair_scene(scene, i, j), facing_storeys(scene, i, j)) for i, j in adjacent]
+    for sub, storeys in subs:
+        _oriented(sub, direction, storeys)  # bad directions fail before the run
+    result = run(no_contact(scene), progress=progress)
+    names = [b.name for b in scene.buildings]
+    return RowGaps([gap_from_result(sub, result, direction, storeys=storeys) for sub, storeys in subs],
+                   [(names[i], names[j]) for i, j in screened])
 
 
 def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapCheck:

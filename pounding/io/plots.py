@@ -358,7 +358,7 @@ def plot_energy(result, path, *, scene=None) -> Path:
         vals = np.array([e[name][k] for k, _ in terms]) * kJ
         ax2.bar(x[: len(terms)], vals, bottom=bottom, color=COLOURS[i % len(COLOURS)], alpha=0.8, label=name, edgecolor="k", lw=0.3)
         bottom += vals
-    ax2.bar([x[-2]], [bal["impact_loss"] * kJ], color="0.45", edgecolor="k", lw=0.3, label="impacts (pair)")
+    ax2.bar([x[-2]], [bal["impact_loss"] * kJ], color="0.45", edgecolor="k", lw=0.3, label="impacts (pair)" if len(result.names) == 2 else "impacts (all buildings)")
     ax2.bar([x[-1]], [bal["error"] * kJ], color="#ffbf00", edgecolor="k", lw=0.3, label="balance error")
     labels = [lab for _, lab in terms] + ["impact loss", "error"]
     totals = list(bottom) + [bal["impact_loss"] * kJ, bal["error"] * kJ]

@@ -212,27 +212,57 @@ def _check_on_slabs(element, slabs, where: list) -> None:
 
 
 def _check_apart_at_rest(buildings: list[Building]) -> None:
+    """Refuse two buildings that occupy the same space at rest.
+
+    Storey k of a building is the prism of its slab k between the floor below
+    (elevation z_{k-1}, the ground for k = 1) and its own level z_k: its columns
+    and walls stand there. Two storeys whose height ranges share more than
+    LENGTH_TOL and whose plans overlap (or lie one inside the other) are one
+    space claimed twice, whether or not their slabs are at a common level.
+    """
     from pounding.contact.geometry import rest_gap as signed_gap  # interpreted: compiles nothing
 
+    boxes = [[(s.vertices.min(axis=0), s.vertices.max(axis=0)) for s in b.slabs] for b in buildings]
     for i, a in enumerate(buildings):
         for j in range(i + 1, len(buildings)):
             b = buildings[j]
             for fa, sa in enumerate(a.slabs):
+                za = (a.slabs[fa - 1].elevation if fa else 0.0, sa.elevation)
                 for fb, sb in enumerate(b.slabs):
+                    zb = (b.slabs[fb - 1].elevation if fb else 0.0, sb.elevation)
+                    if min(za[1], zb[1]) - max(za[0], zb[0]) <= LENGTH_TOL:
+                        continue  # the storeys share no height
+                    (lo_a, hi_a), (lo_b, hi_b) = boxes[i][fa], boxes[j][fb]
+                    if np.any(lo_a > hi_b + LENGTH_TOL) or np.any(lo_b > hi_a + LENGTH_TOL):
+                        continue  # plan boxes apart: so are the polygons
+                    g = signed_gap(sa.vertices, sb.vertices)
+                    # a slab lying over another (even coincident) has its centroid inside the other
+                    nested = distance_to_polygon(sb.vertices, interior_point(sa.vertices)) == 0.0 or distance_to_polygon(sa.vertices, interior_point(sb.vertices)) == 0.0
+                    if not (g < -LENGTH_TOL or (nested and g >= -LENGTH_TOL)):
+                        continue
                     if abs(sa.elevation - sb.elevation) < LENGTH_TOL:
-                        g = signed_gap(sa.vertices, sb.vertices)
-                        # a slab lying over another (even coincident) has its centroid inside the other
-                        nested = distance_to_polygon(sb.vertices, interior_point(sa.vertices)) == 0.0 or distance_to_polygon(sa.vertices, interior_point(sb.vertices)) == 0.0
-                        if nested and g >= -LENGTH_TOL:
-                            raise InputError(
-                                f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} lie on top of each other at rest",
-                                field=_path(["building", j, "slab"]),
-                            )
-                        if g < -LENGTH_TOL:
-                            raise InputError(
-                                f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1} overlap by {-g:.4g} m at rest",
-                                field=_path(["building", j, "slab"]),
-                            )
+                        where = f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1}"
+                    else:
+                        where = (f"storey {fa + 1} of {a.name!r} ({za[0]:g}-{za[1]:g} m) and storey {fb + 1} of {b.name!r} "
+                                 f"({zb[0]:g}-{zb[1]:g} m), at different levels but sharing heights,")
+                    how = f"overlap by {-g:.4g} m at rest" if g < -LENGTH_TOL else "lie on top of each other at rest"
+                    raise InputError(f"{where} {how}", field=_path(["building", j, "slab"]))
+
+
+def unchecked_pairs(buildings) -> list[tuple[str, str]]:
+    """Pairs of buildings (names) with no slabs at a common level (within LENGTH_TOL).
+
+    Pounding is checked between slabs at a common level only, so nothing is
+    checked between such a pair, however close they stand.
+    """
+    out = []
+    for i, a in enumerate(buildings):
+        za = np.array([s.elevation for s in a.slabs])
+        for b in buildings[i + 1:]:
+            zb = np.array([s.elevation for s in b.slabs])
+            if not np.any(np.abs(za[:, None] - zb[None, :]) < LENGTH_TOL):
+                out.append((a.name, b.name))
+    return out
 
 
 # --------------------------------------------------------------------------- analysis

@@ -202,7 +202,7 @@ NAMED_PLUGIN = {
 }
 
 #: Names of the plausibility checks that ``[analysis] silence`` and ``--silence`` accept.
-PLAUSIBILITY_CHECKS = ("mass_per_area", "period", "soft_storey", "stiff_element")
+PLAUSIBILITY_CHECKS = ("mass_per_area", "period", "soft_storey", "stiff_element", "no_common_level")
 
 ANALYSIS = {
     "type": "object",
