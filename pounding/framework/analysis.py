@@ -591,20 +591,9 @@ class Driver:
             return self.spring_trial(z, t, h)
         if self.law.kind == "impulse" and self.sustained:
             return self.held_trial(z, t, h)
-        zf = self.step(z, t, h, self.fc)
-        if self.law.kind != "force":
-            return Step(z, zf, self.fc, zero)
-        _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
-        keep = gap < 0
-        if not np.any(keep):
-            return Step(z, zf, self.fc, zero)
-        Wr, gap = Wr[keep], gap[keep]
-        tr = self.cache(h)
-        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
-        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
-        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
-        f1 = Wr.T @ lam
-        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
+        if self.law.kind == "force":
+            return self.force_trial(z, t, h, zero, zero)
+        return Step(z, self.step(z, t, h, self.fc), self.fc, zero)
 
     def spring_trial(self, z, t, h) -> Step:
         """A trial step with yielding springs (:mod:`pounding.framework.yielding`): Newton on the
@@ -633,7 +622,8 @@ class Driver:
         return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
 
     def force_trial(self, z, t, h, e0, e1) -> Step:
-        """A penalty-law step with extra modal loads e0, e1 (n,) at its ends (the springs' -g)."""
+        """A penalty-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
+        zero for elastic buildings): the penalty forces are solved implicitly with the step."""
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
         _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)

@@ -436,18 +436,7 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
             row.append(tag)
         springs.append(row)
 
-    gm = scene.ground_motion
-    if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
-        raise ValueError("run_gap_pounding shakes with one component along x only")
-    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("UmfPack")
-    ops.test("NormDispIncr", 1e-12, 50)
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    newmark_along_x(ops, scene.ground_motion, "run_gap_pounding", 1e-12, 50)
 
     ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
     forces = np.zeros((n_steps + 1, common, 2))
@@ -465,6 +454,22 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
 
 
 # --------------------------------------------------------------------------- P-Delta peer
+def newmark_along_x(ops, gm, who: str, tol: float, max_iter: int) -> None:
+    """Shake along x with the one component of ``gm`` (UniformExcitation) and set up a Newton,
+    Newmark average-acceleration transient analysis (the gap and spring peers' set-up)."""
+    if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
+        raise ValueError(f"{who} shakes with one component along x only")
+    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
+    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    ops.constraints("Transformation")
+    ops.numberer("RCM")
+    ops.system("UmfPack")
+    ops.test("NormDispIncr", float(tol), int(max_iter))
+    ops.algorithm("Newton")
+    ops.integrator("Newmark", 0.5, 0.25)
+    ops.analysis("Transient")
+
+
 def _gravity_step(ops) -> None:
     """One linear static step under the gravity loads of the current pattern, then held constant
     (``loadConst``) with the time reset, so the geometric stiffness of the PDelta transformation

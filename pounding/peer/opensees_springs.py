@@ -234,18 +234,9 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
             ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
             row.append(tag)
         gaps.append(row)
-    gm = scene.ground_motion
-    if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
-        raise ValueError("run_springs_gap_pounding shakes with one component along x only")
-    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("UmfPack")
-    ops.test("NormDispIncr", float(tol), int(max_iter))
-    ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
-    ops.analysis("Transient")
+    from pounding.peer.opensees import newmark_along_x
+
+    newmark_along_x(ops, scene.ground_motion, "run_springs_gap_pounding", tol, max_iter)
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
     forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in scene.buildings}
     gap_forces = np.zeros((n_steps + 1, len(gaps), 2))
