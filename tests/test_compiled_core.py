@@ -112,6 +112,19 @@ def test_one_specialization_per_compiled_function(tmp_path):
     assert "pounding.framework.kernel.advance" in out["sigs"]
     many = {name: s for name, s in out["sigs"].items() if len(s) > 1}
     assert many == {}
+    # the same run in a second process compiles nothing: every function comes from the cache
+    # (a compiled function called from Python outside the cached entry points compiled each time)
+    warm = _python(code.replace("from pounding import compiler\n",
+                                "from pounding import compiler\n"
+                                "from numba.core import event\n"
+                                "seen = []\n"
+                                "class L(event.Listener):\n"
+                                "    def on_start(self, ev): seen.append(ev.data['dispatcher'].py_func.__name__)\n"
+                                "    def on_end(self, ev): pass\n"
+                                "event.register('numba:compile', L())\n")
+                   .replace("'sigs': sigs}", "'sigs': sigs, 'compiled': seen}"),
+                   env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
+    assert warm["compiled"] == []
 
 
 def test_kernel_and_python_path_log_the_same_impact_records():

@@ -224,8 +224,14 @@ def stepped_min_gap(A, B, z, p0, p1, plist, geo):
 
 def rest_axis(A: np.ndarray, B: np.ndarray, rest_gap: float) -> np.ndarray:
     """Unit direction (2,) from polygon A to polygon B of their closest features at rest
-    (zeros when the polygons overlap so much that none is found)."""
-    count, Q, N, gap, *_ = contact_points(A, B, max(rest_gap, 0.0) + 1e-9 * (1.0 + abs(rest_gap)))
+    (zeros when the polygons overlap so much that none is found).
+
+    Run interpreted, like the rest gaps: a one-off call per pair while the model is built, which
+    would otherwise load (or compile) the contact points from Python in every run."""
+    from pounding.compiler import interpreted
+
+    with interpreted():
+        count, Q, N, gap, *_ = contact_points(A, B, max(rest_gap, 0.0) + 1e-9 * (1.0 + abs(rest_gap)))
     if count == 0:
         return np.zeros(2)
     return N[int(np.argmin(gap[:count]))].copy()
