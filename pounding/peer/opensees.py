@@ -322,19 +322,7 @@ def run_transient(
             ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, a1, 0.0)
             ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", a0, 0.0, 0.0, 0.0)
 
-    pattern = 0
-    # one UniformExcitation pattern per component and plan axis it has a share on: a pair along
-    # x and y is two patterns, each component with its own time series
-    for component in ground_motion.components:
-        direction = component.direction()
-        t = [float(x) for x in component.t]
-        acc = [float(x) for x in component.acc]
-        for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
-            if factor == 0.0:
-                continue
-            pattern += 1
-            ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
-            ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+    uniform_excitation(ops, ground_motion)
 
     ops.constraints("Transformation")
     ops.numberer("RCM")
@@ -355,6 +343,23 @@ def run_transient(
     if single:
         return out[0]
     return {b.name: arr for b, arr in zip(buildings, out)}
+
+
+def uniform_excitation(ops, ground_motion) -> int:
+    """One UniformExcitation pattern per component and plan axis it has a share on (a pair along x
+    and y is two patterns, each component with its own time series); returns the number of patterns."""
+    pattern = 0
+    for component in ground_motion.components:
+        direction = component.direction()
+        t = [float(x) for x in component.t]
+        acc = [float(x) for x in component.acc]
+        for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
+            if factor == 0.0:
+                continue
+            pattern += 1
+            ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
+            ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+    return pattern
 
 
 def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
@@ -459,8 +464,7 @@ def newmark_along_x(ops, gm, who: str, tol: float, max_iter: int) -> None:
     Newmark average-acceleration transient analysis (the gap and spring peers' set-up)."""
     if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
         raise ValueError(f"{who} shakes with one component along x only")
-    ops.timeSeries("Path", 1, "-time", *map(float, gm.t), "-values", *map(float, gm.acc))
-    ops.pattern("UniformExcitation", 1, 1, "-accel", 1)
+    uniform_excitation(ops, gm)
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("UmfPack")

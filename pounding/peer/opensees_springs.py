@@ -145,16 +145,9 @@ def run_springs_transient(
         ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, float(a1), 0.0)
         ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", float(a0), 0.0, 0.0, 0.0)
 
-    direction = ground_motion.direction()
-    t = [float(x) for x in ground_motion.t]
-    acc = [float(x) for x in ground_motion.acc]
-    pattern = 0
-    for dof, factor in ((1, float(direction[0])), (2, float(direction[1]))):
-        if factor == 0.0:
-            continue
-        pattern += 1
-        ops.timeSeries("Path", pattern, "-time", *t, "-values", *acc, "-factor", factor)
-        ops.pattern("UniformExcitation", pattern, dof, "-accel", pattern)
+    from pounding.peer.opensees import uniform_excitation
+
+    uniform_excitation(ops, ground_motion)
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("UmfPack")
