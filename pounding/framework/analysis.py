@@ -142,11 +142,13 @@ class Model:
         sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
         return pg.rest_axis(self.verts[sa, : self.nvert[sa]], self.verts[sb, : self.nvert[sb]], rest)
 
-    def update_peaks(self, q: np.ndarray, peak: np.ndarray) -> None:
-        """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab for modal displacements q."""
+    def update_peaks(self, z0: np.ndarray, z1: np.ndarray, h: float, peak: np.ndarray) -> None:
+        """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab over a step of h [s] between the
+        modal states z0, z1 (n, 3) (:func:`pounding.framework.kernel.update_peaks`; h = 0: at z1)."""
         from pounding.framework.kernel import update_peaks
 
-        update_peaks(self.rows, np.ascontiguousarray(q), self.n_modes, self.slab_building, peak)
+        update_peaks(self.rows, np.ascontiguousarray(z0, dtype=float), np.ascontiguousarray(z1, dtype=float), float(h),
+                     self.n_modes, self.slab_building, peak)
 
     def energy(self, z: np.ndarray, E: np.ndarray) -> dict:
         """Energy account per building [J]: the work E (n_buildings, 3) booked by a run, and the
@@ -450,7 +452,17 @@ class Driver:
             event_q=np.array([e[1] for e in self.event_states]).reshape(ne, m.n),
             event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
             timings={"load_and_compile_s": self.timings["load_s"], "compile_s": self.timings["compile_s"], "solve_s": runtime},
+            intra_step=self.intra_step(),
         )
+
+    def intra_step(self):
+        """The integrator's own solution inside a step for the true peaks
+        (:class:`pounding.framework.peaks.ExactIntraStep`), or None: the Hermite cubic."""
+        if self.integrator.name != "exact" or self.springs is not None or self.law.kind == "force":
+            return None
+        from pounding.framework.peaks import ExactIntraStep
+
+        return ExactIntraStep(self.integrator, self.model.omega, self.model.zeta, self.model.L, self.ag, self.dt)
 
     def energy(self) -> dict:
         """The energy account per building [J] (:meth:`Model.energy`); with yielding springs, strain
@@ -506,7 +518,7 @@ class Driver:
 
     def _record(self, k: int) -> None:
         if self.every > 1:
-            self.model.update_peaks(self.z[:, 0], self.peak)
+            self.model.update_peaks(self.z, self.z, 0.0, self.peak)
         if k % self.every == 0:
             self.Q[k // self.every] = self.z[:, 0]
             self.V[k // self.every] = self.z[:, 1]
@@ -553,6 +565,8 @@ class Driver:
         else:
             self.accumulate_with_springs(st, t, h)
             self.springs.commit(st.sp)
+        if self.every > 1:  # the step's extremes, before any impulse at its end (true peaks)
+            self.model.update_peaks(st.z0, st.z1, h, self.peak)
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
 

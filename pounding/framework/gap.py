@@ -500,6 +500,15 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         infos.append(info)
     if not np.any(np.isfinite(D)):
         raise InputError("the slabs never face each other along the direction", field="--direction")
+    # true peaks: the translation to contact over the continuous trajectory, refined inside the steps
+    # around each storey's governing step (pounding.framework.peaks)
+    t_best = np.asarray(result.t, dtype=float)[np.argmax(D, axis=0)]
+    refined = _refine_inside_steps(result, a, b, common, d, D)
+    if refined is not None:
+        for c, (val, tc) in enumerate(refined):
+            k = int(np.argmax(D[:, c]))
+            if val > D[k, c]:
+                D[k, c], t_best[c] = val, tc
     k_t, c = np.unravel_index(int(np.argmax(D)), D.shape)
     delta = float(D[k_t, c])
     min_gap = g0 + delta
@@ -520,15 +529,14 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         eb0, eb1 = sb.vertices[edge], sb.vertices[(edge + 1) % len(sb.vertices)]
         rest_b = eb0 + s * (eb1 - eb0)
         point = rest_a + va[k_t, fa, vertex]
-    u_a = float(np.max(np.abs(_point_history(cm_a[:, fa], sa.centre, rest_a, d))))
-    u_b = float(np.max(np.abs(_point_history(cm_b[:, fb], sb.centre, rest_b, d))))
+    u_a, u_b = _point_peaks(result, (a.name, fa, sa, rest_a), (b.name, fb, sb, rest_b), d, cm_a, cm_b)
     sys_a, sys_b = (result.systems[result.names.index(n)] for n in (a.name, b.name))
     (T_a, z_a), (T_b, z_b) = _fundamental(sys_a, d), _fundamental(sys_b, d)
     rho = correlation(T_a, T_b, z_a, z_b)
     required = []
     for cc, (ga, gb) in enumerate(common):
         kk = int(np.argmax(D[:, cc]))
-        required.append((ga + 1, gb + 1, float(g0 + D[kk, cc]) if np.isfinite(D[kk, cc]) else None, float(result.t[kk])))
+        required.append((ga + 1, gb + 1, float(g0 + D[kk, cc]) if np.isfinite(D[kk, cc]) else None, float(t_best[cc])))
     return GapReport(
         min_gap=float(min_gap),
         current_gap=float(g0),
@@ -536,7 +544,7 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         buildings=(a.name, b.name),
         storey=fa + 1,
         storey_b=fb + 1,
-        time=float(result.t[k_t]),
+        time=float(t_best[c]),
         striking=striking,
         vertex=vertex,
         struck=struck,
@@ -553,6 +561,72 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         t=np.asarray(result.t),
         clearance=-D,
     )
+
+
+def _point_row(system, f: int, rest: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Row over a building's modes of the displacement along d of slab f's material point ``rest``."""
+    Phi = np.asarray(system.modes, dtype=float)
+    r = np.asarray(rest, dtype=float) - system.slabs[f].centre
+    u, v, phi = Phi[3 * f], Phi[3 * f + 1], Phi[3 * f + 2]
+    return d[0] * (u - r[1] * phi) + d[1] * (v + r[0] * phi)
+
+
+def _point_peaks(result, pa, pb, d, cm_a, cm_b) -> tuple[float, float]:
+    """Peak |displacement along d| of the facing points over the continuous trajectory
+    (:func:`pounding.framework.peaks.abs_peaks`); over the output steps when the output is thinned."""
+    from pounding.framework import peaks
+
+    seg = peaks.segments(result)
+    out = []
+    for (name, f, slab, rest), cm in ((pa, cm_a), (pb, cm_b)):
+        if seg is None:
+            out.append(float(np.max(np.abs(_point_history(cm[:, f], slab.centre, rest, d)))))
+            continue
+        system = result.systems[result.names.index(name)]
+        out.append(float(peaks.abs_peaks(peaks.building_segments(seg, result, name), _point_row(system, f, rest, d)[None, :])[0]))
+    return out[0], out[1]
+
+
+def _refine_inside_steps(result, a, b, common, d, D, top: int = 3):
+    """Per common storey: (max of the translation to contact inside the steps next to its ``top``
+    largest step-end values, the instant [s]) on the continuous trajectory; None when the output is
+    thinned. The translation is piecewise smooth in the displacements (a fixed vertex on a fixed
+    edge near its maximum), so a bounded search on each piece finds it."""
+    from pounding.framework import peaks
+
+    seg = peaks.segments(result)
+    if seg is None:
+        return None
+    ia, ib = result.names.index(a.name), result.names.index(b.name)
+    sys_a, sys_b = result.systems[ia], result.systems[ib]
+    sla = slice(int(result.mode_start[ia]), int(result.mode_start[ia]) + sys_a.n_dof)
+    slb = slice(int(result.mode_start[ib]), int(result.mode_start[ib]) + sys_b.n_dof)
+    t0 = np.asarray(seg.t0)
+    out = []
+    for c, (fa, fb) in enumerate(common):
+        if not np.any(np.isfinite(D[:, c])):
+            out.append((-np.inf, 0.0))
+            continue
+        ra, rb = sys_a.slabs[fa], sys_b.slabs[fb]
+
+        def polygon(system, f, slab, q):
+            u, v, phi = np.asarray(system.modes, dtype=float)[3 * f : 3 * f + 3] @ q
+            r = slab.vertices - slab.centre
+            return slab.vertices + np.stack([u - phi * r[:, 1], v + phi * r[:, 0]], axis=-1)
+
+        def D_of(q):
+            val, _ = translation_to_contact(polygon(sys_a, fa, ra, q[sla]), polygon(sys_b, fb, rb, q[slb]), d)
+            return float(val) if np.isfinite(val) else -np.inf
+
+        ks = np.argsort(-np.where(np.isfinite(D[:, c]), D[:, c], -np.inf), kind="stable")[:top]
+        pieces = set()
+        for k in ks:
+            tk = float(result.t[k])
+            j = int(np.searchsorted(t0, tk))
+            pieces.update(i for i in (j - 1, j) if 0 <= i < len(t0))
+        val, i, s = peaks.refine_over(seg, sorted(pieces), D_of)
+        out.append((val, float(t0[i] + s * seg.h[i]) if i >= 0 else 0.0))
+    return out
 
 
 def no_contact(scene: Scene) -> Scene:

@@ -331,7 +331,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
             z[i, 2] = z1[i, 2]
             fc[i] = f1[i]
         if rec.every > 1:
-            update_peaks(geo.rows, z[:, 0], geo.n_modes, modes.slab_building, rec.peak)
+            update_peaks(geo.rows, z0, z1, dt, geo.n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
         # release the held pairs that opened beyond the tolerance
         q = z[:, 0].copy()

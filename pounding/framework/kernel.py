@@ -27,6 +27,7 @@ from pounding.contact.base import newton_lcp
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
 from pounding.framework.pairs import closing, pair_features, pair_gap
+from pounding.framework.peaks import cubic_abs_max
 
 
 @njit
@@ -122,6 +123,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
                 status = Status.CONTACT
                 hit = p
         _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
+        if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
+            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
         held = False
         if status == Status.CONTACT:
             P = pair_a.shape[0]
@@ -129,8 +132,6 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
                 _record(z, k + 1, rec)  # the driver applies the impulses and records again
                 return k + 1, Status.CONTACT, hit
             _, held = impulses_at((k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
-        if rec.every > 1:
-            update_peaks(rows, z[:, 0], n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
         if held:
             return k + 1, Status.HELD, -1
@@ -151,7 +152,7 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
         _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
         _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
         if rec.every > 1:
-            update_peaks(geo.rows, z[:, 0], geo.n_modes, modes.slab_building, rec.peak)
+            update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
     return k1, Status.DONE, -1
 
@@ -269,15 +270,26 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
 
 
 @njit
-def update_peaks(rows, q, n_modes, slab_building, peak):
-    """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab, from modal displacements q (n,)."""
-    d = np.empty(3)
+def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
+    """peak (S, 3) <- max(peak, max over the step of |(u, v, phi)|) of every slab, from the modal
+    states z0, z1 (n, 3) at the ends of a step of h [s] (z1 before any impulse at its end): the
+    extreme of the cubic Hermite through (q, q') at both ends (:func:`pounding.framework.peaks.cubic_abs_max`)."""
+    d0 = np.empty(3)
+    d1 = np.empty(3)
+    w0 = np.empty(3)
+    w1 = np.empty(3)
     for s in range(rows.shape[0]):
         b = slab_building[s]
-        _slab_dofs(rows[s, :, : n_modes[b, 1]], q[n_modes[b, 0] : n_modes[b, 0] + n_modes[b, 1]], d)
-        for r in range(3):
-            if abs(d[r]) > peak[s, r]:
-                peak[s, r] = abs(d[r])
+        i0, nb = n_modes[b, 0], n_modes[b, 1]
+        r = rows[s, :, :nb]
+        _slab_dofs(r, z0[i0 : i0 + nb, 0], d0)
+        _slab_dofs(r, z1[i0 : i0 + nb, 0], d1)
+        _slab_dofs(r, z0[i0 : i0 + nb, 1], w0)
+        _slab_dofs(r, z1[i0 : i0 + nb, 1], w1)
+        for j in range(3):
+            y = cubic_abs_max(d0[j], d1[j], h * w0[j], h * w1[j])
+            if y > peak[s, j]:
+                peak[s, j] = y
 
 
 @njit

@@ -98,18 +98,28 @@ class Result:
     event_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
     event_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     event_qd: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
-    #: peak |u|, |v|, |phi| of every slab over every step [m, m, rad], shape (slabs, 3), slabs numbered
-    #: building by building; filled from the histories when every step is in the output (output_every = 1)
+    #: peak |u|, |v|, |phi| of every slab over the continuous trajectory [m, m, rad], shape (slabs, 3),
+    #: slabs numbered building by building (:mod:`pounding.framework.peaks`): tracked during the run when
+    #: the output is thinned, else from the histories, split at the impacts
     slab_peaks: np.ndarray | None = None
     #: wall times [s]: loading and compiling the compiled core (``load_and_compile_s``, of which
     #: ``compile_s`` compiling), and the solve (``solve_s`` = ``runtime_s``)
     timings: dict = field(default_factory=dict)
     #: per building with yielding storey springs: :func:`pounding.framework.yielding.spring_record`
     springs: dict = field(default_factory=dict)
+    #: the integrator's own solution inside a step (:class:`pounding.framework.peaks.ExactIntraStep`) for
+    #: the true peaks, or None (the cubic Hermite through the step ends); not written to files
+    intra_step: object = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:
-            self.slab_peaks = np.vstack([np.max(np.abs(self.cm(name)), axis=0) for name in self.names]) if len(self.t) else np.zeros((0, 3))
+            from pounding.framework.peaks import slab_peaks
+
+            cont = slab_peaks(self) if len(self.t) else None
+            self.slab_peaks = cont if cont is not None else self._step_end_slab_peaks()
+
+    def _step_end_slab_peaks(self) -> np.ndarray:
+        return np.vstack([np.max(np.abs(self.cm(name)), axis=0) for name in self.names]) if len(self.t) else np.zeros((0, 3))
 
     # ------------------------------------------------------------- physical histories
     def _index(self, name: str) -> int:
@@ -139,10 +149,15 @@ class Result:
         return out
 
     def peaks(self, name: str) -> np.ndarray:
-        """Peak |u|, |v|, |phi| per storey over every step (not only the output ones), shape (storeys, 3)."""
+        """Peak |u|, |v|, |phi| per storey over the continuous trajectory (inside the steps too), shape (storeys, 3)."""
         i = self._index(name)
         start = sum(s.n_storeys for s in self.systems[:i])
         return self.slab_peaks[start : start + self.systems[i].n_storeys].copy()
+
+    def step_end_peaks(self, name: str) -> np.ndarray:
+        """Peak |u|, |v|, |phi| per storey over the output steps' ends only, shape (storeys, 3): what a
+        peer that reports step ends (OpenSees) reports, to compare like with like."""
+        return np.max(np.abs(self.cm(name)), axis=0)
 
     @property
     def n_impacts(self) -> int:

@@ -206,11 +206,18 @@ def _measures(result, scene, storeys: list[int]) -> dict:
     per = Counter(result.impact_storey(i) for i in result.impacts)
     for s in storeys:
         row[f"impacts_storey_{s}"] = per.get(s, 0)
+    from pounding.framework import peaks as true_peaks
+
+    seg = true_peaks.segments(result)
     for b in scene.buildings:
-        cm = result.cm(b.name)
-        pk = np.max(np.abs(cm), axis=0)
-        du = np.diff(cm[:, :, :2], axis=1, prepend=0.0)  # inter-storey drift of the centres of mass
-        drift = np.max(np.hypot(du[..., 0], du[..., 1]) / np.asarray(b.storey_heights), initial=0.0)
+        pk = result.peaks(b.name)  # over the continuous trajectory (pounding.framework.peaks)
+        if seg is not None:
+            drift = float(np.max(true_peaks.norm_peaks(true_peaks.building_segments(seg, result, b.name),
+                                                       _cm_drift_rows(result.systems[result.names.index(b.name)])), initial=0.0))
+        else:  # thinned output: over the output steps
+            cm = result.cm(b.name)
+            du = np.diff(cm[:, :, :2], axis=1, prepend=0.0)  # inter-storey drift of the centres of mass
+            drift = np.max(np.hypot(du[..., 0], du[..., 1]) / np.asarray(b.storey_heights), initial=0.0)
         row[f"{b.name}_peak_u"] = float(pk[:, 0].max())
         row[f"{b.name}_peak_v"] = float(pk[:, 1].max())
         row[f"{b.name}_peak_phi"] = float(pk[:, 2].max())
@@ -218,6 +225,13 @@ def _measures(result, scene, storeys: list[int]) -> dict:
     row["max_impulse"] = float(max((i.impulse for i in result.impacts), default=0.0))
     row["energy_loss"] = float(sum(i.energy_loss for i in result.impacts))
     return row
+
+
+def _cm_drift_rows(system) -> np.ndarray:
+    """Rows (N, 2, n) of the inter-storey drift ratio of the centres of mass, (u_f - u_{f-1}, v_f - v_{f-1}) / h_f."""
+    Phi = np.asarray(system.modes, dtype=float).reshape(system.n_storeys, 3, -1)[:, :2]
+    rel = Phi - np.concatenate([np.zeros_like(Phi[:1]), Phi[:-1]])
+    return rel / np.asarray(system.storey_heights, dtype=float)[:, None, None]
 
 
 def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:

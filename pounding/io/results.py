@@ -70,7 +70,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             "peak_u": peaks[:, 0].tolist(),
             "peak_v": peaks[:, 1].tolist(),
             "peak_phi": peaks[:, 2].tolist(),
-            **response_peaks(histories[s.name]),
+            **_true_drift_peaks(result, s.name, response_peaks(histories[s.name])),
             # the smooth part omits forces of sustained/penalty contact, which a run does not record
             "floor_acceleration_includes_contact_forces": not contact_forces,
             "energy": balances[s.name],
@@ -91,8 +91,29 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "impacts_per_storey": {str(k): v for k, v in sorted(storeys.items())},
         "impact_energy_loss": float(sum(i.energy_loss for i in result.impacts)),
         "energy_balance": balance,
+        "peaks_over": _peaks_over(result),
         **result.info,
     }
+
+
+def _peaks_over(result: Result) -> str:
+    """What the peaks of displacements and drifts are taken over (:mod:`pounding.framework.peaks`)."""
+    if len(result.t) != result.steps + 1:
+        return "continuous trajectory of the slabs (cubic Hermite in every step, tracked during the run); drifts over the output steps"
+    if getattr(result, "intra_step", None) is not None:
+        return "continuous trajectory (the exact integrator's intra-step solution)"
+    return "continuous trajectory (cubic Hermite through (q, q') at both ends of every step)"
+
+
+def _true_drift_peaks(result: Result, name: str, peaks: dict) -> dict:
+    """The response peaks with the drift ratios' taken over the continuous trajectory (where every step
+    is in the output; else over the output steps)."""
+    from pounding.framework.peaks import drift_peaks
+
+    dp = drift_peaks(result, name)
+    if dp is not None:
+        peaks = {**peaks, "peak_drift_ratio_cm": dp[0].tolist(), "peak_drift_ratio_corner": dp[1].tolist()}
+    return peaks
 
 
 def impact_rows(result: Result) -> list[list]:
