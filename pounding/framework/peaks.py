@@ -88,15 +88,17 @@ def cubic_abs_max(y0, y1, m0, m1):
     return best
 
 
-def hermite_extremes(y0, y1, m0, m1):
-    """Vectorised :func:`cubic_abs_max`: (max |y| over each step, its fraction s in [0, 1]), arrays like y0."""
+def hermite_extremes(y0, y1, m0, m1, signed: bool = False):
+    """Vectorised :func:`cubic_abs_max`: (max |y| over each step, its fraction s in [0, 1]), arrays like
+    y0; with ``signed``, the largest value of y itself."""
     y0, y1, m0, m1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (y0, y1, m0, m1)))
+    mag = (lambda x: x) if signed else np.abs
     c2 = 3.0 * (y1 - y0) - 2.0 * m0 - m1
     c3 = 2.0 * (y0 - y1) + m0 + m1
-    best = np.abs(y0)
+    best = mag(y0)
     where = np.zeros_like(y0)
-    end = np.abs(y1) > best
-    best = np.where(end, np.abs(y1), best)
+    end = mag(y1) > best
+    best = np.where(end, mag(y1), best)
     where[end] = 1.0
     a, b = 3.0 * c3, 2.0 * c2
     disc = b * b - 4.0 * a * m0
@@ -107,7 +109,7 @@ def hermite_extremes(y0, y1, m0, m1):
         for s in (np.where(qq != 0.0, m0 / qq, np.nan), np.where((qq != 0.0) & (a != 0.0), qq / a, np.nan)):
             inside = ok & (s > 0.0) & (s < 1.0)
             ss = np.where(inside, s, 0.0)
-            val = np.abs(y0 + ss * (m0 + ss * (c2 + ss * c3)))
+            val = mag(y0 + ss * (m0 + ss * (c2 + ss * c3)))
             better = inside & (val > best)
             best = np.where(better, val, best)
             where = np.where(better, ss, where)
@@ -236,16 +238,17 @@ class ExactIntraStep:
         return bool(np.max(np.abs(z[0] - q1)) <= 1e-9 * scale)
 
 
-def refine_max(seg: Segments, i: int, c: np.ndarray, s0: float) -> float:
-    """|y| at the extreme of y = c . q in piece i, from the fraction s0 of the Hermite extreme:
-    Newton on y' = 0 with the exact intra-step solution (``seg.exact``); the Hermite value when
-    the piece is not a free exact step."""
+def refine_max(seg: Segments, i: int, c: np.ndarray, s0: float, signed: bool = False) -> float:
+    """|y| (with ``signed``: y) at the extreme of y = c . q in piece i, from the fraction s0 of the
+    Hermite extreme: Newton on y' = 0 with the exact intra-step solution (``seg.exact``); the Hermite
+    value when the piece is not a free exact step."""
+    mag = (lambda x: x) if signed else abs
     h = float(seg.h[i])
-    herm = abs(float(hermite_value(c @ seg.q0[i], c @ seg.q1[i], h * (c @ seg.v0[i]), h * (c @ seg.v1[i]), s0)))
+    herm = mag(float(hermite_value(c @ seg.q0[i], c @ seg.q1[i], h * (c @ seg.v0[i]), h * (c @ seg.v1[i]), s0)))
     ex = seg.exact
     if ex is None or not ex.consistent(seg.t0[i], seg.q0[i], seg.v0[i], h, seg.q1[i]):
         return herm
-    ends = max(abs(float(c @ seg.q0[i])), abs(float(c @ seg.q1[i])))
+    ends = max(mag(float(c @ seg.q0[i])), mag(float(c @ seg.q1[i])))
     if s0 <= 0.0 or s0 >= 1.0:
         return ends
     tau = s0 * h
@@ -259,12 +262,13 @@ def refine_max(seg: Segments, i: int, c: np.ndarray, s0: float) -> float:
         tau = new
         if done:
             break
-    return max(ends, abs(float(c @ ex.state(seg.t0[i], seg.q0[i], seg.v0[i], tau)[0])))
+    return max(ends, mag(float(c @ ex.state(seg.t0[i], seg.q0[i], seg.v0[i], tau)[0])))
 
 
 # --------------------------------------------------------------------------- peaks of linear quantities
-def abs_peaks(seg: Segments, C: np.ndarray, refine_margin: float = 1e-3) -> np.ndarray:
-    """max over the run of |C q(t)| (k,) for quantities C (k, n) over the stacked modes.
+def abs_peaks(seg: Segments, C: np.ndarray, refine_margin: float = 1e-3, signed: bool = False) -> np.ndarray:
+    """max over the run of |C q(t)| (k,) for quantities C (k, n) over the stacked modes (with
+    ``signed``: of C q(t) itself).
 
     Hermite extremes in every piece; with ``seg.exact``, the pieces whose Hermite extreme is within
     ``refine_margin`` (relative) of the best are refined on the exact solution (the Hermite error,
@@ -273,13 +277,14 @@ def abs_peaks(seg: Segments, C: np.ndarray, refine_margin: float = 1e-3) -> np.n
     C = np.atleast_2d(np.asarray(C, dtype=float))
     y0, y1 = seg.q0 @ C.T, seg.q1 @ C.T
     m0, m1 = seg.h[:, None] * (seg.v0 @ C.T), seg.h[:, None] * (seg.v1 @ C.T)
-    best, where = hermite_extremes(y0, y1, m0, m1)  # (m, k)
+    best, where = hermite_extremes(y0, y1, m0, m1, signed)  # (m, k)
     out = best.max(axis=0) if len(best) else np.zeros(C.shape[0])
     if seg.exact is None or not len(best):
         return out
     for j in range(C.shape[0]):
-        cand = np.flatnonzero(best[:, j] >= out[j] * (1.0 - refine_margin))
-        out[j] = max(refine_max(seg, int(i), C[j], float(where[i, j])) for i in cand[:8])
+        cand = np.flatnonzero(best[:, j] >= out[j] - abs(out[j]) * refine_margin)
+        cand = cand[np.argsort(-best[cand, j], kind="stable")][:8]
+        out[j] = max(refine_max(seg, int(i), C[j], float(where[i, j]), signed) for i in cand)
     return out
 
 
