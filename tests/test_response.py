@@ -88,8 +88,12 @@ def test_drift_ratios_from_the_vertex_histories(written):
     every storey, so vertex k of both floors is the same plan point; the ground does not move).
     At the centre of mass: the same from B_cm, moving the floor below to the point above by its
     rotation. Differences of O(1e-2) m displacements: rounding is 1e-16 m, so 1e-12 of the peak
-    drift ratio."""
-    scene, _, npz, summ = written
+    drift ratio. summary.json reports the peaks over the continuous trajectory (pounding.framework.peaks:
+    the same code on the same result gives the same numbers), which the step-end maxima bound from below
+    (up to the rounding of the two ways of summing the modal rows, 1e-12 as above)."""
+    from pounding.framework.peaks import drift_peaks
+
+    scene, result, npz, summ = written
     for b in scene.buildings:
         verts = npz[f"{b.name}_vertices"]
         h = np.asarray(b.storey_heights)
@@ -108,8 +112,11 @@ def test_drift_ratios_from_the_vertex_histories(written):
                 d[:, s, 1] -= cm[:, s - 1, 1] + cm[:, s - 1, 2] * r[0]
         at_cm = np.linalg.norm(d, axis=-1) / h
         assert np.abs(npz[f"{b.name}_drift_ratio_cm"] - at_cm).max() <= 1e-12 * peak
-        np.testing.assert_allclose(summ["buildings"][b.name]["peak_drift_ratio_corner"], corner.max(axis=0), rtol=1e-12)
-        np.testing.assert_allclose(summ["buildings"][b.name]["peak_drift_ratio_cm"], at_cm.max(axis=0), rtol=1e-12)
+        cont_cm, cont_corner = drift_peaks(result, b.name)
+        assert summ["buildings"][b.name]["peak_drift_ratio_corner"] == cont_corner.tolist()
+        assert summ["buildings"][b.name]["peak_drift_ratio_cm"] == cont_cm.tolist()
+        assert np.all(cont_corner >= corner.max(axis=0) - 1e-12 * peak)
+        assert np.all(cont_cm >= at_cm.max(axis=0) - 1e-12 * peak)
         assert np.all(corner.max(axis=0) >= at_cm.max(axis=0) * (1 - 1e-12))  # a corner drifts at least as much
 
 
