@@ -23,10 +23,10 @@ the gap for a target probability p is the smallest gap above which at most
 floor(p n_j) runs pound (an order statistic of r_.j), beside a lognormal fit of
 r_.j and the mean over the records of the code estimates.
 
-``required_gap_m`` is the maximum over the continuous trajectory: the
-maximum over the steps, refined by the parabola through it and its two
-neighbours (exact to O(dt^3) at a smooth maximum; it adds ~1e-4 of the gap
-at dt = 0.005 s). ``required_gap_grid_m`` is the maximum over the steps, the
+``required_gap_m`` is the maximum over the continuous trajectory (the gap
+search's, :func:`pounding.framework.gap.gap_from_result`, on the integrator's
+own interpolant: :mod:`pounding.framework.peaks`; it adds ~1e-4 of the gap at
+dt = 0.005 s). ``required_gap_grid_m`` is the maximum over the steps, the
 distance below which a run with contact (which checks for overlap after each
 step) finds an impact.
 
@@ -96,14 +96,6 @@ def consequence_columns(names: list[str]) -> list[str]:
         [f"{n}_peak_ductility" for n in names] + ["max_impulse", "energy_loss", "warnings", "runtime_s"]
 
 
-def _refined_maximum(y0: float, y1: float, y2: float) -> float:
-    """Maximum of the parabola through three equally spaced values with y1 >= y0, y2 (y1 if flat)."""
-    curv = 2.0 * y1 - y0 - y2
-    if not (math.isfinite(y0) and math.isfinite(y2)) or curv <= 0.0:
-        return y1
-    return y1 + (y0 - y2) ** 2 / (8.0 * curv)
-
-
 def peak_ductility(result, name: str) -> float | None:
     """Largest ductility demand (peak |deformation| / yield deformation) of a building's yielding storey
     springs over the run, or None for a building without yielding springs."""
@@ -161,12 +153,8 @@ def contact_free_run(scene, motion, scale: float, direction, row: dict) -> dict:
             s = scene.with_ground_motion(motion.scaled(scale))
             result = run(no_contact(s))
             rep = gap_from_result(s, result, direction, full=False)
-        D = -rep.clearance  # (nt, common storeys): translation to contact; its maximum + g0 is the required gap
-        k, c = np.unravel_index(int(np.argmax(D)), D.shape)
-        refined = rep.min_gap
-        if 0 < k < D.shape[0] - 1:
-            refined = rep.current_gap + _refined_maximum(float(D[k - 1, c]), float(D[k, c]), float(D[k + 1, c]))
-        row.update(status="ok", error=None, required_gap_m=float(refined), required_gap_grid_m=float(rep.min_gap),
+        # min_gap: over the continuous trajectory (pounding.framework.peaks); min_gap_grid: over the steps
+        row.update(status="ok", error=None, required_gap_m=float(rep.min_gap), required_gap_grid_m=float(rep.min_gap_grid),
                    storey=rep.storey, storey_b=rep.storey_b, time_s=rep.time, striking=rep.striking, vertex=rep.vertex,
                    struck=rep.struck, edge=rep.edge, abs_m=rep.abs, srss_m=rep.srss, ddc_m=rep.ddc,
                    warnings=_caught(caught))

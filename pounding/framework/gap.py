@@ -22,9 +22,11 @@ pair apart at every instant if and only if
 
     s > min_gap = g0 + max over storeys and time of D(A_f(t), B_f(t), d).
 
-``min_gap`` is therefore exact on the output grid of the no-contact run (the
-full runs check contact on the same grid). :func:`verify_gap` checks it with
-two full runs at 0.99 and 1.01 times the answer.
+On the output grid of the no-contact run this is exact (``min_gap_grid``: the
+full runs check contact on the same grid); ``min_gap`` is the maximum over the
+continuous trajectory, refined inside the steps next to the largest step-end
+values on the integrator's own interpolant (:mod:`pounding.framework.peaks`).
+:func:`verify_gap` checks it with two full runs at 0.99 and 1.01 times the answer.
 
 Building-code estimates
 -----------------------
@@ -413,12 +415,16 @@ class GapReport:
     srss: float
     ddc: float
     t: np.ndarray = field(repr=False)
-    clearance: np.ndarray = field(repr=False)  # (nt, common storeys) clear distance along d in the scene as given
+    clearance: np.ndarray = field(repr=False)  # (nt, common storeys) clear distance along d in the scene as given, at the step ends
     check: GapCheck | None = None
+    #: the minimum gap over the step ends only (what a run with contact, which checks after each step, sees);
+    #: ``min_gap`` is over the continuous trajectory (:mod:`pounding.framework.peaks`)
+    min_gap_grid: float | None = None
 
     def to_dict(self) -> dict:
         out = {
             "min_gap": self.min_gap,
+            "min_gap_step_ends": self.min_gap_grid,
             "current_gap": self.current_gap,
             "direction": [float(self.direction[0]), float(self.direction[1])],
             "storey": self.storey,
@@ -502,16 +508,17 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         raise InputError("the slabs never face each other along the direction", field="--direction")
     # true peaks: the translation to contact over the continuous trajectory, refined inside the steps
     # around each storey's governing step (pounding.framework.peaks)
+    # (D itself, and the clearance history, stay at the step ends: what a run with contact checks)
     t_best = np.asarray(result.t, dtype=float)[np.argmax(D, axis=0)]
+    cont = np.max(D, axis=0)
     refined = _refine_inside_steps(result, a, b, common, d, D)
     if refined is not None:
-        for c, (val, tc) in enumerate(refined):
-            k = int(np.argmax(D[:, c]))
-            if val > D[k, c]:
-                D[k, c], t_best[c] = val, tc
-    k_t, c = np.unravel_index(int(np.argmax(D)), D.shape)
-    delta = float(D[k_t, c])
-    min_gap = g0 + delta
+        for cc, (val, tc) in enumerate(refined):
+            if val > cont[cc]:
+                cont[cc], t_best[cc] = val, tc
+    c = int(np.argmax(cont))
+    k_t = int(np.argmax(D[:, c]))  # the governing step: the contact features are read there
+    min_gap = g0 + float(cont[c])
     fa, fb = common[c]
     info = {key: val[k_t] for key, val in infos[c].items()}
     who, vertex, edge, s = int(info["who"]), int(info["vertex"]), int(info["edge"]), float(info["s"])
@@ -536,9 +543,10 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     required = []
     for cc, (ga, gb) in enumerate(common):
         kk = int(np.argmax(D[:, cc]))
-        required.append((ga + 1, gb + 1, float(g0 + D[kk, cc]) if np.isfinite(D[kk, cc]) else None, float(t_best[cc])))
+        required.append((ga + 1, gb + 1, float(g0 + cont[cc]) if np.isfinite(cont[cc]) else None, float(t_best[cc])))
     return GapReport(
         min_gap=float(min_gap),
+        min_gap_grid=float(g0 + np.max(D)),
         current_gap=float(g0),
         direction=d,
         buildings=(a.name, b.name),
