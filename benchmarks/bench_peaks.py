@@ -78,7 +78,7 @@ def main():
     cost["solve_s_free_dt_0.005_every_1"] = times[1]
     cost["solve_s_free_dt_0.005_every_2_tracked"] = times[2]
     log("cost: " + ", ".join(f"{k} {v * 1e3:.1f} ms" for k, v in cost.items()))
-    write_json("peaks", {"rows": rows, "reference": {"dt": DT_REF, "top_peak_m": ref_pk, "top_peak_step_ends_m": ref_end}, "cost": cost})
+    write_json("peaks.json", {"rows": rows, "reference": {"dt": DT_REF, "top_peak_m": ref_pk, "top_peak_step_ends_m": ref_end}, "cost": cost})
 
 
 if __name__ == "__main__":
