@@ -255,9 +255,15 @@ class Driver:
         # contact "none": no pair is watched
         self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
         compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
+        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
+        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
+        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        #: [m] a gap this small is zero: rounding of the slab coordinates (1000 ulp of the largest)
+        self.eps = 1e3 * np.finfo(float).eps * max(1.0, float(np.max(np.abs(self.model.verts), initial=0.0)))
         self.settings = Settings(
-            self.tol, 0.0 if self.law.kind == "force" else -self.tol, float(self.v_min),
-            float(self.law.restitution) if compiled else -1.0, bool(compiled and self.law.after_impact == "equilibrium"),
+            self.tol, 0.0 if self.law.kind == "force" else (-self.eps if self.crossing else -self.tol), float(self.v_min),
+            -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
+            bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
         )
         self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
         self.timings = {"compile_s": 0.0, "load_s": 0.0}
@@ -524,13 +530,13 @@ class Driver:
             if self.sustained:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
-            culprits = self.overlapping(st.z1)
-            if not culprits:
+            culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
+            hs = self.locate(t, h, culprits) if culprits else None
+            if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
                 self.commit(st, t, h)
                 t = t_end
-                self.contact_at(t)
+                self.contact_at(t, self.touching_pairs() if self.crossing else None)
                 break
-            hs = self.locate(t, h, culprits)
             self.commit(self.trial(self.z, t, hs), t, hs)
             t += hs
             self.n_located += 1
@@ -578,6 +584,19 @@ class Driver:
         free = self.free_pairs()
         g = self.model.gaps(z1[:, 0], free, self.tol)
         return [int(p) for p in free[g < -self.tol]]
+
+    def crossing_pairs(self, st: Step, h: float) -> list[int]:
+        """Free pairs that may touch inside the trial step ``st`` of h [s] (the crossing locator):
+        ending it overlapping, or grazing by :func:`pounding.framework.crossing.suspect`'s bound."""
+        from pounding.framework.crossing import suspect
+
+        z0, z1 = np.ascontiguousarray(st.z0), np.ascontiguousarray(st.z1)
+        return [int(p) for p in self.free_pairs() if suspect(z0, z1, int(p), float(h), self.eps, self.tol, self.model.geo)]
+
+    def touching_pairs(self) -> np.ndarray:
+        """Free pairs whose gap is zero to rounding (the crossing locator strikes only these at a step's end)."""
+        free = self.free_pairs()
+        return free[self.model.gaps(self.z[:, 0], free, self.tol) <= self.eps]
 
     def free_pairs(self) -> np.ndarray:
         if not self.sustained:
@@ -683,6 +702,8 @@ class Driver:
                                                 self.load(t + hh), plist, self.model.geo))
             return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
+        if self.crossing:
+            return self.locate_crossing(gmin, h)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
@@ -703,6 +724,47 @@ class Driver:
             if hi - lo < 1e-15 * self.dt:
                 break
         return hi if gmin(hi) >= -self.tol else lo
+
+    #: samples of a step searched for a graze before the minimum is refined
+    GRAZE_SAMPLES = 8
+
+    def locate_crossing(self, gmin, h: float) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) on (0, h], to rounding
+        (Brent's method), or None when the gap stays above -eps (a graze that did not touch).
+
+        A step ending overlapping brackets a root at once; otherwise the gap is sampled on the
+        integrator's own intra-step solution (``GRAZE_SAMPLES`` points) and its smallest value
+        refined (bounded Brent minimisation) to find whether and where it dips below zero.
+        """
+        from scipy.optimize import brentq, minimize_scalar
+
+        eps = self.eps
+        g0 = gmin(0.0)
+        xtol, rtol = 1e-14 * max(self.dt, 1.0), 4 * np.finfo(float).eps
+        gh = gmin(h)
+        if g0 > eps and gh < -eps:
+            lo, hi = 0.0, h
+        else:
+            ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
+            gs = [gmin(float(x)) for x in ts]
+            neg = [j for j, g in enumerate(gs) if g < -eps]
+            if neg:
+                j = neg[0]
+                lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
+            else:
+                grid = np.concatenate([[0.0], ts, [h]])
+                vals = np.concatenate([[g0], gs, [gh]])
+                j = int(np.argmin(vals))
+                a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
+                res = minimize_scalar(gmin, bounds=(a, b), method="bounded", options={"xatol": 1e-9 * h})
+                if not res.fun < -eps:
+                    return None
+                lo, hi = a, float(res.x)
+                if gmin(lo) < -eps:  # the dip starts before the bracket: from the step's start
+                    lo = 0.0
+        if gmin(lo) <= 0.0:  # touching at the bracket's start (a pair struck or pressed at the step's start)
+            return lo
+        return float(brentq(gmin, lo, hi, xtol=xtol, rtol=rtol))
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:

@@ -26,6 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_lcp
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
+from pounding.framework.crossing import suspect
 from pounding.framework.pairs import closing, pair_features, pair_gap
 
 
@@ -84,6 +85,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     dt, ag = ground.dt, ground.ag
     pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
+    instant = settings.instant
     n = z.shape[0]
     z0 = np.empty((n, 3))
     da = np.empty(3)
@@ -102,6 +104,15 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
             sb = off[pair_b[p, 0]] + pair_b[p, 1]
             ba = pair_a[p, 0]
             bb = pair_b[p, 0]
+            if instant:
+                # the crossing locator: impacts only where the gap is zero, found by the driver
+                if suspect(z0, z, p, dt, -overlap, tol, geo):
+                    for i in range(n):
+                        z[i, 0] = z0[i, 0]
+                        z[i, 1] = z0[i, 1]
+                        z[i, 2] = z0[i, 2]
+                    return k, Status.OVERLAP, p
+                continue
             _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
             _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
             bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
