@@ -258,8 +258,9 @@ class Driver:
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
         #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
         self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
-        #: [m] a gap this small is zero: rounding of the slab coordinates (1000 ulp of the largest)
-        self.eps = 1e3 * np.finfo(float).eps * max(1.0, float(np.max(np.abs(self.model.verts), initial=0.0)))
+        #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
+        #: below which the signed gap is not continuous
+        self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
         self.settings = Settings(
             self.tol, 0.0 if self.law.kind == "force" else (-self.eps if self.crossing else -self.tol), float(self.v_min),
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
@@ -726,7 +727,7 @@ class Driver:
         return hi if gmin(hi) >= -self.tol else lo
 
     #: samples of a step searched for a graze before the minimum is refined
-    GRAZE_SAMPLES = 8
+    GRAZE_SAMPLES = 4
 
     def locate_crossing(self, gmin, h: float) -> float | None:
         """Step length to the first zero of the smallest gap gmin(hh) on (0, h], to rounding
@@ -736,11 +737,11 @@ class Driver:
         integrator's own intra-step solution (``GRAZE_SAMPLES`` points) and its smallest value
         refined (bounded Brent minimisation) to find whether and where it dips below zero.
         """
-        from scipy.optimize import brentq, minimize_scalar
+        from scipy.optimize import minimize_scalar
 
         eps = self.eps
         g0 = gmin(0.0)
-        xtol, rtol = 1e-14 * max(self.dt, 1.0), 4 * np.finfo(float).eps
+        xtol = 1e-14 * max(self.dt, 1.0)
         gh = gmin(h)
         if g0 > eps and gh < -eps:
             lo, hi = 0.0, h
@@ -756,15 +757,13 @@ class Driver:
                 vals = np.concatenate([[g0], gs, [gh]])
                 j = int(np.argmin(vals))
                 a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
-                res = minimize_scalar(gmin, bounds=(a, b), method="bounded", options={"xatol": 1e-9 * h})
+                res = minimize_scalar(gmin, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
                 if not res.fun < -eps:
                     return None
                 lo, hi = a, float(res.x)
                 if gmin(lo) < -eps:  # the dip starts before the bracket: from the step's start
                     lo = 0.0
-        if gmin(lo) <= 0.0:  # touching at the bracket's start (a pair struck or pressed at the step's start)
-            return lo
-        return float(brentq(gmin, lo, hi, xtol=xtol, rtol=rtol))
+        return _first_zero(gmin, lo, hi, eps, xtol)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -835,6 +834,37 @@ class Driver:
             if np.max(b) * self.dt < self.tol:  # Zeno, as in impulses_at
                 log.zeno[p] = True
         return acted
+
+
+def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
+    """A zero of f on [lo, hi] with f(lo) > 0 > f(hi): the first point found where |f| <= eps (the
+    geometry's zero), by regula falsi with the Illinois rule (superlinear, bracketing); bisection
+    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already."""
+    flo = f(lo)
+    if flo <= eps:
+        return lo
+    fhi = f(hi)
+    side = 0
+    for _ in range(200):
+        if hi - lo <= xtol:
+            break
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    return lo
 
 
 def _no_pairs(geo: PairArrays) -> PairArrays:

@@ -90,6 +90,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     z0 = np.empty((n, 3))
     da = np.empty(3)
     db = np.empty(3)
+    va = np.empty(3)
+    vb = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
     for k in range(k0, k1):
@@ -105,7 +107,24 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
             ba = pair_a[p, 0]
             bb = pair_b[p, 0]
             if instant:
-                # the crossing locator: impacts only where the gap is zero, found by the driver
+                # the crossing locator: impacts only where the gap is zero, found by the driver. A cheap
+                # screen first (end positions, speeds and accelerations of the two slabs, no allocation):
+                # the gap cannot reach zero within the step when the clearance bound exceeds twice what
+                # the end speeds and accelerations carry the points in a step; suspect() bounds both ends.
+                ia, na_ = n_modes[ba, 0], n_modes[ba, 1]
+                ib, nb_ = n_modes[bb, 0], n_modes[bb, 1]
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
+                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 1], va)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 1], vb)
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 2], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 2], db)
+                speed = (np.hypot(va[0], va[1]) + radii[sa] * abs(va[2]) + np.hypot(vb[0], vb[1]) + radii[sb] * abs(vb[2]))
+                acc = (np.hypot(da[0], da[1]) + radii[sa] * (abs(da[2]) + va[2] * va[2])
+                       + np.hypot(db[0], db[1]) + radii[sb] * (abs(db[2]) + vb[2] * vb[2]))
+                if bound > 2.0 * (speed + 2.0 * acc * dt) * dt:
+                    continue
                 if suspect(z0, z, p, dt, -overlap, tol, geo):
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
