@@ -213,7 +213,10 @@ class Driver:
         self.model = model or Model(scene)
         gm = scene.ground_motion
         self.gm = gm
-        self.dt = float(an.dt or gm.dt or 0.01)
+        from pounding.framework.timestep import default_dt
+
+        # without a dt the step is chosen for accuracy from the significant modes (pounding.framework.timestep)
+        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, an.integrator))
         duration = float(an.duration or gm.duration)
         # cover the whole requested duration: a duration that is not a multiple of dt ends on
         # the first grid point at or after it (summary.json reports the duration covered)
@@ -532,7 +535,7 @@ class Driver:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
             culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
-            hs = self.locate(t, h, culprits) if culprits else None
+            hs = self.locate(t, h, culprits, st) if culprits else None
             if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
                 self.commit(st, t, h)
                 t = t_end
@@ -689,8 +692,9 @@ class Driver:
                 self.sustained.discard(int(p))
 
     # ---------------------------------------------------------------- impact location
-    def locate(self, t: float, h: float, culprits: list[int]) -> float:
-        """Step length from t to the first contact of the culprit pairs (within the tolerance)."""
+    def locate(self, t: float, h: float, culprits: list[int], st: Step | None = None) -> float | None:
+        """Step length from t to the first contact of the culprit pairs (within the tolerance; with the
+        crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
         plist = np.array(culprits, dtype=np.int64)
 
         def gmin(hh):
@@ -704,7 +708,18 @@ class Driver:
             return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
         if self.crossing:
-            return self.locate_crossing(gmin, h)
+            z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
+            q0, v0, q1, v1 = z0[:, 0], z0[:, 1], z1[:, 0], z1[:, 1]
+
+            def ghermite(hh):
+                # the cubic Hermite interpolant of the step's end displacements and velocities: a
+                # fourth-order guess of the integrator's intra-step solution, with no transition to build
+                s_ = hh / h
+                h00, h10, h01, h11 = (1 + 2 * s_) * (1 - s_) ** 2, s_ * (1 - s_) ** 2, s_ * s_ * (3 - 2 * s_), s_ * s_ * (s_ - 1)
+                q = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
+                return float(self.model.gaps(q, plist).min())
+
+            return self.locate_crossing(gmin, h, ghermite)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
@@ -726,44 +741,49 @@ class Driver:
                 break
         return hi if gmin(hi) >= -self.tol else lo
 
-    #: samples of a step searched for a graze before the minimum is refined
-    GRAZE_SAMPLES = 4
+    #: samples of a step searched for a graze (on the cheap interpolant) before the minimum is refined
+    GRAZE_SAMPLES = 16
 
-    def locate_crossing(self, gmin, h: float) -> float | None:
-        """Step length to the first zero of the smallest gap gmin(hh) on (0, h], to rounding
-        (Brent's method), or None when the gap stays above -eps (a graze that did not touch).
+    def locate_crossing(self, gmin, h: float, guess=None) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) on [0, h], to the geometry's
+        rounding, or None when the gap stays above -eps (a graze that did not touch).
 
-        A step ending overlapping brackets a root at once; otherwise the gap is sampled on the
-        integrator's own intra-step solution (``GRAZE_SAMPLES`` points) and its smallest value
-        refined (bounded Brent minimisation) to find whether and where it dips below zero.
+        ``guess(hh)`` is a cheap approximation of gmin (the step's cubic Hermite interpolant): the
+        search runs on it (a step ending overlapping brackets a root at once; otherwise samples, then
+        bounded Brent minimisation, tell whether the gap dips below zero), and the integrator's own
+        intra-step solution gmin then confirms and polishes the zero (regula falsi, Illinois).
         """
         from scipy.optimize import minimize_scalar
 
         eps = self.eps
-        g0 = gmin(0.0)
+        guess = guess or gmin
         xtol = 1e-14 * max(self.dt, 1.0)
+        g0 = gmin(0.0)
         gh = gmin(h)
         if g0 > eps and gh < -eps:
-            lo, hi = 0.0, h
+            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol)
+        ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
+        gs = [guess(float(x)) for x in ts]
+        neg = [j for j, g in enumerate(gs) if g < -eps]
+        if neg:
+            j = neg[0]
+            lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
         else:
-            ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
-            gs = [gmin(float(x)) for x in ts]
-            neg = [j for j, g in enumerate(gs) if g < -eps]
-            if neg:
-                j = neg[0]
-                lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
-            else:
-                grid = np.concatenate([[0.0], ts, [h]])
-                vals = np.concatenate([[g0], gs, [gh]])
-                j = int(np.argmin(vals))
-                a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
-                res = minimize_scalar(gmin, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
-                if not res.fun < -eps:
-                    return None
-                lo, hi = a, float(res.x)
-                if gmin(lo) < -eps:  # the dip starts before the bracket: from the step's start
-                    lo = 0.0
-        return _first_zero(gmin, lo, hi, eps, xtol)
+            grid = np.concatenate([[0.0], ts, [h]])
+            vals = np.concatenate([[g0], gs, [gh]])
+            j = int(np.argmin(vals))
+            a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
+            res = minimize_scalar(guess, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
+            if gmin(float(res.x)) >= -eps:  # the integrator's own solution decides
+                return None
+            lo, hi = a, float(res.x)
+        if gmin(hi) >= -eps:
+            hi = h if gh < -eps else hi
+        if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
+            return lo
+        if gmin(hi) >= -eps:
+            return None
+        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -865,6 +885,20 @@ def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
                 flo *= 0.5
             side = -1
     return lo
+
+
+def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float) -> float:
+    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: f(x) narrows the bracket
+    to the guess, then :func:`_first_zero` (a few evaluations when the guess is good)."""
+    if lo < x < hi:
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo = x
+        else:
+            hi = x
+    return _first_zero(f, lo, hi, eps, xtol)
 
 
 def _no_pairs(geo: PairArrays) -> PairArrays:

@@ -123,7 +123,13 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
                 speed = (np.hypot(va[0], va[1]) + radii[sa] * abs(va[2]) + np.hypot(vb[0], vb[1]) + radii[sb] * abs(vb[2]))
                 acc = (np.hypot(da[0], da[1]) + radii[sa] * (abs(da[2]) + va[2] * va[2])
                        + np.hypot(db[0], db[1]) + radii[sb] * (abs(db[2]) + vb[2] * vb[2]))
-                if bound > 2.0 * (speed + 2.0 * acc * dt) * dt:
+                reach = 2.0 * (speed + 2.0 * acc * dt) * dt
+                if bound > reach:
+                    continue
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
                     continue
                 if suspect(z0, z, p, dt, -overlap, tol, geo):
                     for i in range(n):
