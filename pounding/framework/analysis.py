@@ -808,9 +808,29 @@ class Driver:
         # event sequence that gained energy; with this path the runs are main's to the bit.
         acted = self._law_impulses_at(t, candidates)
         self.drain_kernel_events()
+        if self.crossing:
+            self.log.zeno[:] = [bool(z) and self.chatters(int(p), t) for p, z in enumerate(self.log.zeno)]
         self.sustained.update(int(p) for p in np.flatnonzero(self.log.zeno))
         self.log.zeno[:] = False
         return bool(acted)
+
+    def chatters(self, p: int, t: float) -> bool:
+        """Whether pair p, just struck at t, starts chatter (crossing locator): its rebound cannot open
+        the gap beyond the tolerance before the relative acceleration closes it again, r^2 / (2 a) <
+        tol for a touching point with opening speed r and closing acceleration a (equilibrium
+        accelerations). Unlike the paper's test (approach speed x dt < tol) it does not depend on dt:
+        a small step must not turn real impacts into held contact."""
+        m = self.model
+        q = np.ascontiguousarray(self.z[:, 0])
+        count, *_, W = pg.pair_features(q, p, self.tol, m.n, m.geo)
+        if count == 0:
+            return False
+        rem = self.springs.g if self.springs is not None else 0.0
+        acc = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * q
+        r, a = W[:count] @ self.z[:, 1], W[:count] @ acc
+        closing_acc = np.maximum(-a, 0.0)
+        rise = np.where(closing_acc > 0.0, np.maximum(r, 0.0) ** 2 / (2.0 * np.where(closing_acc > 0.0, closing_acc, 1.0)), np.inf)
+        return bool(np.min(rise) < self.tol)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
         """:func:`~pounding.framework.kernel.impulses_at` for a law whose impulses only Python knows:
