@@ -535,7 +535,7 @@ class Driver:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
             culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
-            hs = self.locate(t, h, culprits, st) if culprits else None
+            hs = None if not culprits else self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
             if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
                 self.commit(st, t, h)
                 t = t_end
