@@ -758,10 +758,16 @@ class Driver:
         eps = self.eps
         guess = guess or gmin
         xtol = 1e-14 * max(self.dt, 1.0)
+        dh = 1e-7 * h
+
+        def slope(x):  # of the interpolant's gap: the Newton slope of _polish
+            a, b = max(x - dh, 0.0), min(x + dh, h)
+            return (guess(b) - guess(a)) / (b - a)
+
         g0 = gmin(0.0)
         gh = gmin(h)
         if g0 > eps and gh < -eps:
-            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol)
+            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol, slope)
         ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
         gs = [guess(float(x)) for x in ts]
         neg = [j for j, g in enumerate(gs) if g < -eps]
@@ -783,7 +789,8 @@ class Driver:
             return lo
         if gmin(hi) >= -eps:
             return None
-        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol)
+        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol,
+                       slope)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -907,10 +914,13 @@ def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
     return lo
 
 
-def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float) -> float:
-    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: f(x) narrows the bracket
-    to the guess, then :func:`_first_zero` (a few evaluations when the guess is good)."""
-    if lo < x < hi:
+def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=None) -> float:
+    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: Newton steps with the
+    slope of the cheap interpolant (``slope(x)``), kept inside the bracket each evaluation narrows
+    (two evaluations when the guess is good), then :func:`_first_zero` if they do not settle."""
+    for _ in range(4):
+        if not lo < x < hi:
+            break
         fx = f(x)
         if abs(fx) <= eps:
             return x
@@ -918,6 +928,10 @@ def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float) -> float
             lo = x
         else:
             hi = x
+        s = slope(x) if slope is not None else 0.0
+        if not s < 0.0:
+            break
+        x = x - fx / s
     return _first_zero(f, lo, hi, eps, xtol)
 
 

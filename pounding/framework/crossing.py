@@ -29,7 +29,6 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.geometry import clearance_bound
 from pounding.framework.pairs import pair_features, pair_gap, slab_dofs
 
 
@@ -104,22 +103,17 @@ def suspect(z0, z1, p, h, eps, tol, geo):
     (gap < -eps [m]) or its gap may have dipped below -eps inside the step (a graze), by the
     bound of the module docstring. A pair that starts the step overlapping is not a new contact
     (it is pressed or held: the caller's other checks see it)."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
-    da = np.empty(3)
-    db = np.empty(3)
-    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
     q1 = z1[:, 0].copy()
-    slab_dofs(rows, off, n_modes, a, fa, q1, da)
-    slab_dofs(rows, off, n_modes, b, fb, q1, db)
-    sa, sb = off[a] + fa, off[b] + fb
-    bound = clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
     V, A = motion_bounds(z0, z1, p, geo)
-    if bound > (V + A * h) * h + eps:
+    reach = (V + A * h) * h + eps  # the most the gap can fall over the step, from its end backwards
+    # the end gap (a cheap lower bound where it exceeds the reach: pair_gap's cutoff)
+    g_end = pair_gap(q1, p, reach, geo)
+    if g_end > reach:
         return False
+    if g_end < -eps:
+        return True
     n = z0.shape[0]
     g1, r1 = nearest_rate(q1, z1[:, 1].copy(), p, tol, n, geo)
-    if g1 < -eps:
-        return True
     g0, r0 = nearest_rate(z0[:, 0].copy(), z0[:, 1].copy(), p, tol, n, geo)
     if g0 < -eps:
         return False
