@@ -40,10 +40,12 @@ class Impulse(ContactLaw):
         ends overlapping by more than ``tolerance``: halve the step until the slabs
         touch within ``tolerance`` (the paper), or solve gap(t) = 0 with Brent's method.
     tolerance : float
-        Contact length tolerance [m]. With ``crossing`` it only decides sustained
-        contact (points within it of the smallest gap are struck together, and a
-        rebound too slow to open it within a step holds the pair: chatter); with
-        ``halving`` and ``root`` it is also how close a closing gap counts as contact.
+        Contact length tolerance [m]. With ``crossing`` it only decides resting
+        contact (points within it of the smallest gap are struck together; a held pair
+        is let go when it opens beyond it); chatter is held when the rest of its Zeno
+        sequence is shorter than a step. With ``halving`` and ``root`` it is also how
+        close a closing gap counts as contact, and a rebound too slow to open it within
+        a step holds the pair.
     after_impact : {"equilibrium", "keep"}
         Accelerations after an impact: recomputed from equilibrium with the new
         velocities (default), or kept as they were (the paper).
