@@ -2,8 +2,8 @@
 
 For each scene (the paper's pair and the L-shaped pair) and each of
 * no pounding (contact off; for the paper scene identical to pair_gap_0.5.toml, which has no impacts),
-* pounding (impulse contact, restitution 0.5, the default tolerance 1e-4 m),
-every integrator at every dt (and, with pounding, both locators ``halving`` and ``root``)
+* pounding (impulse contact, restitution 0.5, the default tolerance 1e-4 m and after-impact rule),
+every integrator at every dt (and, with pounding, the locators ``crossing``, ``halving`` and ``root``)
 is run over the whole record; the solver time is the median of warm runs, and the
 errors are measured against the converged reference (see reference.py):
 
@@ -32,7 +32,8 @@ from reference import REF_TOL, WINDOW_AFTER_FIRST_IMPACT, convergence, reference
 from scenes import SCENE_TITLES, load, no_pounding, with_method
 
 INTEGRATORS = ["newmark", "hht", "generalized_alpha", "central_difference", "exact"]
-LOCATORS = ["halving", "root"]
+#: the default ``crossing`` (impulses where the gap is zero) and the paper's two (struck within the tolerance)
+LOCATORS = ["crossing", "halving", "root"]
 
 
 def settings(quick: bool) -> dict:
@@ -135,7 +136,7 @@ def plot(rows, tag=""):
                             key_used = key
                         x = np.maximum([p[key_used] for p in pts], 1e-16)
                         y = [p["solver_median_s"] for p in pts]
-                        ax.loglog(x, y, marker="o", ms=4, color=colors[integ], ls="--" if locate == "root" else ":" if "tol" in locate else "-",
+                        ax.loglog(x, y, marker="o", ms=4, color=colors[integ], ls="--" if locate == "root" else ":" if "tol" in locate else "-." if locate == "crossing" else "-",
                                   label=integ + ("" if locate == "-" else f" / {locate}"))
                         for p, xx, yy in zip(pts, x, y):
                             if p["dt"] in (0.02, 0.00125, 0.01) and integ == "newmark" and locate in ("-", "halving"):

@@ -106,11 +106,16 @@ def test_the_keep_rule_is_flagged_in_summary_and_on_stderr(tmp_path):
 
 
 def test_the_keep_flag_reaches_stderr_from_the_cli(tmp_path):
-    """`pounding run` of the paper example (which keeps the accelerations) prints the flag on stderr."""
+    """`pounding run` of the paper example with the paper's rule named (``after_impact = "keep"``; the
+    default is "equilibrium" since issue 13) prints the flag on stderr."""
     import subprocess
     import sys
 
-    proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(PAPER), "--out", str(tmp_path / "o"), "--duration", "4", "--quiet"],
+    text = PAPER.read_text()
+    assert 'contact = "impulse"' in text
+    scene = tmp_path / "keep.toml"
+    scene.write_text(text.replace('contact = "impulse"', 'contact = { name = "impulse", after_impact = "keep" }'))
+    proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(scene), "--out", str(tmp_path / "o"), "--duration", "4", "--quiet"],
                           capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr
     assert "creates energy" in proc.stderr

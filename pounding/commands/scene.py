@@ -112,9 +112,16 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
-    dt = an.dt or gm.dt or 0.01  # as the driver chooses (pounding.framework.analysis)
+    from pounding.framework.timestep import default_dt
+
+    if an.dt:
+        dt, dt_src = an.dt, ""
+    else:  # as the driver chooses (pounding.framework.timestep)
+        from pounding.framework.analysis import Model
+
+        m = Model(scene)
+        dt, dt_src = default_dt(m.systems, m.directions, gm.dt, an.integrator), " (chosen for accuracy from the significant modes)"
     duration = an.duration or gm.duration
-    dt_src = "" if an.dt else (" (the record's)" if gm.dt else " (default)")
     dur_src = "" if an.duration else " (the record's)"
     steps = int(np.ceil(duration / dt - 1e-9))
     from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS

@@ -62,8 +62,9 @@ from pounding.errors import InputError
 
 #: the kinds of contact law the driver knows (see the module docstring)
 KINDS = ("impulse", "force", "none")
-#: the ways an impulse law's impact instant can be located
-LOCATORS = ("halving", "root")
+#: the ways an impulse law's impact instant can be located: "crossing" (where the gap is zero, grazes
+#: included: :mod:`pounding.framework.crossing`), or the paper's overlap-then-search "halving" and "root"
+LOCATORS = ("crossing", "halving", "root")
 #: what an impulse law does to the accelerations after an impact
 AFTER_IMPACT = ("keep", "equilibrium")
 
@@ -83,10 +84,10 @@ class ContactLaw(ABC):
     compiled_impulses: ClassVar[bool] = False
     #: contact length tolerance [m]
     tolerance: float = 1e-4
-    #: impact-instant location inside an overlapping step (impulse laws): "halving" or "root"
-    locate: str = "halving"
-    #: accelerations after an impact (impulse laws): "keep" or "equilibrium"
-    after_impact: str = "keep"
+    #: impact-instant location (impulse laws): "crossing", "halving" or "root" (:data:`LOCATORS`)
+    locate: str = "crossing"
+    #: accelerations after an impact (impulse laws): "equilibrium" or the paper's "keep"
+    after_impact: str = "equilibrium"
 
     def __init__(self, *, restitution: float = 0.5):
         if not (isinstance(restitution, (int, float)) and 0.0 <= restitution <= 1.0):

@@ -29,15 +29,26 @@ class Impulse(ContactLaw):
     ----------
     restitution : float
         Coefficient of restitution k.
-    locate : {"halving", "root"}
-        How the instant of contact inside an overlapping step is found:
-        halve the step until the slabs touch within ``tolerance`` (the paper),
-        or solve gap(t) = 0 with a bracketing root finder (Brent).
+    locate : {"crossing", "halving", "root"}
+        How the instant of contact is found. ``crossing`` (default): the impulse
+        acts where the gap is zero to rounding (Brent's method on the gap over the
+        integrator's own intra-step solution), in any step the gap crosses zero or
+        may dip below it and back (a graze, screened by a bound on the slabs'
+        relative motion); a gap within ``tolerance`` at a step's end is not struck.
+        The paper's ``halving`` and ``root`` strike a closing pair as soon as its
+        gap is within ``tolerance`` at a step's end, and search a step only when it
+        ends overlapping by more than ``tolerance``: halve the step until the slabs
+        touch within ``tolerance`` (the paper), or solve gap(t) = 0 with Brent's method.
     tolerance : float
-        Contact length tolerance [m].
-    after_impact : {"keep", "equilibrium"}
-        Accelerations after an impact: kept as they were (the paper), or
-        recomputed from equilibrium with the new velocities.
+        Contact length tolerance [m]. With ``crossing`` it only decides resting
+        contact (points within it of the smallest gap are struck together; a held pair
+        is let go when it opens beyond it); chatter is held when the rest of its Zeno
+        sequence is shorter than a step. With ``halving`` and ``root`` it is also how
+        close a closing gap counts as contact, and a rebound too slow to open it within
+        a step holds the pair.
+    after_impact : {"equilibrium", "keep"}
+        Accelerations after an impact: recomputed from equilibrium with the new
+        velocities (default), or kept as they were (the paper).
     """
 
     name: ClassVar[str] = "impulse"
@@ -46,10 +57,11 @@ class Impulse(ContactLaw):
     #: overrides impulses() must set this to False)
     compiled_impulses: ClassVar[bool] = True
 
-    def __init__(self, *, restitution: float = 0.5, locate: str = "halving", tolerance: float = 1e-4, after_impact: str = "keep"):
+    def __init__(self, *, restitution: float = 0.5, locate: str = "crossing", tolerance: float = 1e-4,
+                 after_impact: str = "equilibrium"):
         super().__init__(restitution=restitution)
         if locate not in LOCATORS:
-            raise InputError(f"expected 'halving' or 'root', got {locate!r}", field="locate")
+            raise InputError(f"expected one of {', '.join(repr(x) for x in LOCATORS)}, got {locate!r}", field="locate")
         if not (isinstance(tolerance, (int, float)) and 0 < tolerance < 1):
             raise InputError(f"expected a length tolerance in (0, 1) m, got {tolerance!r}", field="tolerance")
         if after_impact not in AFTER_IMPACT:

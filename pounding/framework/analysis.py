@@ -215,7 +215,10 @@ class Driver:
         self.model = model or Model(scene)
         gm = scene.ground_motion
         self.gm = gm
-        self.dt = float(an.dt or gm.dt or 0.01)
+        from pounding.framework.timestep import default_dt
+
+        # without a dt the step is chosen for accuracy from the significant modes (pounding.framework.timestep)
+        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, an.integrator))
         duration = float(an.duration or gm.duration)
         # cover the whole requested duration: a duration that is not a multiple of dt ends on
         # the first grid point at or after it (summary.json reports the duration covered)
@@ -257,9 +260,16 @@ class Driver:
         # contact "none": no pair is watched
         self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
         compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
+        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
+        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
+        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
+        #: below which the signed gap is not continuous
+        self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
         self.settings = Settings(
-            self.tol, 0.0 if self.law.kind == "force" else -self.tol, float(self.v_min),
-            float(self.law.restitution) if compiled else -1.0, bool(compiled and self.law.after_impact == "equilibrium"),
+            self.tol, 0.0 if self.law.kind == "force" else (-self.eps if self.crossing else -self.tol), float(self.v_min),
+            -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
+            bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
         )
         self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
         self.timings = {"compile_s": 0.0, "load_s": 0.0}
@@ -536,13 +546,13 @@ class Driver:
             if self.sustained:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
-            culprits = self.overlapping(st.z1)
-            if not culprits:
+            culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
+            hs = None if not culprits else self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
+            if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
                 self.commit(st, t, h)
                 t = t_end
-                self.contact_at(t)
+                self.contact_at(t, self.touching_pairs() if self.crossing else None)
                 break
-            hs = self.locate(t, h, culprits)
             self.commit(self.trial(self.z, t, hs), t, hs)
             t += hs
             self.n_located += 1
@@ -592,6 +602,19 @@ class Driver:
         free = self.free_pairs()
         g = self.model.gaps(z1[:, 0], free, self.tol)
         return [int(p) for p in free[g < -self.tol]]
+
+    def crossing_pairs(self, st: Step, h: float) -> list[int]:
+        """Free pairs that may touch inside the trial step ``st`` of h [s] (the crossing locator):
+        ending it overlapping, or grazing by :func:`pounding.framework.crossing.suspect`'s bound."""
+        from pounding.framework.crossing import suspect
+
+        z0, z1 = np.ascontiguousarray(st.z0), np.ascontiguousarray(st.z1)
+        return [int(p) for p in self.free_pairs() if suspect(z0, z1, int(p), float(h), self.eps, self.tol, self.model.geo)]
+
+    def touching_pairs(self) -> np.ndarray:
+        """Free pairs whose gap is zero to rounding (the crossing locator strikes only these at a step's end)."""
+        free = self.free_pairs()
+        return free[self.model.gaps(self.z[:, 0], free, self.tol) <= self.eps]
 
     def free_pairs(self) -> np.ndarray:
         if not self.sustained:
@@ -683,8 +706,9 @@ class Driver:
                 self.sustained.discard(int(p))
 
     # ---------------------------------------------------------------- impact location
-    def locate(self, t: float, h: float, culprits: list[int]) -> float:
-        """Step length from t to the first contact of the culprit pairs (within the tolerance)."""
+    def locate(self, t: float, h: float, culprits: list[int], st: Step | None = None) -> float | None:
+        """Step length from t to the first contact of the culprit pairs (within the tolerance; with the
+        crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
         plist = np.array(culprits, dtype=np.int64)
 
         def gmin(hh):
@@ -697,6 +721,19 @@ class Driver:
                                                 self.load(t + hh), plist, self.model.geo))
             return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
+        if self.crossing:
+            z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
+            q0, v0, q1, v1 = z0[:, 0], z0[:, 1], z1[:, 0], z1[:, 1]
+
+            def ghermite(hh):
+                # the cubic Hermite interpolant of the step's end displacements and velocities: a
+                # fourth-order guess of the integrator's intra-step solution, with no transition to build
+                s_ = hh / h
+                h00, h10, h01, h11 = (1 + 2 * s_) * (1 - s_) ** 2, s_ * (1 - s_) ** 2, s_ * s_ * (3 - 2 * s_), s_ * s_ * (s_ - 1)
+                q = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
+                return float(self.model.gaps(q, plist).min())
+
+            return self.locate_crossing(gmin, h, ghermite)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
@@ -717,6 +754,57 @@ class Driver:
             if hi - lo < 1e-15 * self.dt:
                 break
         return hi if gmin(hi) >= -self.tol else lo
+
+    #: samples of a step searched for a graze (on the cheap interpolant) before the minimum is refined
+    GRAZE_SAMPLES = 16
+
+    def locate_crossing(self, gmin, h: float, guess=None) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) on [0, h], to the geometry's
+        rounding, or None when the gap stays above -eps (a graze that did not touch).
+
+        ``guess(hh)`` is a cheap approximation of gmin (the step's cubic Hermite interpolant): the
+        search runs on it (a step ending overlapping brackets a root at once; otherwise samples, then
+        bounded Brent minimisation, tell whether the gap dips below zero), and the integrator's own
+        intra-step solution gmin then confirms and polishes the zero (regula falsi, Illinois).
+        """
+        from scipy.optimize import minimize_scalar
+
+        eps = self.eps
+        guess = guess or gmin
+        xtol = 1e-14 * max(self.dt, 1.0)
+        dh = 1e-7 * h
+
+        def slope(x):  # of the interpolant's gap: the Newton slope of _polish
+            a, b = max(x - dh, 0.0), min(x + dh, h)
+            return (guess(b) - guess(a)) / (b - a)
+
+        g0 = gmin(0.0)
+        gh = gmin(h)
+        if g0 > eps and gh < -eps:
+            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol, slope)
+        ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
+        gs = [guess(float(x)) for x in ts]
+        neg = [j for j, g in enumerate(gs) if g < -eps]
+        if neg:
+            j = neg[0]
+            lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
+        else:
+            grid = np.concatenate([[0.0], ts, [h]])
+            vals = np.concatenate([[g0], gs, [gh]])
+            j = int(np.argmin(vals))
+            a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
+            res = minimize_scalar(guess, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
+            if gmin(float(res.x)) >= -eps:  # the integrator's own solution decides
+                return None
+            lo, hi = a, float(res.x)
+        if gmin(hi) >= -eps:
+            hi = h if gh < -eps else hi
+        if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
+            return lo
+        if gmin(hi) >= -eps:
+            return None
+        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol,
+                       slope)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -739,11 +827,41 @@ class Driver:
         # speeds: routing it through the compiled impulses_at (numba's matrix products) moved
         # results by rounding, which the stress suite's chaotic random scenes amplified into an
         # event sequence that gained energy; with this path the runs are main's to the bit.
+        n_before = len(self.impacts)
         acted = self._law_impulses_at(t, candidates)
         self.drain_kernel_events()
+        if self.crossing:  # chatter decided by the rest of the sequence, not the law's test on dt x speed
+            struck = {imp.pair for imp in self.impacts[n_before:]}
+            self.log.zeno[:] = [p in struck and self.chatters(p, t) for p in range(len(self.log.zeno))]
         self.sustained.update(int(p) for p in np.flatnonzero(self.log.zeno))
         self.log.zeno[:] = False
         return bool(acted)
+
+    def chatters(self, p: int, t: float) -> bool:
+        """Whether pair p, just struck at t, starts chatter the step cannot resolve (crossing locator).
+
+        After a rebound at opening speed r against a closing relative acceleration a, restitution k
+        gives a Zeno sequence of impacts that accumulates within 2 r / (a (1 - k)) and ends with the
+        points moving together. When that is shorter than a step, the pair is held now (the
+        sequence's limit; the error is bounded by the sequence's duration, below dt); otherwise the
+        impacts are resolved one by one. Points that do not close again (a <= 0), or k = 1, never chatter.
+        """
+        m = self.model
+        q = np.ascontiguousarray(self.z[:, 0])
+        count, *_, W = pg.pair_features(q, p, self.tol, m.n, m.geo)
+        if count == 0:
+            return False
+        rem = self.springs.g if self.springs is not None else 0.0
+        acc = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * q
+        r, a = W[:count] @ self.z[:, 1], -(W[:count] @ acc)  # opening speed; closing acceleration
+        k = float(self.law.restitution)
+        if k >= 1.0:
+            return False
+        close = a > 0.0
+        if not np.any(close):
+            return False
+        duration = 2.0 * np.maximum(r[close], 0.0) / (a[close] * (1.0 - k))
+        return bool(np.min(duration) < self.dt)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
         """:func:`~pounding.framework.kernel.impulses_at` for a law whose impulses only Python knows:
@@ -787,6 +905,58 @@ class Driver:
             if np.max(b) * self.dt < self.tol:  # Zeno, as in impulses_at
                 log.zeno[p] = True
         return acted
+
+
+def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
+    """A zero of f on [lo, hi] with f(lo) > 0 > f(hi): the first point found where |f| <= eps (the
+    geometry's zero), by regula falsi with the Illinois rule (superlinear, bracketing); bisection
+    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already."""
+    flo = f(lo)
+    if flo <= eps:
+        return lo
+    fhi = f(hi)
+    side = 0
+    for _ in range(200):
+        if hi - lo <= xtol:
+            break
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    return lo
+
+
+def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=None) -> float:
+    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: Newton steps with the
+    slope of the cheap interpolant (``slope(x)``), kept inside the bracket each evaluation narrows
+    (two evaluations when the guess is good), then :func:`_first_zero` if they do not settle."""
+    for _ in range(4):
+        if not lo < x < hi:
+            break
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo = x
+        else:
+            hi = x
+        s = slope(x) if slope is not None else 0.0
+        if not s < 0.0:
+            break
+        x = x - fx / s
+    return _first_zero(f, lo, hi, eps, xtol)
 
 
 def _no_pairs(geo: PairArrays) -> PairArrays:

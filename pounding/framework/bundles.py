@@ -124,6 +124,10 @@ class Settings(NamedTuple):
     #: Newton restitution the kernel applies itself (a law declaring ``compiled_impulses``), -1: the driver does
     restitution: float
     after_eq: bool  #: after impulses, reset the accelerations to equilibrium
+    #: the ``crossing`` locator: a step with a pair that ends below ``overlap`` (-eps, rounding) or may
+    #: graze inside it (:func:`pounding.framework.crossing.suspect`) goes to the driver; a pair within
+    #: the tolerance at a step's end is not struck there
+    instant: bool = False
 
 
 class EventLog(NamedTuple):

@@ -24,6 +24,7 @@ import numpy as np
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.compiler import njit
 from pounding.framework.bundles import Status
+from pounding.framework.crossing import suspect
 from pounding.framework.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.pairs import closing, features_of, pair_gap
 
@@ -296,6 +297,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     dt, ag = ground.dt, ground.ag
     E = rec.E
     tol, overlap, v_min = settings.tol, settings.overlap, settings.v_min
+    instant = settings.instant
     n = z.shape[0]
     P = geo.pa.shape[0]
     g0 = np.empty(n)
@@ -317,7 +319,10 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, geo)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
-            if not held_mask[p] and pair_gap(z1[:, 0].copy(), p, tol, geo) < overlap:
+            if held_mask[p]:
+                continue
+            # the crossing locator (settings.instant) also searches a step the pair may graze
+            if suspect(z0, z1, p, dt, -overlap, tol, geo) if instant else pair_gap(z1[:, 0].copy(), p, tol, geo) < overlap:
                 # back to the step's start as it was: the driver's Python step stops and books anew
                 for i in range(n):
                     z[i, 1] = v_before[i]
@@ -345,7 +350,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
                     any_held = True
         # a free pair touching and closing at the step's end: the driver applies the impulses
         for p in range(P):
-            if held_mask[p]:
+            if held_mask[p] or instant:  # crossing: a pair within the tolerance is struck where its gap is zero
                 continue
             if pair_gap(q, p, tol, geo) <= tol and closing(q, z[:, 1].copy(), p, tol, v_min, n, geo):
                 return k + 1, Status.CONTACT, p

@@ -26,6 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_lcp
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
+from pounding.framework.crossing import suspect
 from pounding.framework.pairs import closing, pair_features, pair_gap
 from pounding.framework.peaks import cubic_abs_max
 
@@ -85,10 +86,13 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     dt, ag = ground.dt, ground.ag
     pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
+    instant = settings.instant
     n = z.shape[0]
     z0 = np.empty((n, 3))
     da = np.empty(3)
     db = np.empty(3)
+    va = np.empty(3)
+    vb = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
     for k in range(k0, k1):
@@ -103,6 +107,38 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
             sb = off[pair_b[p, 0]] + pair_b[p, 1]
             ba = pair_a[p, 0]
             bb = pair_b[p, 0]
+            if instant:
+                # the crossing locator: impacts only where the gap is zero, found by the driver. A cheap
+                # screen first (end positions, speeds and accelerations of the two slabs, no allocation):
+                # the gap cannot reach zero within the step when the clearance bound exceeds twice what
+                # the end speeds and accelerations carry the points in a step; suspect() bounds both ends.
+                ia, na_ = n_modes[ba, 0], n_modes[ba, 1]
+                ib, nb_ = n_modes[bb, 0], n_modes[bb, 1]
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
+                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 1], va)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 1], vb)
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 2], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 2], db)
+                speed = (np.hypot(va[0], va[1]) + radii[sa] * abs(va[2]) + np.hypot(vb[0], vb[1]) + radii[sb] * abs(vb[2]))
+                acc = (np.hypot(da[0], da[1]) + radii[sa] * (abs(da[2]) + va[2] * va[2])
+                       + np.hypot(db[0], db[1]) + radii[sb] * (abs(db[2]) + vb[2] * vb[2]))
+                reach = 2.0 * (speed + 2.0 * acc * dt) * dt
+                if bound > reach:
+                    continue
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
+                    continue
+                if suspect(z0, z, p, dt, -overlap, tol, geo):
+                    for i in range(n):
+                        z[i, 0] = z0[i, 0]
+                        z[i, 1] = z0[i, 1]
+                        z[i, 2] = z0[i, 2]
+                    return k, Status.OVERLAP, p
+                continue
             _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
             _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
             bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])

@@ -105,7 +105,7 @@ class Building:
 class Analysis:
     """Time-history options ([analysis] table)."""
 
-    integrator: str = "hht"
+    integrator: str = "newmark"
     integrator_params: dict[str, Any] = field(default_factory=dict)
     dt: float | None = None
     duration: float | None = None

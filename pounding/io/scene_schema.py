@@ -210,11 +210,13 @@ ANALYSIS = {
     "description": "Time integration, contact and output options.",
     "properties": {
         "integrator": {
-            **NAMED_PLUGIN, "default": "hht",
+            **NAMED_PLUGIN, "default": "newmark",
             "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*).",
             "examples": [{"name": "hht", "alpha": -0.05}],
         },
-        "dt": positive("Time step (default: the record's sample interval, else 0.01 s).", "s", example=0.005),
+        "dt": positive("Time step (default: chosen for accuracy, the largest divisor of the record's sample interval "
+                       "with 32 steps per shortest period among the modes with at least 1 % effective mass, 8 for `exact`; "
+                       "see README, *Accuracy and defaults*).", "s", example=0.005),
         "duration": positive("Length of the analysis (default: the record's; beyond it the ground is at rest).", "s", example=20.0),
         "contact": {
             **NAMED_PLUGIN, "default": "impulse",

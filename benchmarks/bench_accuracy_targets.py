@@ -1,0 +1,133 @@
+"""Accuracy targets of issue 13, measured: default settings against the converged rigid-impact limit.
+
+    python benchmarks/bench_accuracy_targets.py [--quick]
+
+For the paper pair and the L-shape scene (El Centro 1940 NS, 0.32 g, k = 0.5), three settings:
+
+* ``before``: what a new user got before (no integrator, dt, locator or tolerance given): HHT
+  (alpha = -0.05) at the record's step 0.02 s, ``halving``, ``keep``, tolerance 1e-4 m, named so
+  that they run the old code path;
+* ``default``: no integrator, dt, locator, tolerance or after-impact rule given (today's defaults);
+* ``default dt=0.001``: the same with dt = 0.001 s given.
+
+Errors against the reference of reference.py (``exact``, ``root``, tolerance 1e-8 m, dt =
+0.00025 s; its own convergence is in reference_convergence.csv of the work-precision
+benchmark): the peak corner displacement (max over time of |d| of every slab corner), max over
+corners of |P - P_ref| / max P_ref, over the whole record and over the window [0, first impact +
+1 s]. Two readings of the peaks of a run: at its step ends (what summary.json reported before the
+true-peaks work of issue 13, item 2) against the reference sampled at the same instants (``sampled``:
+the error of the dynamics), and against the reference's own fine peaks (``vs fine``: the error a
+user sees in step-end peaks). Solver time: median of warm runs (summary.json ``runtime_s``).
+
+Targets (issue 13, item 5): default peaks within 0.1 % of the limit at no more than 2x the
+``before`` solver time; with dt = 0.001 s within 0.02 %. Writes results/accuracy_targets.json and .md.
+"""
+
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from common import log, med, result_corners, subsample, timed_runs, write_json, RESULTS
+from reference import reference, window_end
+from scenes import load
+
+SETTINGS = {
+    "before": dict(integrator="hht", integrator_params={}, dt=0.02,
+                   contact_params={"restitution": 0.5, "locate": "halving", "after_impact": "keep", "tolerance": 1e-4}),
+    "default": dict(integrator=None, integrator_params={}, dt=None, contact_params={"restitution": 0.5}),
+    "default dt=0.001": dict(integrator=None, integrator_params={}, dt=0.001, contact_params={"restitution": 0.5}),
+}
+
+
+def _peaks(C, w=None):
+    d = np.hypot(C[..., 0], C[..., 1])
+    return np.max(d if w is None else d[w], axis=0)
+
+
+def run(quick: bool = False) -> dict:
+    from pounding.framework.model import Analysis
+
+    out = {"scenes": {}, "reference": {}}
+    dt_ref = 0.0005 if quick else 0.00025  # divides every step compared (0.02, 0.0025, 0.001)
+    for name in (["paper"] if quick else ["paper", "lshape"]):
+        ref = reference(name, True, dt_ref, None)
+        tw = window_end(ref)
+        Rf = ref.corners
+        wf = ref.t <= tw + 1e-12
+        fine_full, fine_win = _peaks(Rf), _peaks(Rf, wf)
+        # the reference's own convergence: the same at twice its step, the floor below which no error is meaningful
+        ref2 = reference(name, True, 2 * dt_ref, None)
+        R2 = ref2.corners
+        Rs = subsample(Rf, ref.dt, ref2.dt, len(ref2.t))
+        w2 = ref2.t <= tw + 1e-12
+        out["reference"][name] = {
+            "dt": dt_ref, "impacts": ref.result.n_impacts, "window_end_s": tw, "seconds": ref.seconds,
+            "peak_diff_full_at_2dt": float(np.max(np.abs(_peaks(R2) - _peaks(Rs))) / np.max(_peaks(Rs))),
+            "peak_diff_window_at_2dt": float(np.max(np.abs(_peaks(R2, w2) - _peaks(Rs, w2))) / np.max(_peaks(Rs, w2))),
+            "impacts_at_2dt": ref2.result.n_impacts,
+        }
+        log(f"  reference {name}: peaks at 2 dt_ref differ by {out['reference'][name]['peak_diff_full_at_2dt']:.2e} (whole record), "
+            f"{out['reference'][name]['peak_diff_window_at_2dt']:.2e} (window)")
+        rows = {}
+        for label, cfg in SETTINGS.items():
+            cfg = dict(cfg)
+            if cfg["integrator"] is None:
+                cfg["integrator"] = Analysis.integrator  # the default, stated as the scene would get it
+            s = load(name).with_analysis(**cfg)
+            r, solver, wall = timed_runs(s, 1 if quick else 5, budget_s=0.0 if quick else 3.0, min_reps=1 if quick else 3)
+            C = result_corners(r, s)
+            R = subsample(Rf, ref.dt, r.dt, len(r.t))
+            w = r.t <= tw + 1e-12
+            pc, pw = _peaks(C), _peaks(C, w)
+            row = {
+                "integrator": r.integrator.get("name"), "dt": r.dt, "locate": r.contact.get("locate"),
+                "after_impact": r.contact.get("after_impact"), "tolerance": r.contact.get("tolerance"),
+                "solver_median_s": med(solver), "steps": r.steps, "impacts": r.n_impacts,
+                "located_events": r.info.get("located_events"),
+                "peak_err_full_sampled": float(np.max(np.abs(pc - _peaks(R))) / np.max(_peaks(R))),
+                "peak_err_window_sampled": float(np.max(np.abs(pw - _peaks(R, w))) / np.max(_peaks(R, w))),
+                "peak_err_full_vs_fine": float(np.max(np.abs(pc - fine_full)) / np.max(fine_full)),
+                "peak_err_window_vs_fine": float(np.max(np.abs(pw - fine_win)) / np.max(fine_win)),
+            }
+            rows[label] = row
+            log(f"  {name:6s} {label:17s} {row['integrator']:8s} dt={row['dt']:<9.6g} {row['solver_median_s'] * 1e3:8.1f} ms  "
+                f"peak err full {row['peak_err_full_sampled']:.2e} (vs fine {row['peak_err_full_vs_fine']:.2e})  "
+                f"window {row['peak_err_window_sampled']:.2e} (vs fine {row['peak_err_window_vs_fine']:.2e})  impacts {row['impacts']}")
+        base = rows["before"]["solver_median_s"]
+        for label, row in rows.items():
+            row["time_vs_before"] = row["solver_median_s"] / base
+        out["scenes"][name] = rows
+    tag = "_quick" if quick else ""
+    write_json(f"accuracy_targets{tag}.json", out)
+    _markdown(out, RESULTS / f"accuracy_targets{tag}.md")
+    import reference as _ref
+
+    _ref._cache.clear()
+    return out
+
+
+def _markdown(out: dict, path) -> None:
+    lines = ["| scene | settings | integrator | dt [s] | solver [ms] | x before | peak err, whole record | peak err, window | "
+             "step-end peaks vs fine reference (whole / window) | target met |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for name, rows in out["scenes"].items():
+        for label, r in rows.items():
+            target = {"default": 1e-3, "default dt=0.001": 2e-4}.get(label)
+            worst = max(r["peak_err_full_sampled"], r["peak_err_window_sampled"])
+            met = "" if target is None else (("yes" if worst <= target else "no") + (
+                "" if label != "default" else (", time yes" if r["time_vs_before"] <= 2.0 else ", time no")))
+            lines.append(f"| {name} | {label} | {r['integrator']} | {r['dt']:.6g} | {r['solver_median_s'] * 1e3:.1f} | "
+                         f"{r['time_vs_before']:.2f} | {r['peak_err_full_sampled']:.2e} | {r['peak_err_window_sampled']:.2e} | "
+                         f"{r['peak_err_full_vs_fine']:.2e} / {r['peak_err_window_vs_fine']:.2e} | {met} |")
+    lines.append("")
+    for name, r in out["reference"].items():
+        lines.append(f"Reference {name}: exact, root, tolerance 1e-8 m, dt = {r['dt']:g} s, {r['impacts']} impacts; at 2 dt its peaks "
+                     f"differ by {r['peak_diff_full_at_2dt']:.2e} (whole record) and {r['peak_diff_window_at_2dt']:.2e} (window): the "
+                     "floor of the errors above.")
+    path.write_text("\n".join(lines) + "\n")
+    log(f"  wrote {path.name}")
+
+
+if __name__ == "__main__":
+    run("--quick" in sys.argv[1:])
