@@ -8,9 +8,10 @@ Python:
 * a step that ends with a pair overlapping is taken again from its start with
   a shorter step until the pair touches within the tolerance (``halving``, the
   paper), or with the root of the gap function (``root``, Brent's method);
-* at contact, approaching features get impulses from the contact law, each
-  slab pair on its own, and the rest of the step is integrated with the new
-  velocities;
+* at contact, approaching features get impulses from the contact law, all the
+  pairs linked through a shared building solved together (a building struck
+  from both sides at once), and the rest of the step is integrated with the
+  new velocities;
 * a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
   that stays pressed together is switched to *sustained contact*: a rigid
   unilateral constraint force solved implicitly with each step, released when
@@ -732,47 +733,69 @@ class Driver:
         return bool(acted)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
-        """:func:`~pounding.framework.kernel.impulses_at` for a law whose impulses only Python knows:
-        the same steps, written to the same log, with ``self.law.impulses(W, b)``."""
+        """:func:`~pounding.framework.kernel.impulses_at` for the Python path: the same features
+        (:func:`~pounding.framework.pairs.touching_features`), the same groups of pairs linked
+        through shared buildings (:func:`~pounding.framework.pairs.building_groups`), each group
+        one Newton problem given to ``self.law.impulses(W, b)``, written to the same records.
+
+        The velocity arithmetic (closing speeds, Delassus matrices, velocity jumps) is numpy's
+        here and numba's in the kernel: routing this path through the compiled products moved
+        results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
+        (issue #12); a law only Python knows needs this path anyway.
+        """
         from pounding.framework.bundles import IMPACT_DTYPE
 
-        m, log, acted = self.model, self.log, False
+        m, log = self.model, self.log
         q = np.ascontiguousarray(self.z[:, 0])
-        plist = np.flatnonzero(candidates).astype(np.int64)
-        # impulses change velocities only: one screen of the gaps serves every pair
-        for p in plist[m.gaps(q, plist, self.tol) <= self.tol].tolist():
-            count, Qp, Np, _, who, idx, face, Wr = pg.pair_features(q, p, self.tol, m.n, m.geo)
-            if count == 0:
+        count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
+        pair, Wst = pair[:count], Wst[:count]
+        b = np.zeros(count)
+        kept = []
+        for p in dict.fromkeys(pair.tolist()):  # pairs in stacked order
+            sel = pair == p
+            bp = -(Wst[sel] @ self.z[:, 1])
+            if bp.max() <= self.v_min:  # rounding-level closing is not approach
                 continue
-            Wr = Wr[:count]
-            b = -(Wr @ self.z[:, 1])
-            if b.max() <= self.v_min:  # rounding-level closing is not approach
-                continue
-            b[(b > 0.0) & (b <= self.v_min)] = 0.0
+            bp[(bp > 0.0) & (bp <= self.v_min)] = 0.0
+            b[sel] = bp
+            kept.append(p)
+        if not kept:
+            return False
+        kept = np.array(kept, dtype=np.int64)
+        label = pg.building_groups(kept, m.geo)
+        group_of = dict(zip(kept.tolist(), label.tolist()))
+        fgroup = np.array([group_of.get(p, -1) for p in pair.tolist()], dtype=np.int64)
+        I_all, after_all = np.zeros(count), np.zeros(count)
+        groups = [g for j, g in enumerate(label.tolist()) if g == j]
+        for g in groups:
+            sel = fgroup == g
+            Wr = Wst[sel]
             W = Wr @ Wr.T
-            I = np.asarray(self.law.impulses(W, b), dtype=float)
-            if not np.any(I > 0):
-                continue
-            after = b - W @ I
-            if log.last_t[0] != t:
-                self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
-                log.last_t[0] = t
-            self.z[:, 1] += Wr.T @ I
-            if self.law.after_impact == "equilibrium":
-                rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
-                self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
-            acted = True
-            for j in np.flatnonzero(I > 0):
-                rec = np.zeros((), dtype=IMPACT_DTYPE)
-                rec["time"], rec["pair"], rec["striker"] = t, p, who[j]
-                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
-                rec["impulse"], rec["nx"], rec["ny"] = I[j], Np[j, 0], Np[j, 1]
-                rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I[j] * (b[j] + after[j])
-                rec["px"], rec["py"] = Qp[j, 0], Qp[j, 1]
-                self.impacts.append(Impact.from_record(rec))
-            if np.max(b) * self.dt < self.tol:  # Zeno, as in impulses_at
+            I = np.asarray(self.law.impulses(W, b[sel]), dtype=float)
+            I_all[sel], after_all[sel] = I, b[sel] - W @ I
+        if not np.any(I_all > 0):
+            return False
+        if log.last_t[0] != t:
+            self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
+            log.last_t[0] = t
+        for g in groups:
+            sel = fgroup == g
+            self.z[:, 1] += Wst[sel].T @ I_all[sel]
+        if self.law.after_impact == "equilibrium":
+            rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
+            self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
+        for j in np.flatnonzero(I_all > 0):
+            rec = np.zeros((), dtype=IMPACT_DTYPE)
+            rec["time"], rec["pair"], rec["striker"], rec["vertex"] = t, pair[j], who[j], vertex[j]
+            rec["impulse"], rec["nx"], rec["ny"] = I_all[j], N[j, 0], N[j, 1]
+            rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I_all[j] * (b[j] + after_all[j])
+            rec["px"], rec["py"] = Q[j, 0], Q[j, 1]
+            self.impacts.append(Impact.from_record(rec))
+        for p in kept.tolist():  # Zeno, as in impulses_at
+            sel = pair == p
+            if np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
                 log.zeno[p] = True
-        return acted
+        return True
 
 
 def _no_pairs(geo: PairArrays) -> PairArrays:

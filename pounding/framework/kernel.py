@@ -23,10 +23,10 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.base import newton_lcp
+from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
-from pounding.framework.pairs import closing, pair_features, pair_gap
+from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 
 
 @njit
@@ -187,85 +187,154 @@ def modal_load(L, i, ag):
 @njit
 def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     """Newton impulses at time t [s] on every touching, approaching pair among ``candidates``
-    (P,) bool that is not held: the contact step of a law whose impulses are
-    :func:`~pounding.contact.base.newton_lcp` with ``settings.restitution``.
+    (P,) bool that is not held, solved together: the contact step of a law whose impulses are
+    :func:`~pounding.contact.base.newton_group` with ``settings.restitution``.
 
-    The one implementation of impulses at an instant: the kernel calls it after a step that
-    ends in contact, the driver's Python path (``Driver.contact_at``) for laws that declare
-    ``compiled_impulses``. ag (c,) is the ground acceleration at t and fc (n,) the modal contact
-    force acting (held pairs), for the equilibrium accelerations of ``after_eq``.
+    The kernel calls it after a step that ends in contact. ag (c,) is the ground acceleration
+    at t and fc (n,) the modal contact force acting (held pairs), for the equilibrium
+    accelerations of ``after_eq``.
 
-    Pairs are taken in order, each with the velocities the previous ones left. Each impact
-    appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to ``log.impacts``;
-    the state before the first impulse at t goes to the log's event states unless the last
-    one recorded (``log.last_t``) is already at t. Returns (acted, zeno): whether an impulse acted, and whether
-    a pair's rebound is too slow to open the tolerance within one step (``log.zeno`` is set
-    for it).
+    The features of every touching pair (:func:`~pounding.framework.pairs.touching_features`)
+    are stacked; a pair whose points close at rounding level only (< ``v_min``) is left out.
+    Pairs linked through a shared building (a building struck from both sides, two storeys
+    of one pair) form one Newton problem over all their features, with the Delassus matrix
+    W = Wr Wr^T of their stacked rows (:func:`~pounding.framework.pairs.building_groups`);
+    groups share no mode, so they are independent. A group of one pair is the problem of that
+    pair alone, with the same arithmetic as when pairs were solved one by one.
+
+    Each impulse appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to
+    ``log.impacts``, in pair order; the state before the impulses at t goes to the log's event
+    states unless the last one recorded (``log.last_t``) is already at t. Returns (acted,
+    zeno): whether an impulse acted, and whether a pair's rebound is too slow to open the
+    tolerance within one step (``log.zeno`` is set for it).
     """
     tol, v_min = settings.tol, settings.v_min
     n = z.shape[0]
     q = z[:, 0].copy()
-    held = False
-    acted = False
-    for p in range(candidates.shape[0]):
-        if not candidates[p]:
+    v = z[:, 1].copy()
+    m, pair, who, vertex, Q, N, Wst = touching_features(q, candidates, tol, n, geo)
+    b, kept = closing_speeds(Wst, pair, m, v, v_min)
+    if kept.shape[0] == 0:
+        return False, False
+    label = building_groups(kept, geo)
+    I_all = np.zeros(m)
+    after_all = np.zeros(m)
+    in_pair = np.full(candidates.shape[0], -1, dtype=np.int64)
+    for j in range(kept.shape[0]):
+        in_pair[kept[j]] = label[j]
+    for g in range(kept.shape[0]):
+        if label[g] != g:
             continue
-        if pair_gap(q, p, tol, geo) > tol:
+        idx = group_features(pair, m, in_pair, g)
+        if idx.shape[0] == 0:
             continue
-        count, Qp, Np, _, who, idx, face, Wp = pair_features(q, p, tol, n, geo)
-        if count == 0:
+        Wg = Wst[idx]
+        bg = b[idx]
+        D = Wg @ Wg.T
+        I = newton_group(D, bg, settings.restitution)
+        after = bg - D @ I
+        for r in range(idx.shape[0]):
+            I_all[idx[r]] = I[r]
+            after_all[idx[r]] = after[r]
+    if not np.any(I_all > 0):
+        return False, False
+    if log.last_t[0] != t:
+        ne = log.n_events[0]
+        log.t[ne] = t
+        for i in range(n):
+            log.q[ne, i] = z[i, 0]
+            log.v[ne, i] = z[i, 1]
+        log.n_events[0] += 1
+        log.last_t[0] = t
+    for g in range(kept.shape[0]):
+        if label[g] != g:
             continue
-        W = Wp[:count].copy()
-        b = -(W @ z[:, 1].copy())
-        if np.max(b) <= v_min:  # rounding-level closing is not approach
+        idx = group_features(pair, m, in_pair, g)
+        if idx.shape[0] == 0:
             continue
-        for j in range(count):
-            if b[j] > 0.0 and b[j] <= v_min:
-                b[j] = 0.0
-        D = W @ W.T
-        I = newton_lcp(D, b, settings.restitution)
-        if not np.any(I > 0):
-            continue
-        after = b - D @ I
-        if log.last_t[0] != t:
-            ne = log.n_events[0]
-            log.t[ne] = t
-            for i in range(n):
-                log.q[ne, i] = z[i, 0]
-                log.v[ne, i] = z[i, 1]
-            log.n_events[0] += 1
-            log.last_t[0] = t
-        acted = True
-        dv = W.T @ I
+        Wg = Wst[idx]
+        dv = Wg.T @ I_all[idx]
         for i in range(n):
             z[i, 1] += dv[i]
-        if settings.after_eq:
-            for i in range(n):
-                z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
-        for j in range(count):
-            if I[j] > 0:
-                r = log.n_impacts[0]
-                rec = log.impacts[r]
-                rec["time"] = t
-                rec["pair"] = p
-                rec["striker"] = who[j]
-                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
-                rec["impulse"] = I[j]
-                rec["nx"] = Np[j, 0]
-                rec["ny"] = Np[j, 1]
-                rec["approach_velocity"] = b[j]
-                rec["energy_loss"] = 0.5 * I[j] * (b[j] + after[j])
-                rec["px"] = Qp[j, 0]
-                rec["py"] = Qp[j, 1]
-                log.n_impacts[0] += 1
-        # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
-        # of ever smaller impacts that accumulates in finite time and ends with the points
-        # moving together, all their closing kinetic energy lost. The pair is held: its next
-        # approach is stopped plastically (the sequence's limit), see held.stop_closing.
-        if np.max(b) * dt < tol:
-            log.zeno[p] = True
+    if settings.after_eq:
+        for i in range(n):
+            z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
+    held = False
+    for j in range(m):
+        if I_all[j] > 0:
+            r = log.n_impacts[0]
+            rec = log.impacts[r]
+            rec["time"] = t
+            rec["pair"] = pair[j]
+            rec["striker"] = who[j]
+            rec["vertex"] = vertex[j]
+            rec["impulse"] = I_all[j]
+            rec["nx"] = N[j, 0]
+            rec["ny"] = N[j, 1]
+            rec["approach_velocity"] = b[j]
+            rec["energy_loss"] = 0.5 * I_all[j] * (b[j] + after_all[j])
+            rec["px"] = Q[j, 0]
+            rec["py"] = Q[j, 1]
+            log.n_impacts[0] += 1
+    # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
+    # of ever smaller impacts that accumulates in finite time and ends with the points
+    # moving together, all their closing kinetic energy lost. The pair is held: its next
+    # approach is stopped plastically (the sequence's limit), see held.stop_closing.
+    s = 0
+    while s < m:
+        e = s
+        top = -np.inf
+        hit = False
+        while e < m and pair[e] == pair[s]:
+            top = max(top, b[e])
+            hit = hit or I_all[e] > 0
+            e += 1
+        if hit and top * dt < tol:
+            log.zeno[pair[s]] = True
             held = True
-    return acted, held
+        s = e
+    return True, held
+
+
+@njit
+def closing_speeds(Wst, pair, m, v, v_min):
+    """Closing speeds b (m,) = -Wr v [m/s] of stacked features, computed pair by pair (rows
+    Wst (cap, n) grouped by ``pair``), and the pairs kept (k,): those with a point closing
+    faster than ``v_min``. Closing below v_min is rounding, not approach: such speeds are set
+    to 0, and a pair with nothing faster is left out (its features keep b but no group)."""
+    b = np.zeros(m)
+    kept = np.empty(m, dtype=np.int64)
+    nk = 0
+    s = 0
+    while s < m:
+        e = s
+        while e < m and pair[e] == pair[s]:
+            e += 1
+        bp = -(Wst[s:e].copy() @ v)
+        if np.max(bp) > v_min:
+            for j in range(e - s):
+                b[s + j] = 0.0 if (bp[j] > 0.0 and bp[j] <= v_min) else bp[j]
+            kept[nk] = pair[s]
+            nk += 1
+        s = e
+    return b, kept[:nk].copy()
+
+
+@njit
+def group_features(pair, m, in_pair, g):
+    """Indices (k,) of the stacked features whose pair belongs to group g (``in_pair`` (P,):
+    group of every pair, -1 for a pair left out), in stacked order."""
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            c += 1
+    idx = np.empty(c, dtype=np.int64)
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            idx[c] = j
+            c += 1
+    return idx
 
 
 @njit

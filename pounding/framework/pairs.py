@@ -265,3 +265,84 @@ def closing(q, v, p, tol, v_min, n, geo):
         if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > v_min:
             return True
     return False
+
+
+@njit
+def touching_features(q, candidates, tol, n, geo):
+    """Touching features (within ``tol``) of every candidate pair, stacked in pair order.
+
+    The first half of the impulse problem at an instant, shared by the compiled
+    (:func:`pounding.framework.kernel.impulses_at`) and the Python path
+    (``Driver._law_impulses_at``): which features touch and their modal rows, no arithmetic on
+    velocities. candidates (P,) bool.
+
+    Returns
+    -------
+    m : int
+        Number of features.
+    pair, who, vertex : (cap,) int
+        Pair of every feature, striking polygon (0: a vertex of a, 1: of b) and its vertex
+        (-1 face to face).
+    Q, N : (cap, 2)
+        Contact points [m] and unit normals from slab a towards slab b.
+    W : (cap, n)
+        Modal rows (:func:`contact_row`). Only the first m entries are valid.
+    """
+    cap = MAX_FEATURES
+    for p in range(candidates.shape[0]):
+        if candidates[p]:
+            cap += MAX_FEATURES
+    pair = np.empty(cap, dtype=np.int64)
+    who = np.empty(cap, dtype=np.int64)
+    vertex = np.empty(cap, dtype=np.int64)
+    Q = np.empty((cap, 2))
+    N = np.empty((cap, 2))
+    W = np.empty((cap, n))
+    m = 0
+    for p in range(candidates.shape[0]):
+        if not candidates[p]:
+            continue
+        if pair_gap(q, p, tol, geo) > tol:
+            continue
+        count, Qp, Np, _, wp, idx, face, Wp = pair_features(q, p, tol, n, geo)
+        for j in range(count):
+            pair[m] = p
+            who[m] = wp[j]
+            vertex[m] = -1 if face[j] >= 0 else idx[j]
+            Q[m] = Qp[j]
+            N[m] = Np[j]
+            W[m] = Wp[j]
+            m += 1
+    return m, pair, who, vertex, Q, N, W
+
+
+@njit
+def building_groups(plist, geo):
+    """Group label (k,) of every pair of ``plist`` (k,) int: pairs linked through shared buildings
+    (directly or along a row) share a label, the smallest position in ``plist`` of their group.
+
+    Impulses on pairs of different groups act on disjoint modes (their modal rows have no common
+    entry, so their Delassus coupling is exactly zero): each group is one Newton problem.
+    """
+    nb = geo.n_modes.shape[0]
+    parent = np.arange(nb)
+    for j in range(plist.shape[0]):
+        ra = _root(parent, geo.pa[plist[j], 0])
+        rb = _root(parent, geo.pb[plist[j], 0])
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    first = np.full(nb, -1, dtype=np.int64)
+    label = np.empty(plist.shape[0], dtype=np.int64)
+    for j in range(plist.shape[0]):
+        r = _root(parent, geo.pa[plist[j], 0])
+        if first[r] < 0:
+            first[r] = j
+        label[j] = first[r]
+    return label
+
+
+@njit
+def _root(parent, i):
+    while parent[i] != i:
+        i = parent[i]
+    return i
