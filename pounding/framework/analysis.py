@@ -750,23 +750,23 @@ class Driver:
         count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
         pair, Wst = pair[:count], Wst[:count]
         b = np.zeros(count)
-        kept = []
-        for p in dict.fromkeys(pair.tolist()):  # pairs in stacked order
+        kept, approaching = [], []
+        for p in dict.fromkeys(pair.tolist()):  # touching pairs in stacked order
             sel = pair == p
             bp = -(Wst[sel] @ self.z[:, 1])
-            if bp.max() <= self.v_min:  # rounding-level closing is not approach
-                continue
+            approaching.append(bp.max() > self.v_min)  # rounding-level closing is not approach
             bp[(bp > 0.0) & (bp <= self.v_min)] = 0.0
             b[sel] = bp
             kept.append(p)
-        if not kept:
+        if not any(approaching):
             return False
         kept = np.array(kept, dtype=np.int64)
         label = pg.building_groups(kept, m.geo)
         group_of = dict(zip(kept.tolist(), label.tolist()))
-        fgroup = np.array([group_of.get(p, -1) for p in pair.tolist()], dtype=np.int64)
+        fgroup = np.array([group_of[p] for p in pair.tolist()], dtype=np.int64)
         I_all, after_all = np.zeros(count), np.zeros(count)
-        groups = [g for j, g in enumerate(label.tolist()) if g == j]
+        # a group with an approaching pair is one Newton problem; its touching pairs take part
+        groups = sorted({int(g) for g, a in zip(label.tolist(), approaching) if a})
         for g in groups:
             sel = fgroup == g
             Wr = Wst[sel]
@@ -791,9 +791,9 @@ class Driver:
             rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I_all[j] * (b[j] + after_all[j])
             rec["px"], rec["py"] = Q[j, 0], Q[j, 1]
             self.impacts.append(Impact.from_record(rec))
-        for p in kept.tolist():  # Zeno, as in impulses_at
+        for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
             sel = pair == p
-            if np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
+            if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
                 log.zeno[p] = True
         return True
 

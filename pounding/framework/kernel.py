@@ -195,12 +195,14 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     accelerations of ``after_eq``.
 
     The features of every touching pair (:func:`~pounding.framework.pairs.touching_features`)
-    are stacked; a pair whose points close at rounding level only (< ``v_min``) is left out.
-    Pairs linked through a shared building (a building struck from both sides, two storeys
-    of one pair) form one Newton problem over all their features, with the Delassus matrix
-    W = Wr Wr^T of their stacked rows (:func:`~pounding.framework.pairs.building_groups`);
-    groups share no mode, so they are independent. A group of one pair is the problem of that
-    pair alone, with the same arithmetic as when pairs were solved one by one.
+    are stacked. Touching pairs linked through a shared building (a building struck from both
+    sides, two storeys of one pair) form one Newton problem over all their features, with the
+    Delassus matrix W = Wr Wr^T of their stacked rows
+    (:func:`~pounding.framework.pairs.building_groups`), when one of them approaches (a point
+    closing faster than ``v_min``; slower is rounding); the others take part with their
+    points that only touch (Newton's cradle). Groups share no mode, so they are independent.
+    A group of one pair is the problem of that pair alone, with the same arithmetic as when
+    pairs were solved one by one.
 
     Each impulse appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to
     ``log.impacts``, in pair order; the state before the impulses at t goes to the log's event
@@ -213,21 +215,25 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     q = z[:, 0].copy()
     v = z[:, 1].copy()
     m, pair, who, vertex, Q, N, Wst = touching_features(q, candidates, tol, n, geo)
-    b, kept = closing_speeds(Wst, pair, m, v, v_min)
-    if kept.shape[0] == 0:
+    b, kept, approaching = closing_speeds(Wst, pair, m, v, v_min)
+    if not np.any(approaching):
         return False, False
     label = building_groups(kept, geo)
+    # a group is a Newton problem when one of its pairs approaches; its touching pairs that do
+    # not approach take part (a building pushed into its other neighbour: Newton's cradle)
+    live = np.zeros(kept.shape[0], dtype=np.bool_)
+    for j in range(kept.shape[0]):
+        if approaching[j]:
+            live[label[j]] = True
     I_all = np.zeros(m)
     after_all = np.zeros(m)
     in_pair = np.full(candidates.shape[0], -1, dtype=np.int64)
     for j in range(kept.shape[0]):
         in_pair[kept[j]] = label[j]
     for g in range(kept.shape[0]):
-        if label[g] != g:
+        if label[g] != g or not live[g]:
             continue
         idx = group_features(pair, m, in_pair, g)
-        if idx.shape[0] == 0:
-            continue
         Wg = Wst[idx]
         bg = b[idx]
         D = Wg @ Wg.T
@@ -247,11 +253,9 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
         log.n_events[0] += 1
         log.last_t[0] = t
     for g in range(kept.shape[0]):
-        if label[g] != g:
+        if label[g] != g or not live[g]:
             continue
         idx = group_features(pair, m, in_pair, g)
-        if idx.shape[0] == 0:
-            continue
         Wg = Wst[idx]
         dv = Wg.T @ I_all[idx]
         for i in range(n):
@@ -280,7 +284,9 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     # of ever smaller impacts that accumulates in finite time and ends with the points
     # moving together, all their closing kinetic energy lost. The pair is held: its next
     # approach is stopped plastically (the sequence's limit), see held.stop_closing.
+    # A touching pair that did not approach is not in such a sequence.
     s = 0
+    c = 0
     while s < m:
         e = s
         top = -np.inf
@@ -289,21 +295,23 @@ def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
             top = max(top, b[e])
             hit = hit or I_all[e] > 0
             e += 1
-        if hit and top * dt < tol:
+        if hit and approaching[c] and top * dt < tol:
             log.zeno[pair[s]] = True
             held = True
         s = e
+        c += 1
     return True, held
 
 
 @njit
 def closing_speeds(Wst, pair, m, v, v_min):
     """Closing speeds b (m,) = -Wr v [m/s] of stacked features, computed pair by pair (rows
-    Wst (cap, n) grouped by ``pair``), and the pairs kept (k,): those with a point closing
-    faster than ``v_min``. Closing below v_min is rounding, not approach: such speeds are set
-    to 0, and a pair with nothing faster is left out (its features keep b but no group)."""
+    Wst (cap, n) grouped by ``pair``), the touching pairs (k,) in stacked order and whether
+    each approaches (k,) bool: has a point closing faster than ``v_min``. Closing below v_min
+    is rounding, not approach: such speeds are set to 0."""
     b = np.zeros(m)
-    kept = np.empty(m, dtype=np.int64)
+    touching = np.empty(m, dtype=np.int64)
+    approaching = np.zeros(m, dtype=np.bool_)
     nk = 0
     s = 0
     while s < m:
@@ -311,13 +319,13 @@ def closing_speeds(Wst, pair, m, v, v_min):
         while e < m and pair[e] == pair[s]:
             e += 1
         bp = -(Wst[s:e].copy() @ v)
-        if np.max(bp) > v_min:
-            for j in range(e - s):
-                b[s + j] = 0.0 if (bp[j] > 0.0 and bp[j] <= v_min) else bp[j]
-            kept[nk] = pair[s]
-            nk += 1
+        for j in range(e - s):
+            b[s + j] = 0.0 if (bp[j] > 0.0 and bp[j] <= v_min) else bp[j]
+        touching[nk] = pair[s]
+        approaching[nk] = np.max(bp) > v_min
+        nk += 1
         s = e
-    return b, kept[:nk].copy()
+    return b, touching[:nk].copy(), approaching[:nk].copy()
 
 
 @njit
