@@ -113,12 +113,40 @@ class Model:
         self.n_modes = np.stack([self.mode_start, np.array(sizes, dtype=np.int64)], axis=1)
         self.slab_building = np.array([b for b, _, _ in slabs], dtype=np.int64)
         self.pairs = self._pairs()
+        #: facade slabs of the pairs where a slab strikes a neighbour between its floors:
+        #: {pair index: :class:`~pounding.framework.facade.Facade`}
+        self.facades = {}
+        pa = [[a, fa] for a, fa, _, _, _ in self.pairs]
+        pb = [[b, fb] for _, _, b, fb, _ in self.pairs]
+        axes = [self._rest_axis(p) for p in range(len(self.pairs))]
+        # the pair arrays hold the facade slabs after the real ones (slab index S + v: a pair's
+        # "storey" there is S + v - off[building]); the real slabs' arrays stay as they are
+        facades = self._facades()
+        V = len(facades)
+        grows = np.zeros((S + V, 3, nmax))
+        grows[:S] = self.rows
+        gverts = np.zeros((S + V, kmax, 2))
+        gverts[:S] = self.verts
+        gnvert, gcentres, gradii = np.zeros(S + V, dtype=np.int64), np.zeros((S + V, 2)), np.zeros(S + V)
+        gnvert[:S], gcentres[:S], gradii[:S] = self.nvert, self.centres, self.radii
+        for v, (a, fa, F) in enumerate(facades):
+            s = S + v
+            grows[s, :, : sizes[F.building]] = F.rows
+            gverts[s, : len(F.vertices)] = F.vertices
+            gnvert[s], gcentres[s], gradii[s] = len(F.vertices), F.centre, F.radius
+            A = self.systems[a].slabs[fa].vertices
+            rest = geo.rest_gap(A, F.vertices)
+            self.facades[len(self.pairs)] = F
+            self.pairs.append((a, fa, F.building, F.storey, rest))
+            pa.append([a, fa])
+            pb.append([F.building, s - int(self.slab_off[F.building])])
+            axes.append(pg.rest_axis(np.asarray(A, float), F.vertices, rest))
         self.geo = PairArrays(
-            np.array([[a, fa] for a, fa, _, _, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
-            np.array([[b, fb] for _, _, b, fb, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
-            self.rows, self.slab_off, self.n_modes, self.verts, self.nvert, self.centres, self.radii,
+            np.array(pa, dtype=np.int64).reshape(-1, 2),
+            np.array(pb, dtype=np.int64).reshape(-1, 2),
+            grows, self.slab_off, self.n_modes, gverts, gnvert, gcentres, gradii,
             np.array([g for *_, g in self.pairs], dtype=float),
-            np.array([self._rest_axis(p) for p in range(len(self.pairs))], dtype=float).reshape(-1, 2),
+            np.array(axes, dtype=float).reshape(-1, 2),
         )
         self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
         self.modes = Modes(self.L, self.c2, self.om2, self.bidx, self.slab_building)
@@ -138,10 +166,42 @@ class Model:
                             out.append((a, fa, b, fb, geo.rest_gap(slab_a.vertices, slab_b.vertices)))
         return out
 
+    def _facades(self) -> list:
+        """(building a, storey a, Facade) for every slab whose level lies strictly between two
+        floors of another building, below its roof (:mod:`pounding.framework.facade`)."""
+        from pounding.framework.facade import facade
+
+        out = []
+        if self.scene.analysis.contact == "none":
+            return out
+        for a, sa in enumerate(self.systems):
+            for fa, slab in enumerate(sa.slabs):
+                for b, sb in enumerate(self.systems):
+                    if b != a:
+                        F = facade(sb, b, slab.elevation)
+                        if F is not None:
+                            out.append((a, fa, F))
+        return out
+
     def _rest_axis(self, p: int) -> np.ndarray:
         a, fa, b, fb, rest = self.pairs[p]
         sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
         return pg.rest_axis(self.verts[sa, : self.nvert[sa]], self.verts[sb, : self.nvert[sb]], rest)
+
+    def local_stiffness(self, pair: np.ndarray, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """Local stiffness [N/m] (m,) of the element struck at every contact point (m, 2) [m] with
+        unit normal (m, 2) of the pairs ``pair`` (m,): the column or wall a slab strikes between a
+        neighbour's floors (:func:`pounding.framework.facade.local_stiffness`), inf at a slab."""
+        from pounding.framework.facade import struck
+
+        out = np.full(len(pair), np.inf)
+        for j, p in enumerate(np.asarray(pair).tolist()):
+            F = self.facades.get(p)
+            if F is None:
+                continue
+            levels = [0.0] + [s.elevation for s in self.systems[F.building].slabs]
+            out[j] = struck(self.scene.buildings[F.building], F.storey, F.height - levels[F.storey], points[j], normals[j])[2]
+        return out
 
     def update_peaks(self, q: np.ndarray, peak: np.ndarray) -> None:
         """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab for modal displacements q."""
@@ -436,6 +496,9 @@ class Driver:
             mode_start=m.mode_start,
             pairs=m.pairs,
             impacts=self.impacts,
+            geo=m.geo,
+            facades=m.facades,
+            buildings=self.scene.buildings,
             energy=self.energy(),
             runtime_s=runtime,
             dt=self.dt,
@@ -627,7 +690,7 @@ class Driver:
         zero for elastic buildings): the penalty forces are solved implicitly with the step."""
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
-        _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
         keep = gap < 0
         if not np.any(keep):
             return Step(z, zf, self.fc, zero)
@@ -635,7 +698,10 @@ class Driver:
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
-        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
+        extra = {}
+        if getattr(self.law, "local_stiffness", False):  # a spring per point (slab against a facade)
+            extra["stiffness"] = self.law.point_stiffness(self.model.local_stiffness(pair[keep], Qf[keep], Nf[keep]))
+        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T, **extra)
         f1 = Wr.T @ lam
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
 

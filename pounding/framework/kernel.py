@@ -347,9 +347,10 @@ def group_features(pair, m, in_pair, g):
 
 @njit
 def update_peaks(rows, q, n_modes, slab_building, peak):
-    """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab, from modal displacements q (n,)."""
+    """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab, from modal displacements q (n,) and the
+    slabs' rows (>= S, 3, nmax)."""
     d = np.empty(3)
-    for s in range(rows.shape[0]):
+    for s in range(peak.shape[0]):  # the real slabs (rows may hold facade slabs after them)
         b = slab_building[s]
         _slab_dofs(rows[s, :, : n_modes[b, 1]], q[n_modes[b, 0] : n_modes[b, 0] + n_modes[b, 1]], d)
         for r in range(3):
