@@ -205,7 +205,18 @@ class FacadePenalty(Penalty):
     A rigid impact (the impulse law) on a facade makes the struck column as stiff as a slab's
     edge; this law lets the column bend locally under the blow (a fixed-fixed member with a point
     load, :func:`~pounding.framework.facade.local_stiffness`), which lengthens the contact and
-    lowers the peak force. Parameters as :class:`Penalty`.
+    lowers the peak force.
+
+    Parameters
+    ----------
+    stiffness : float
+        Contact spring stiffness k_p [N/m] of the slab edge (alone at slab-to-slab points).
+    restitution : float
+        Coefficient of restitution k giving the dashpot (Anagnostopoulos).
+    tolerance : float
+        Contact length tolerance [m] (used to start watching a pair).
+    dashpot : {"anagnostopoulos", "no_tension"}
+        How the damping ratio follows from k (as :class:`Penalty`).
     """
 
     name: ClassVar[str] = "facade_penalty"
