@@ -506,7 +506,9 @@ class Driver:
             integrator=self.integrator.describe(),
             contact=self.law.describe(),
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
-            info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained)},
+            info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
+                  # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
+                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)}},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
             springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
