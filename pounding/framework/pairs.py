@@ -9,12 +9,15 @@ takes as one argument:
 
 ``pa``, ``pb`` (P, 2) int
     (building, storey) of the two slabs of every pair.
-``rows`` (S, 3, nmax)
+``rows`` (S + V, 3, nmax)
     The Phi rows (u, v, phi) of every slab over its building's modes; slab
-    index = ``off[building] + storey``.
+    index = ``off[building] + storey``. After the S real slabs come the V facade
+    slabs (:mod:`pounding.framework.facade`: a neighbour's storey at the level of a
+    slab that strikes it between floors), addressed the same way by a pair whose
+    "storey" is their index minus ``off[building]``.
 ``n_modes`` (n_buildings, 2) int
     First stacked mode index and number of modes of every building.
-``verts`` (S, kmax, 2), ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,)
+``verts`` (S + V, kmax, 2), ``nvert``, ``centres`` (S + V, 2), ``radii``
     Rest polygons [m], their vertex counts, centres of mass [m] and the
     largest distance of a vertex from the centre [m].
 ``rest`` (P,)

@@ -188,8 +188,8 @@ def impact_instants(result) -> list[tuple[float, int, list[int]]]:
 def impact_velocity_changes(result) -> list[tuple[float, np.ndarray, list[int], np.ndarray]]:
     """Per impact instant: (time, modal state before (q, q') as (2, ntot), impacts, modal velocity change (ntot,)).
 
-    The change is the sum of ``w_j I_j`` over the instant's impacts: the pairs act one after
-    the other at one instant, so their velocity changes add.
+    The change is the sum of ``w_j I_j`` over the instant's impacts (solved together or group by
+    group, their velocity changes add).
     """
     out = []
     for t, j, idx in impact_instants(result):
