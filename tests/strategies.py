@@ -427,7 +427,21 @@ def momentum_residuals(model, ev) -> list[dict]:
     for p in acted:
         a, fa, b, fb, _ = model.pairs[p]
         dp, dL, sp, sL, state_p, state_L = np.zeros(2), 0.0, 0.0, 0.0, 0.0, 0.0
-        for key in ((a, fa), (b, fb)):
+        keys = [(a, fa), (b, fb)]
+        F = getattr(model, "facades", {}).get(p)
+        if F is not None:
+            # a slab against a facade between floors: the impulse reaches the floors below and above
+            # with the storey shape's weights; below the first floor the ground takes its share
+            n1, _ = F.shape
+            if F.storey > 0:
+                keys.append((b, F.storey - 1))
+            else:
+                for imp in ev["impacts"]:
+                    if imp.pair == p:
+                        f = n1 * imp.impulse * np.asarray(imp.normal)
+                        dp += f
+                        dL += float(imp.point[0] * f[1] - imp.point[1] * f[0])
+        for key in keys:
             touched.add(key)
             s = model.systems[key[0]].slabs[key[1]]
             c = s.centre + x[key][:2]
@@ -458,8 +472,13 @@ def step_end_gaps(result, model, pairs=None, tol=0.0):
     """
     out = {}
     V = {name: result.vertices(name) for name in result.names}
+    facades = getattr(model, "facades", {})
     for p, (a, fa, b, fb, rest) in enumerate(result.pairs):
         if pairs is not None and p not in pairs:
+            continue
+        if p in facades:  # a slab against a facade between floors: the facade's own motion
+            idx = np.arange(len(result.t))
+            out[p] = (idx, np.array([model.pair_gap(result.q[k], p) for k in idx]))
             continue
         sa, sb = result.systems[a].slabs[fa], result.systems[b].slabs[fb]
         da = V[result.names[a]][:, fa, : len(sa.vertices)]

@@ -129,11 +129,18 @@ class Model:
         gverts[:S] = self.verts
         gnvert, gcentres, gradii = np.zeros(S + V, dtype=np.int64), np.zeros((S + V, 2)), np.zeros(S + V)
         gnvert[:S], gcentres[:S], gradii[:S] = self.nvert, self.centres, self.radii
+        floors = np.full((S + V, 2), -1, dtype=np.int64)
+        floors[:S, 0] = np.arange(S)
+        weights = np.zeros((S + V, 2))
+        weights[:S, 0] = 1.0
         for v, (a, fa, F) in enumerate(facades):
             s = S + v
             grows[s, :, : sizes[F.building]] = F.rows
             gverts[s, : len(F.vertices)] = F.vertices
             gnvert[s], gcentres[s], gradii[s] = len(F.vertices), F.centre, F.radius
+            top = int(self.slab_off[F.building]) + F.storey
+            floors[s] = (top - 1 if F.storey > 0 else -1, top)
+            weights[s] = F.shape
             A = self.systems[a].slabs[fa].vertices
             rest = geo.rest_gap(A, F.vertices)
             self.facades[len(self.pairs)] = F
@@ -147,6 +154,7 @@ class Model:
             grows, self.slab_off, self.n_modes, gverts, gnvert, gcentres, gradii,
             np.array([g for *_, g in self.pairs], dtype=float),
             np.array(axes, dtype=float).reshape(-1, 2),
+            floors, weights,
         )
         self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
         self.modes = Modes(self.L, self.c2, self.om2, self.bidx, self.slab_building)

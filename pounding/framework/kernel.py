@@ -82,7 +82,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     A, B = tr.A, tr.B
     L = modes.L
     dt, ag = ground.dt, ground.ag
-    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
+    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
     n = z.shape[0]
     z0 = np.empty((n, 3))
