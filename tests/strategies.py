@@ -424,23 +424,39 @@ def momentum_residuals(model, ev) -> list[dict]:
     dv = slab_states(model, ev["after"] - ev["before"])
     acted = sorted({imp.pair for imp in ev["impacts"]})
     out, touched = [], set()
-    for p in acted:
+    facades = getattr(model, "facades", {})
+
+    def slabs_of(p):
         a, fa, b, fb, _ = model.pairs[p]
-        dp, dL, sp, sL, state_p, state_L = np.zeros(2), 0.0, 0.0, 0.0, 0.0, 0.0
         keys = [(a, fa), (b, fb)]
-        F = getattr(model, "facades", {}).get(p)
-        if F is not None:
-            # a slab against a facade between floors: the impulse reaches the floors below and above
-            # with the storey shape's weights; below the first floor the ground takes its share
-            n1, _ = F.shape
-            if F.storey > 0:
-                keys.append((b, F.storey - 1))
-            else:
+        F = facades.get(p)
+        if F is not None and F.storey > 0:  # a facade between floors: the impulse reaches the floor below too
+            keys.append((b, F.storey - 1))
+        return keys
+
+    # pairs that share a slab at this instant (a facade and the slab pair below it, a floor between
+    # two facades) exchange momentum through it: their momentum is checked together
+    groups = []
+    for p in acted:
+        ks = set(slabs_of(p))
+        joined = [g for g in groups if g[1] & ks]
+        for g in joined:
+            groups.remove(g)
+        groups.append(([p] + [q for g in joined for q in g[0]], ks.union(*[g[1] for g in joined])))
+    for members, keyset in groups:
+        p = min(members)
+        dp, dL, sp, sL, state_p, state_L = np.zeros(2), 0.0, 0.0, 0.0, 0.0, 0.0
+        for q in members:
+            F = facades.get(q)
+            if F is not None and F.storey == 0:
+                # below the first floor the ground takes the storey shape's N1 share of the impulse
+                n1, _ = F.shape
                 for imp in ev["impacts"]:
-                    if imp.pair == p:
+                    if imp.pair == q:
                         f = n1 * imp.impulse * np.asarray(imp.normal)
                         dp += f
                         dL += float(imp.point[0] * f[1] - imp.point[1] * f[0])
+        keys = sorted(keyset)
         for key in keys:
             touched.add(key)
             s = model.systems[key[0]].slabs[key[1]]
