@@ -23,10 +23,14 @@ the facade moves rigidly in plan with the blend of the two floors' motions, each
 to a common reference point (the upper floor's centre of mass). Below the first floor the
 lower "floor" is the ground (no relative motion).
 
-The same rows carry an impulse or force at the facade back to the floors (N1 to the floor
-below, N2 to the floor above, with their moments): the virtual work of the contact is the
+The same shape carries an impulse or force at the facade back to the floors (N1 to the floor
+below, N2 to the floor above, each as the force at the contact point with its moment about
+that floor's own displaced centre: the contact row of a facade is the floors' rows so weighted,
+:func:`pounding.framework.pairs.contact_row`, while ``rows`` here, carried to one reference
+point, move the facade's outline for gaps and bounds). The virtual work of the contact is the
 same on the facade and on the floors, so the momentum and energy of the impact are those of
-the floors (N1 + N2 = 1: the linear momentum given to the struck building equals the impulse).
+the floors (N1 + N2 = 1: the linear momentum given to the struck building equals the impulse;
+below the first floor the ground takes the N1 share).
 The facade's own mass is not modelled (it is lumped in the floors, as everywhere in a shear
 building): the impact sees the effective mass of the floors at that height,
 1 / (N1^2 / m_below + N2^2 / m_above) for a head-on central impact on a building moving in
