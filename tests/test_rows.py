@@ -285,3 +285,22 @@ def test_a_slab_below_ground_is_refused_naming_the_storey_height(tmp_path):
     assert "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1
     assert "building[1].storey_heights[0]" in proc.stderr
+
+
+def test_the_far_building_s_pair_checks_are_all_settled_by_the_cheap_bound():
+    """The pair with a third building 200 m away: summary info ``pair_checks`` counts, over the
+    recorded states (every step: output_every = 1), the checks the clearance bound settles. The
+    third building's slab pairs (with both others, 3 storeys each: 6 pairs) are settled at every
+    step (their rest gap of ~200 m exceeds any motion by far), so at least 6 x (steps + 1) checks
+    are skipped, and the count adds up."""
+    from pounding.framework.analysis import run
+
+    from scenes_for_tests import scene
+
+    r = run(scene(_row(0.01, far=200.0)))
+    c = r.info["pair_checks"]
+    far = [p for p, (a, _, b, _, _) in enumerate(r.pairs) if 2 in (a, b)]
+    assert len(far) == 6
+    assert c["checks"] == len(r.t) * len(r.pairs) == c["skipped_by_bound"] + c["beyond_bound"]
+    assert c["skipped_by_bound"] >= len(far) * len(r.t)
+    assert c["beyond_bound"] > 0, "the near pair pounds: some checks go past the bound"

@@ -516,7 +516,8 @@ class Driver:
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
                   # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
-                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)}},
+                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)},
+                  "pair_checks": self._pair_checks()},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
             springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
@@ -525,6 +526,13 @@ class Driver:
             event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
             timings={"load_and_compile_s": self.timings["load_s"], "compile_s": self.timings["compile_s"], "solve_s": runtime},
         )
+
+    def _pair_checks(self) -> dict:
+        """How many pair checks the clearance bound settles, counted on the recorded states
+        (:func:`pounding.framework.screening.bound_screening`; none watched with contact off)."""
+        from pounding.framework.screening import bound_screening
+
+        return bound_screening(self.kgeo, self.Q, self.tol)
 
     def energy(self) -> dict:
         """The energy account per building [J] (:meth:`Model.energy`); with yielding springs, strain
