@@ -55,7 +55,10 @@ settings.register_profile(
     print_blob=True,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.data_too_large],
 )
-PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "dev")
+# The suite gives the same verdict on every machine: `make test` runs the derandomized "ci"
+# profile (fixed examples, no example database). "dev" (random seeds, 10x the examples, a local
+# database that replays failures) is exploration, asked for by HYPOTHESIS_PROFILE=dev.
+PROFILE = os.environ.get("HYPOTHESIS_PROFILE", "ci")
 settings.load_profile(PROFILE)
 
 
@@ -424,10 +427,40 @@ def momentum_residuals(model, ev) -> list[dict]:
     dv = slab_states(model, ev["after"] - ev["before"])
     acted = sorted({imp.pair for imp in ev["impacts"]})
     out, touched = [], set()
-    for p in acted:
+    facades = getattr(model, "facades", {})
+
+    def slabs_of(p):
         a, fa, b, fb, _ = model.pairs[p]
+        keys = [(a, fa), (b, fb)]
+        F = facades.get(p)
+        if F is not None and F.storey > 0:  # a facade between floors: the impulse reaches the floor below too
+            keys.append((b, F.storey - 1))
+        return keys
+
+    # pairs that share a slab at this instant (a facade and the slab pair below it, a floor between
+    # two facades) exchange momentum through it: their momentum is checked together
+    groups = []
+    for p in acted:
+        ks = set(slabs_of(p))
+        joined = [g for g in groups if g[1] & ks]
+        for g in joined:
+            groups.remove(g)
+        groups.append(([p] + [q for g in joined for q in g[0]], ks.union(*[g[1] for g in joined])))
+    for members, keyset in groups:
+        p = min(members)
         dp, dL, sp, sL, state_p, state_L = np.zeros(2), 0.0, 0.0, 0.0, 0.0, 0.0
-        for key in ((a, fa), (b, fb)):
+        for q in members:
+            F = facades.get(q)
+            if F is not None and F.storey == 0:
+                # below the first floor the ground takes the storey shape's N1 share of the impulse
+                n1, _ = F.shape
+                for imp in ev["impacts"]:
+                    if imp.pair == q:
+                        f = n1 * imp.impulse * np.asarray(imp.normal)
+                        dp += f
+                        dL += float(imp.point[0] * f[1] - imp.point[1] * f[0])
+        keys = sorted(keyset)
+        for key in keys:
             touched.add(key)
             s = model.systems[key[0]].slabs[key[1]]
             c = s.centre + x[key][:2]
@@ -458,8 +491,13 @@ def step_end_gaps(result, model, pairs=None, tol=0.0):
     """
     out = {}
     V = {name: result.vertices(name) for name in result.names}
+    facades = getattr(model, "facades", {})
     for p, (a, fa, b, fb, rest) in enumerate(result.pairs):
         if pairs is not None and p not in pairs:
+            continue
+        if p in facades:  # a slab against a facade between floors: the facade's own motion
+            idx = np.arange(len(result.t))
+            out[p] = (idx, np.array([model.pair_gap(result.q[k], p) for k in idx]))
             continue
         sa, sb = result.systems[a].slabs[fa], result.systems[b].slabs[fb]
         da = V[result.names[a]][:, fa, : len(sa.vertices)]

@@ -2,8 +2,9 @@
 
 A storey is the prism of its slab between the floor below and its own level;
 two buildings may not claim the same space at rest, whether or not their slabs
-are at a common level. Buildings with no slabs at a common level are valid but
-nothing is checked between them: one warning says so, naming every such pair.
+are at a common level. Buildings with no slabs at a common level are valid; their
+slabs can only strike each other's facades between floors: one warning says so,
+naming every such pair.
 """
 
 from __future__ import annotations
@@ -87,8 +88,9 @@ def test_a_storey_above_a_lower_neighbours_roof_may_overhang_it(tmp_path):
 
 
 def test_no_common_level_is_said_once_naming_every_pair(tmp_path):
-    """A has 3 m storeys, B one of 3.5 m, C 3.7 m: no two share a level; one warning names the
-    three pairs, and none is given when B and C share A's levels."""
+    """A has 3 m storeys, B one of 3.5 m, C 3.7 m: no two share a level (only slab-to-facade impacts
+    are checked between them); one warning names the three pairs, and none is given when B and C
+    share A's levels."""
     path = tmp_path / "scene.toml"
     path.write_text(_scene_text("[3.5]", 10.1, _third("C", "[3.7]", 20.2)))
     found = [f for f in findings(load_scene(path)) if f.check == "no_common_level"]
@@ -271,3 +273,34 @@ def test_adjacency_in_the_row_of_five_example():
     assert [fa for fa, _ in facing_storeys(sc, 0, 2)] == [6, 7]
     assert [fa for fa, _ in facing_storeys(sc, 0, 4)] == [8, 9]
     assert [fa for fa, _ in facing_storeys(sc, 2, 4)] == [5, 6, 7]
+
+
+def test_a_slab_below_ground_is_refused_naming_the_storey_height(tmp_path):
+    """A negative storey height would put a slab below the one under it, the first one below
+    ground: `pounding check` exits 2 with one line naming building[1].storey_heights[0]."""
+    path = tmp_path / "scene.toml"
+    path.write_text(_scene_text("[-3.0]", 10.1))
+    proc = subprocess.run([sys.executable, "-m", "pounding", "check", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "building[1].storey_heights[0]" in proc.stderr
+
+
+def test_the_far_building_s_pair_checks_are_all_settled_by_the_cheap_bound():
+    """The pair with a third building 200 m away: summary info ``pair_checks`` counts, over the
+    recorded states (every step: output_every = 1), the checks the clearance bound settles. The
+    third building's slab pairs (with both others, 3 storeys each: 6 pairs) are settled at every
+    step (their rest gap of ~200 m exceeds any motion by far), so at least 6 x (steps + 1) checks
+    are skipped, and the count adds up."""
+    from pounding.framework.analysis import run
+
+    from scenes_for_tests import scene
+
+    r = run(scene(_row(0.01, far=200.0)))
+    c = r.info["pair_checks"]
+    far = [p for p, (a, _, b, _, _) in enumerate(r.pairs) if 2 in (a, b)]
+    assert len(far) == 6
+    assert c["checks"] == len(r.t) * len(r.pairs) == c["skipped_by_bound"] + c["beyond_bound"]
+    assert c["skipped_by_bound"] >= len(far) * len(r.t)
+    assert c["beyond_bound"] > 0, "the near pair pounds: some checks go past the bound"

@@ -79,7 +79,11 @@ class Penalty(ContactLaw):
         ln = math.log(k)
         return -ln / math.sqrt(math.pi**2 + ln**2)
 
-    def forces(self, gap, rate, S_q, S_v, W):
+    def forces(self, gap, rate, S_q, S_v, W, stiffness=None):
+        """End-of-step forces (see :meth:`ContactLaw.forces`); ``stiffness`` (m,) [N/m], when given,
+        is every point's own spring (:class:`FacadePenalty`) instead of ``self.stiffness``."""
+        if stiffness is not None:
+            return self._forces_per_point(gap, rate, S_q, S_v, W, np.asarray(stiffness, dtype=float))
         m = len(gap)
         kp = self.stiffness
         active = np.ones(m, dtype=bool)
@@ -99,6 +103,45 @@ class Penalty(ContactLaw):
             active[idx[sol < 0]] = False
         return np.maximum(lam, 0.0)
 
+
+    def _forces_per_point(self, gap, rate, S_q, S_v, W, kp):
+        """:meth:`forces` with a spring kp (m,) [N/m] of its own at every point: the same active-set
+        solve with K = diag(kp) and dashpots giving every contact mode the ratio xi
+        (:meth:`dashpots_for`)."""
+        m = len(gap)
+        active = np.ones(m, dtype=bool)
+        lam = np.zeros(m)
+        for _ in range(m + 1):
+            idx = np.flatnonzero(active)
+            if idx.size == 0:
+                break
+            ks = kp[idx]
+            C = self.dashpots_for(W[np.ix_(idx, idx)], ks)
+            K = np.eye(idx.size) + ks[:, None] * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
+            sol = np.linalg.solve(K, -ks * gap[idx] - C @ rate[idx])
+            lam[:] = 0.0
+            lam[idx] = sol
+            if np.all(sol >= 0):
+                break
+            active[idx[sol < 0]] = False
+        return np.maximum(lam, 0.0)
+
+    def dashpots_for(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Dashpot matrix C (m, m) [N s/m] for points with springs k (m,) [N/m] of their own.
+
+        The points' mass is M = W^-1; C = 2 xi M^1/2 (M^-1/2 K M^-1/2)^1/2 M^1/2 gives every
+        mode of (M, K = diag k) the damping ratio xi (with k equal at every point it is
+        :meth:`dashpots`' 2 xi sqrt(k) W^-1/2). Directions of W with no compliance get none.
+        """
+        lam, V = np.linalg.eigh(0.5 * (W + W.T))
+        keep = lam > 1e-12 * max(lam.max(), 0.0)
+        Vk, lk = V[:, keep], lam[keep]
+        Mh = (Vk / np.sqrt(lk)) @ Vk.T  # M^1/2 = W^-1/2 on the compliant directions
+        Wh = (Vk * np.sqrt(lk)) @ Vk.T  # M^-1/2 = W^1/2
+        A = Wh @ (k[:, None] * Wh)
+        a, U = np.linalg.eigh(0.5 * (A + A.T))
+        root = (U * np.sqrt(np.maximum(a, 0.0))) @ U.T
+        return 2.0 * self.damping_ratio * Mh @ root @ Mh
 
     def dashpots(self, W: np.ndarray) -> np.ndarray:
         """Dashpot matrix C (m, m) [N s/m] of the points pressed together, for their Delassus matrix W.
@@ -152,3 +195,39 @@ def no_tension_damping_ratio(k: float) -> float:
     if k >= 1.0:
         return 0.0
     return float(brentq(lambda x: no_tension_restitution(x) - k, 1e-9, 1e4, xtol=1e-13))
+
+
+class FacadePenalty(Penalty):
+    """:class:`Penalty` whose points on a neighbour's facade (a slab striking between floors,
+    :mod:`pounding.framework.facade`) have the local stiffness of the struck column or wall in
+    series with the slab-edge spring: 1/k = 1/k_p + 1/k_local. Slab-to-slab points keep k_p.
+
+    A rigid impact (the impulse law) on a facade makes the struck column as stiff as a slab's
+    edge; this law lets the column bend locally under the blow (a fixed-fixed member with a point
+    load, :func:`~pounding.framework.facade.local_stiffness`), which lengthens the contact and
+    lowers the peak force.
+
+    Parameters
+    ----------
+    stiffness : float
+        Contact spring stiffness k_p [N/m] of the slab edge (alone at slab-to-slab points).
+    restitution : float
+        Coefficient of restitution k giving the dashpot (Anagnostopoulos).
+    tolerance : float
+        Contact length tolerance [m] (used to start watching a pair).
+    dashpot : {"anagnostopoulos", "no_tension"}
+        How the damping ratio follows from k (as :class:`Penalty`).
+    """
+
+    name: ClassVar[str] = "facade_penalty"
+    #: the driver passes every point's own stiffness to :meth:`forces` (``stiffness=``)
+    local_stiffness: ClassVar[bool] = True
+
+    def point_stiffness(self, local: np.ndarray) -> np.ndarray:
+        """Springs (m,) [N/m] of points whose struck element has the local stiffness ``local`` (m,)
+        [N/m] (nan or inf: a slab, or an element with none known): k_p in series with it."""
+        local = np.asarray(local, dtype=float)
+        out = np.full(local.shape, self.stiffness)
+        finite = np.isfinite(local) & (local > 0)
+        out[finite] = 1.0 / (1.0 / self.stiffness + 1.0 / local[finite])
+        return out

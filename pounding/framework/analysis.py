@@ -8,9 +8,10 @@ Python:
 * a step that ends with a pair overlapping is taken again from its start with
   a shorter step until the pair touches within the tolerance (``halving``, the
   paper), or with the root of the gap function (``root``, Brent's method);
-* at contact, approaching features get impulses from the contact law, each
-  slab pair on its own, and the rest of the step is integrated with the new
-  velocities;
+* at contact, approaching features get impulses from the contact law, all the
+  pairs linked through a shared building solved together (a building struck
+  from both sides at once), and the rest of the step is integrated with the
+  new velocities;
 * a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
   that stays pressed together is switched to *sustained contact*: a rigid
   unilateral constraint force solved implicitly with each step, released when
@@ -112,12 +113,48 @@ class Model:
         self.n_modes = np.stack([self.mode_start, np.array(sizes, dtype=np.int64)], axis=1)
         self.slab_building = np.array([b for b, _, _ in slabs], dtype=np.int64)
         self.pairs = self._pairs()
+        #: facade slabs of the pairs where a slab strikes a neighbour between its floors:
+        #: {pair index: :class:`~pounding.framework.facade.Facade`}
+        self.facades = {}
+        pa = [[a, fa] for a, fa, _, _, _ in self.pairs]
+        pb = [[b, fb] for _, _, b, fb, _ in self.pairs]
+        axes = [self._rest_axis(p) for p in range(len(self.pairs))]
+        # the pair arrays hold the facade slabs after the real ones (slab index S + v: a pair's
+        # "storey" there is S + v - off[building]); the real slabs' arrays stay as they are
+        facades = self._facades()
+        V = len(facades)
+        grows = np.zeros((S + V, 3, nmax))
+        grows[:S] = self.rows
+        gverts = np.zeros((S + V, kmax, 2))
+        gverts[:S] = self.verts
+        gnvert, gcentres, gradii = np.zeros(S + V, dtype=np.int64), np.zeros((S + V, 2)), np.zeros(S + V)
+        gnvert[:S], gcentres[:S], gradii[:S] = self.nvert, self.centres, self.radii
+        floors = np.full((S + V, 2), -1, dtype=np.int64)
+        floors[:S, 0] = np.arange(S)
+        weights = np.zeros((S + V, 2))
+        weights[:S, 0] = 1.0
+        for v, (a, fa, F) in enumerate(facades):
+            s = S + v
+            grows[s, :, : sizes[F.building]] = F.rows
+            gverts[s, : len(F.vertices)] = F.vertices
+            gnvert[s], gcentres[s], gradii[s] = len(F.vertices), F.centre, F.radius
+            top = int(self.slab_off[F.building]) + F.storey
+            floors[s] = (top - 1 if F.storey > 0 else -1, top)
+            weights[s] = F.shape
+            A = self.systems[a].slabs[fa].vertices
+            rest = geo.rest_gap(A, F.vertices)
+            self.facades[len(self.pairs)] = F
+            self.pairs.append((a, fa, F.building, F.storey, rest))
+            pa.append([a, fa])
+            pb.append([F.building, s - int(self.slab_off[F.building])])
+            axes.append(pg.rest_axis(np.asarray(A, float), F.vertices, rest))
         self.geo = PairArrays(
-            np.array([[a, fa] for a, fa, _, _, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
-            np.array([[b, fb] for _, _, b, fb, _ in self.pairs], dtype=np.int64).reshape(-1, 2),
-            self.rows, self.slab_off, self.n_modes, self.verts, self.nvert, self.centres, self.radii,
+            np.array(pa, dtype=np.int64).reshape(-1, 2),
+            np.array(pb, dtype=np.int64).reshape(-1, 2),
+            grows, self.slab_off, self.n_modes, gverts, gnvert, gcentres, gradii,
             np.array([g for *_, g in self.pairs], dtype=float),
-            np.array([self._rest_axis(p) for p in range(len(self.pairs))], dtype=float).reshape(-1, 2),
+            np.array(axes, dtype=float).reshape(-1, 2),
+            floors, weights,
         )
         self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
         self.modes = Modes(self.L, self.c2, self.om2, self.bidx, self.slab_building)
@@ -137,10 +174,42 @@ class Model:
                             out.append((a, fa, b, fb, geo.rest_gap(slab_a.vertices, slab_b.vertices)))
         return out
 
+    def _facades(self) -> list:
+        """(building a, storey a, Facade) for every slab whose level lies strictly between two
+        floors of another building, below its roof (:mod:`pounding.framework.facade`)."""
+        from pounding.framework.facade import facade
+
+        out = []
+        if self.scene.analysis.contact == "none":
+            return out
+        for a, sa in enumerate(self.systems):
+            for fa, slab in enumerate(sa.slabs):
+                for b, sb in enumerate(self.systems):
+                    if b != a:
+                        F = facade(sb, b, slab.elevation)
+                        if F is not None:
+                            out.append((a, fa, F))
+        return out
+
     def _rest_axis(self, p: int) -> np.ndarray:
         a, fa, b, fb, rest = self.pairs[p]
         sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
         return pg.rest_axis(self.verts[sa, : self.nvert[sa]], self.verts[sb, : self.nvert[sb]], rest)
+
+    def local_stiffness(self, pair: np.ndarray, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """Local stiffness [N/m] (m,) of the element struck at every contact point (m, 2) [m] with
+        unit normal (m, 2) of the pairs ``pair`` (m,): the column or wall a slab strikes between a
+        neighbour's floors (:func:`pounding.framework.facade.local_stiffness`), inf at a slab."""
+        from pounding.framework.facade import struck
+
+        out = np.full(len(pair), np.inf)
+        for j, p in enumerate(np.asarray(pair).tolist()):
+            F = self.facades.get(p)
+            if F is None:
+                continue
+            levels = [0.0] + [s.elevation for s in self.systems[F.building].slabs]
+            out[j] = struck(self.scene.buildings[F.building], F.storey, F.height - levels[F.storey], points[j], normals[j])[2]
+        return out
 
     def update_peaks(self, z0: np.ndarray, z1: np.ndarray, h: float, peak: np.ndarray) -> None:
         """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab over a step of h [s] between the
@@ -447,6 +516,9 @@ class Driver:
             mode_start=m.mode_start,
             pairs=m.pairs,
             impacts=self.impacts,
+            geo=m.geo,
+            facades=m.facades,
+            buildings=self.scene.buildings,
             energy=self.energy(),
             runtime_s=runtime,
             dt=self.dt,
@@ -454,7 +526,10 @@ class Driver:
             integrator=self.integrator.describe(),
             contact=self.law.describe(),
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / 9.80665, "angle": gm.angle},
-            info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained)},
+            info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
+                  # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
+                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)},
+                  "pair_checks": self._pair_checks()},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
             springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
@@ -473,6 +548,13 @@ class Driver:
         from pounding.framework.peaks import ExactIntraStep
 
         return ExactIntraStep(self.integrator, self.model.omega, self.model.zeta, self.model.L, self.ag, self.dt)
+
+    def _pair_checks(self) -> dict:
+        """How many pair checks the clearance bound settles, counted on the recorded states
+        (:func:`pounding.framework.screening.bound_screening`; none watched with contact off)."""
+        from pounding.framework.screening import bound_screening
+
+        return bound_screening(self.kgeo, self.Q, self.tol)
 
     def energy(self) -> dict:
         """The energy account per building [J] (:meth:`Model.energy`); with yielding springs, strain
@@ -663,7 +745,7 @@ class Driver:
         zero for elastic buildings): the penalty forces are solved implicitly with the step."""
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
-        _, gap, Wr, _, _ = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
         keep = gap < 0
         if not np.any(keep):
             return Step(z, zf, self.fc, zero)
@@ -671,7 +753,10 @@ class Driver:
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
-        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T)
+        extra = {}
+        if getattr(self.law, "local_stiffness", False):  # a spring per point (slab against a facade)
+            extra["stiffness"] = self.law.point_stiffness(self.model.local_stiffness(pair[keep], Qf[keep], Nf[keep]))
+        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T, **extra)
         f1 = Wr.T @ lam
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
 
@@ -864,47 +949,69 @@ class Driver:
         return bool(np.min(duration) < self.dt)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
-        """:func:`~pounding.framework.kernel.impulses_at` for a law whose impulses only Python knows:
-        the same steps, written to the same log, with ``self.law.impulses(W, b)``."""
+        """:func:`~pounding.framework.kernel.impulses_at` for the Python path: the same features
+        (:func:`~pounding.framework.pairs.touching_features`), the same groups of pairs linked
+        through shared buildings (:func:`~pounding.framework.pairs.building_groups`), each group
+        one Newton problem given to ``self.law.impulses(W, b)``, written to the same records.
+
+        The velocity arithmetic (closing speeds, Delassus matrices, velocity jumps) is numpy's
+        here and numba's in the kernel: routing this path through the compiled products moved
+        results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
+        (issue #12); a law only Python knows needs this path anyway.
+        """
         from pounding.framework.bundles import IMPACT_DTYPE
 
-        m, log, acted = self.model, self.log, False
+        m, log = self.model, self.log
         q = np.ascontiguousarray(self.z[:, 0])
-        plist = np.flatnonzero(candidates).astype(np.int64)
-        # impulses change velocities only: one screen of the gaps serves every pair
-        for p in plist[m.gaps(q, plist, self.tol) <= self.tol].tolist():
-            count, Qp, Np, _, who, idx, face, Wr = pg.pair_features(q, p, self.tol, m.n, m.geo)
-            if count == 0:
-                continue
-            Wr = Wr[:count]
-            b = -(Wr @ self.z[:, 1])
-            if b.max() <= self.v_min:  # rounding-level closing is not approach
-                continue
-            b[(b > 0.0) & (b <= self.v_min)] = 0.0
+        count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
+        pair, Wst = pair[:count], Wst[:count]
+        b = np.zeros(count)
+        kept, approaching = [], []
+        for p in dict.fromkeys(pair.tolist()):  # touching pairs in stacked order
+            sel = pair == p
+            bp = -(Wst[sel] @ self.z[:, 1])
+            approaching.append(bp.max() > self.v_min)  # rounding-level closing is not approach
+            bp[(bp > 0.0) & (bp <= self.v_min)] = 0.0
+            b[sel] = bp
+            kept.append(p)
+        if not any(approaching):
+            return False
+        kept = np.array(kept, dtype=np.int64)
+        label = pg.building_groups(kept, m.geo)
+        group_of = dict(zip(kept.tolist(), label.tolist()))
+        fgroup = np.array([group_of[p] for p in pair.tolist()], dtype=np.int64)
+        I_all, after_all = np.zeros(count), np.zeros(count)
+        # a group with an approaching pair is one Newton problem; its touching pairs take part
+        groups = sorted({int(g) for g, a in zip(label.tolist(), approaching) if a})
+        for g in groups:
+            sel = fgroup == g
+            Wr = Wst[sel]
             W = Wr @ Wr.T
-            I = np.asarray(self.law.impulses(W, b), dtype=float)
-            if not np.any(I > 0):
-                continue
-            after = b - W @ I
-            if log.last_t[0] != t:
-                self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
-                log.last_t[0] = t
-            self.z[:, 1] += Wr.T @ I
-            if self.law.after_impact == "equilibrium":
-                rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
-                self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
-            acted = True
-            for j in np.flatnonzero(I > 0):
-                rec = np.zeros((), dtype=IMPACT_DTYPE)
-                rec["time"], rec["pair"], rec["striker"] = t, p, who[j]
-                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
-                rec["impulse"], rec["nx"], rec["ny"] = I[j], Np[j, 0], Np[j, 1]
-                rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I[j] * (b[j] + after[j])
-                rec["px"], rec["py"] = Qp[j, 0], Qp[j, 1]
-                self.impacts.append(Impact.from_record(rec))
-            if np.max(b) * self.dt < self.tol:  # Zeno, as in impulses_at
+            I = np.asarray(self.law.impulses(W, b[sel]), dtype=float)
+            I_all[sel], after_all[sel] = I, b[sel] - W @ I
+        if not np.any(I_all > 0):
+            return False
+        if log.last_t[0] != t:
+            self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
+            log.last_t[0] = t
+        for g in groups:
+            sel = fgroup == g
+            self.z[:, 1] += Wst[sel].T @ I_all[sel]
+        if self.law.after_impact == "equilibrium":
+            rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
+            self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
+        for j in np.flatnonzero(I_all > 0):
+            rec = np.zeros((), dtype=IMPACT_DTYPE)
+            rec["time"], rec["pair"], rec["striker"], rec["vertex"] = t, pair[j], who[j], vertex[j]
+            rec["impulse"], rec["nx"], rec["ny"] = I_all[j], N[j, 0], N[j, 1]
+            rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I_all[j] * (b[j] + after_all[j])
+            rec["px"], rec["py"] = Q[j, 0], Q[j, 1]
+            self.impacts.append(Impact.from_record(rec))
+        for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
+            sel = pair == p
+            if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
                 log.zeno[p] = True
-        return acted
+        return True
 
 
 def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:

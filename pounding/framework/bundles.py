@@ -72,6 +72,10 @@ class PairArrays(NamedTuple):
     radii: np.ndarray  #: (S,) largest distance of a vertex from the centre [m]
     rest: np.ndarray  #: (P,) signed gap at rest [m]
     axis: np.ndarray  #: (P, 2) unit direction a -> b of the closest points at rest (zeros: none)
+    #: (S + V, 2) int64, the real slabs whose rows make up a slab's contact row (-1: none, the
+    #: ground): (s, -1) for a real slab, the floors below and above for a facade slab
+    floors: np.ndarray
+    weights: np.ndarray  #: (S + V, 2) their weights: (1, 0), or the storey shape's (N1, N2)
 
 
 class Modes(NamedTuple):

@@ -48,7 +48,7 @@ def _point_bounds(rows, off, n_modes, building, storey, z, R, d, w):
 def motion_bounds(z0, z1, p, geo):
     """Bounds (V [m/s], A [m/s^2]) on the relative speed and acceleration of pair p's points
     over a step from z0 to z1 (n, 3) (see the module docstring)."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
     d = np.empty(3)
     w = np.empty(3)
     a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]

@@ -23,11 +23,11 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.base import newton_lcp
+from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
 from pounding.framework.crossing import suspect
-from pounding.framework.pairs import closing, pair_features, pair_gap
+from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 from pounding.framework.peaks import cubic_abs_max
 
 
@@ -84,7 +84,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     A, B = tr.A, tr.B
     L = modes.L
     dt, ag = ground.dt, ground.ag
-    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
+    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
     instant = settings.instant
     n = z.shape[0]
@@ -224,85 +224,162 @@ def modal_load(L, i, ag):
 @njit
 def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     """Newton impulses at time t [s] on every touching, approaching pair among ``candidates``
-    (P,) bool that is not held: the contact step of a law whose impulses are
-    :func:`~pounding.contact.base.newton_lcp` with ``settings.restitution``.
+    (P,) bool that is not held, solved together: the contact step of a law whose impulses are
+    :func:`~pounding.contact.base.newton_group` with ``settings.restitution``.
 
-    The one implementation of impulses at an instant: the kernel calls it after a step that
-    ends in contact, the driver's Python path (``Driver.contact_at``) for laws that declare
-    ``compiled_impulses``. ag (c,) is the ground acceleration at t and fc (n,) the modal contact
-    force acting (held pairs), for the equilibrium accelerations of ``after_eq``.
+    The kernel calls it after a step that ends in contact. ag (c,) is the ground acceleration
+    at t and fc (n,) the modal contact force acting (held pairs), for the equilibrium
+    accelerations of ``after_eq``.
 
-    Pairs are taken in order, each with the velocities the previous ones left. Each impact
-    appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to ``log.impacts``;
-    the state before the first impulse at t goes to the log's event states unless the last
-    one recorded (``log.last_t``) is already at t. Returns (acted, zeno): whether an impulse acted, and whether
-    a pair's rebound is too slow to open the tolerance within one step (``log.zeno`` is set
-    for it).
+    The features of every touching pair (:func:`~pounding.framework.pairs.touching_features`)
+    are stacked. Touching pairs linked through a shared building (a building struck from both
+    sides, two storeys of one pair) form one Newton problem over all their features, with the
+    Delassus matrix W = Wr Wr^T of their stacked rows
+    (:func:`~pounding.framework.pairs.building_groups`), when one of them approaches (a point
+    closing faster than ``v_min``; slower is rounding); the others take part with their
+    points that only touch (Newton's cradle). Groups share no mode, so they are independent.
+    A group of one pair is the problem of that pair alone, with the same arithmetic as when
+    pairs were solved one by one.
+
+    Each impulse appends a record (:data:`~pounding.framework.bundles.IMPACT_DTYPE`) to
+    ``log.impacts``, in pair order; the state before the impulses at t goes to the log's event
+    states unless the last one recorded (``log.last_t``) is already at t. Returns (acted,
+    zeno): whether an impulse acted, and whether a pair's rebound is too slow to open the
+    tolerance within one step (``log.zeno`` is set for it).
     """
     tol, v_min = settings.tol, settings.v_min
     n = z.shape[0]
     q = z[:, 0].copy()
-    held = False
-    acted = False
-    for p in range(candidates.shape[0]):
-        if not candidates[p]:
+    v = z[:, 1].copy()
+    m, pair, who, vertex, Q, N, Wst = touching_features(q, candidates, tol, n, geo)
+    b, kept, approaching = closing_speeds(Wst, pair, m, v, v_min)
+    if not np.any(approaching):
+        return False, False
+    label = building_groups(kept, geo)
+    # a group is a Newton problem when one of its pairs approaches; its touching pairs that do
+    # not approach take part (a building pushed into its other neighbour: Newton's cradle)
+    live = np.zeros(kept.shape[0], dtype=np.bool_)
+    for j in range(kept.shape[0]):
+        if approaching[j]:
+            live[label[j]] = True
+    I_all = np.zeros(m)
+    after_all = np.zeros(m)
+    in_pair = np.full(candidates.shape[0], -1, dtype=np.int64)
+    for j in range(kept.shape[0]):
+        in_pair[kept[j]] = label[j]
+    for g in range(kept.shape[0]):
+        if label[g] != g or not live[g]:
             continue
-        if pair_gap(q, p, tol, geo) > tol:
+        idx = group_features(pair, m, in_pair, g)
+        Wg = Wst[idx]
+        bg = b[idx]
+        D = Wg @ Wg.T
+        I = newton_group(D, bg, settings.restitution)
+        after = bg - D @ I
+        for r in range(idx.shape[0]):
+            I_all[idx[r]] = I[r]
+            after_all[idx[r]] = after[r]
+    if not np.any(I_all > 0):
+        return False, False
+    if log.last_t[0] != t:
+        ne = log.n_events[0]
+        log.t[ne] = t
+        for i in range(n):
+            log.q[ne, i] = z[i, 0]
+            log.v[ne, i] = z[i, 1]
+        log.n_events[0] += 1
+        log.last_t[0] = t
+    for g in range(kept.shape[0]):
+        if label[g] != g or not live[g]:
             continue
-        count, Qp, Np, _, who, idx, face, Wp = pair_features(q, p, tol, n, geo)
-        if count == 0:
-            continue
-        W = Wp[:count].copy()
-        b = -(W @ z[:, 1].copy())
-        if np.max(b) <= v_min:  # rounding-level closing is not approach
-            continue
-        for j in range(count):
-            if b[j] > 0.0 and b[j] <= v_min:
-                b[j] = 0.0
-        D = W @ W.T
-        I = newton_lcp(D, b, settings.restitution)
-        if not np.any(I > 0):
-            continue
-        after = b - D @ I
-        if log.last_t[0] != t:
-            ne = log.n_events[0]
-            log.t[ne] = t
-            for i in range(n):
-                log.q[ne, i] = z[i, 0]
-                log.v[ne, i] = z[i, 1]
-            log.n_events[0] += 1
-            log.last_t[0] = t
-        acted = True
-        dv = W.T @ I
+        idx = group_features(pair, m, in_pair, g)
+        Wg = Wst[idx]
+        dv = Wg.T @ I_all[idx]
         for i in range(n):
             z[i, 1] += dv[i]
-        if settings.after_eq:
-            for i in range(n):
-                z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
-        for j in range(count):
-            if I[j] > 0:
-                r = log.n_impacts[0]
-                rec = log.impacts[r]
-                rec["time"] = t
-                rec["pair"] = p
-                rec["striker"] = who[j]
-                rec["vertex"] = -1 if face[j] >= 0 else idx[j]
-                rec["impulse"] = I[j]
-                rec["nx"] = Np[j, 0]
-                rec["ny"] = Np[j, 1]
-                rec["approach_velocity"] = b[j]
-                rec["energy_loss"] = 0.5 * I[j] * (b[j] + after[j])
-                rec["px"] = Qp[j, 0]
-                rec["py"] = Qp[j, 1]
-                log.n_impacts[0] += 1
-        # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
-        # of ever smaller impacts that accumulates in finite time and ends with the points
-        # moving together, all their closing kinetic energy lost. The pair is held: its next
-        # approach is stopped plastically (the sequence's limit), see held.stop_closing.
-        if np.max(b) * dt < tol:
-            log.zeno[p] = True
+    if settings.after_eq:
+        for i in range(n):
+            z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
+    held = False
+    for j in range(m):
+        if I_all[j] > 0:
+            r = log.n_impacts[0]
+            rec = log.impacts[r]
+            rec["time"] = t
+            rec["pair"] = pair[j]
+            rec["striker"] = who[j]
+            rec["vertex"] = vertex[j]
+            rec["impulse"] = I_all[j]
+            rec["nx"] = N[j, 0]
+            rec["ny"] = N[j, 1]
+            rec["approach_velocity"] = b[j]
+            rec["energy_loss"] = 0.5 * I_all[j] * (b[j] + after_all[j])
+            rec["px"] = Q[j, 0]
+            rec["py"] = Q[j, 1]
+            log.n_impacts[0] += 1
+    # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
+    # of ever smaller impacts that accumulates in finite time and ends with the points
+    # moving together, all their closing kinetic energy lost. The pair is held: its next
+    # approach is stopped plastically (the sequence's limit), see held.stop_closing.
+    # A touching pair that did not approach is not in such a sequence.
+    s = 0
+    c = 0
+    while s < m:
+        e = s
+        top = -np.inf
+        hit = False
+        while e < m and pair[e] == pair[s]:
+            top = max(top, b[e])
+            hit = hit or I_all[e] > 0
+            e += 1
+        if hit and approaching[c] and top * dt < tol:
+            log.zeno[pair[s]] = True
             held = True
-    return acted, held
+        s = e
+        c += 1
+    return True, held
+
+
+@njit
+def closing_speeds(Wst, pair, m, v, v_min):
+    """Closing speeds b (m,) = -Wr v [m/s] of stacked features, computed pair by pair (rows
+    Wst (cap, n) grouped by ``pair``), the touching pairs (k,) in stacked order and whether
+    each approaches (k,) bool: has a point closing faster than ``v_min``. Closing below v_min
+    is rounding, not approach: such speeds are set to 0."""
+    b = np.zeros(m)
+    touching = np.empty(m, dtype=np.int64)
+    approaching = np.zeros(m, dtype=np.bool_)
+    nk = 0
+    s = 0
+    while s < m:
+        e = s
+        while e < m and pair[e] == pair[s]:
+            e += 1
+        bp = -(Wst[s:e].copy() @ v)
+        for j in range(e - s):
+            b[s + j] = 0.0 if (bp[j] > 0.0 and bp[j] <= v_min) else bp[j]
+        touching[nk] = pair[s]
+        approaching[nk] = np.max(bp) > v_min
+        nk += 1
+        s = e
+    return b, touching[:nk].copy(), approaching[:nk].copy()
+
+
+@njit
+def group_features(pair, m, in_pair, g):
+    """Indices (k,) of the stacked features whose pair belongs to group g (``in_pair`` (P,):
+    group of every pair, -1 for a pair left out), in stacked order."""
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            c += 1
+    idx = np.empty(c, dtype=np.int64)
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            idx[c] = j
+            c += 1
+    return idx
 
 
 @njit
@@ -314,7 +391,7 @@ def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
     d1 = np.empty(3)
     w0 = np.empty(3)
     w1 = np.empty(3)
-    for s in range(rows.shape[0]):
+    for s in range(peak.shape[0]):  # the real slabs (rows may hold facade slabs after them)
         b = slab_building[s]
         i0, nb = n_modes[b, 0], n_modes[b, 1]
         r = rows[s, :, :nb]

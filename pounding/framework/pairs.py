@@ -9,12 +9,15 @@ takes as one argument:
 
 ``pa``, ``pb`` (P, 2) int
     (building, storey) of the two slabs of every pair.
-``rows`` (S, 3, nmax)
+``rows`` (S + V, 3, nmax)
     The Phi rows (u, v, phi) of every slab over its building's modes; slab
-    index = ``off[building] + storey``.
+    index = ``off[building] + storey``. After the S real slabs come the V facade
+    slabs (:mod:`pounding.framework.facade`: a neighbour's storey at the level of a
+    slab that strikes it between floors), addressed the same way by a pair whose
+    "storey" is their index minus ``off[building]``.
 ``n_modes`` (n_buildings, 2) int
     First stacked mode index and number of modes of every building.
-``verts`` (S, kmax, 2), ``nvert`` (S,), ``centres`` (S, 2), ``radii`` (S,)
+``verts`` (S + V, kmax, 2), ``nvert``, ``centres`` (S + V, 2), ``radii``
     Rest polygons [m], their vertex counts, centres of mass [m] and the
     largest distance of a vertex from the centre [m].
 ``rest`` (P,)
@@ -66,7 +69,7 @@ def pair_gap(q, p, cutoff, geo):
 @njit
 def pair_gap_into(q, p, cutoff, da, db, geo):
     """:func:`pair_gap` with scratch arrays da, db (3,) for the slabs' (u, v, phi), for hot loops."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
     slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q, da)
     slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q, db)
     sa = off[pa[p, 0]] + pa[p, 1]
@@ -112,7 +115,7 @@ def pair_features(q, p, tol, n, geo):
         Modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
         apart changes q' by W[k] I_k.
     """
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
     da = np.empty(3)
     db = np.empty(3)
     a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
@@ -125,47 +128,56 @@ def pair_features(q, p, tol, n, geo):
     count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
     W = np.zeros((MAX_FEATURES, n))
     for k in range(count):
-        contact_row(geo, a, sa, da, b, sb, db, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
+        contact_row(geo, q, a, sa, b, sb, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
     return count, Q, N, gap, who, idx, face, W
 
 
 @njit
-def contact_row(geo, a, sa, da, b, sb, db, qx, qy, nx, ny, w):
+def contact_row(geo, q, a, sa, b, sb, qx, qy, nx, ny, w):
     """Add the modal row of a contact at (qx, qy) [m] with unit normal (nx, ny) from slab a to
     slab b into w (n,): d gap = w . dq, and an impulse pair I pushing the slabs apart changes q'
-    by w I. Slabs a, b (building, slab index) are displaced by da, db (3,) = (u, v, phi).
+    by w I. Slabs a, b (building, slab index), modal displacements q (n,).
+
+    A slab's row is the sum over the real slabs that make it up (``geo.floors``, weights
+    ``geo.weights``) of their rigid-slab rows about their own displaced centres: a real slab is
+    itself with weight 1; a facade slab (:mod:`pounding.framework.facade`) is the floors below
+    and above with the storey shape's N1, N2, so that the impulse reaches each floor as the
+    force at Q with its moment about that floor's centre, exactly (momentum laws to rounding).
 
     The one implementation of the row: the compiled pair queries and the driver's
     :meth:`~pounding.framework.analysis.Model.row` both call it.
     """
-    rows, n_modes, centres = geo.rows, geo.n_modes, geo.centres
+    rows, off, n_modes, centres, floors, weights = geo.rows, geo.off, geo.n_modes, geo.centres, geo.floors, geo.weights
+    d = np.empty(3)
     for side in range(2):
         if side == 0:
-            sign, bld, s, d = -1.0, a, sa, da
+            sign, bld, s = -1.0, a, sa
         else:
-            sign, bld, s, d = 1.0, b, sb, db
-        rx = qx - (centres[s, 0] + d[0])
-        ry = qy - (centres[s, 1] + d[1])
-        g0 = nx
-        g1 = ny
-        g2 = rx * ny - ry * nx
-        i0 = n_modes[bld, 0]
-        for i in range(n_modes[bld, 1]):
-            w[i0 + i] += sign * (rows[s, 0, i] * g0 + rows[s, 1, i] * g1 + rows[s, 2, i] * g2)
+            sign, bld, s = 1.0, b, sb
+        for k in range(2):
+            f = floors[s, k]
+            if f < 0:
+                continue
+            slab_dofs(rows, off, n_modes, bld, f - off[bld], q, d)
+            rx = qx - (centres[f, 0] + d[0])
+            ry = qy - (centres[f, 1] + d[1])
+            g0 = nx
+            g1 = ny
+            g2 = rx * ny - ry * nx
+            sw = sign * weights[s, k]
+            i0 = n_modes[bld, 0]
+            for i in range(n_modes[bld, 1]):
+                w[i0 + i] += sw * (rows[f, 0, i] * g0 + rows[f, 1, i] * g1 + rows[f, 2, i] * g2)
 
 
 @njit
 def pair_row(q, p, qx, qy, nx, ny, geo):
     """The modal row (n,) of a contact of pair p at (qx, qy) with normal (nx, ny), for modal
     displacements q (n,) (see :func:`contact_row`)."""
-    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
-    da = np.empty(3)
-    db = np.empty(3)
+    pa, pb, off = geo.pa, geo.pb, geo.off
     a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
-    slab_dofs(rows, off, n_modes, a, fa, q, da)
-    slab_dofs(rows, off, n_modes, b, fb, q, db)
     w = np.zeros(q.shape[0])
-    contact_row(geo, a, off[a] + fa, da, b, off[b] + fb, db, qx, qy, nx, ny, w)
+    contact_row(geo, q, a, off[a] + fa, b, off[b] + fb, qx, qy, nx, ny, w)
     return w
 
 
@@ -242,7 +254,7 @@ def closing(q, v, p, tol, v_min, n, geo):
     """Whether a touching point of pair p (within ``tol``) closes faster than v_min [m/s],
     n . (v_Q(a) - v_Q(b)) > v_min with n from a to b, for modal displacements q and
     velocities v (n,): the velocity condition of an impact (eq. 7 of the paper)."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis = geo
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
     da = np.empty(3)
     db = np.empty(3)
     va = np.empty(3)
@@ -265,3 +277,84 @@ def closing(q, v, p, tol, v_min, n, geo):
         if N[j, 0] * (vax - vbx) + N[j, 1] * (vay - vby) > v_min:
             return True
     return False
+
+
+@njit
+def touching_features(q, candidates, tol, n, geo):
+    """Touching features (within ``tol``) of every candidate pair, stacked in pair order.
+
+    The first half of the impulse problem at an instant, shared by the compiled
+    (:func:`pounding.framework.kernel.impulses_at`) and the Python path
+    (``Driver._law_impulses_at``): which features touch and their modal rows, no arithmetic on
+    velocities. candidates (P,) bool.
+
+    Returns
+    -------
+    m : int
+        Number of features.
+    pair, who, vertex : (cap,) int
+        Pair of every feature, striking polygon (0: a vertex of a, 1: of b) and its vertex
+        (-1 face to face).
+    Q, N : (cap, 2)
+        Contact points [m] and unit normals from slab a towards slab b.
+    W : (cap, n)
+        Modal rows (:func:`contact_row`). Only the first m entries are valid.
+    """
+    cap = MAX_FEATURES
+    for p in range(candidates.shape[0]):
+        if candidates[p]:
+            cap += MAX_FEATURES
+    pair = np.empty(cap, dtype=np.int64)
+    who = np.empty(cap, dtype=np.int64)
+    vertex = np.empty(cap, dtype=np.int64)
+    Q = np.empty((cap, 2))
+    N = np.empty((cap, 2))
+    W = np.empty((cap, n))
+    m = 0
+    for p in range(candidates.shape[0]):
+        if not candidates[p]:
+            continue
+        if pair_gap(q, p, tol, geo) > tol:
+            continue
+        count, Qp, Np, _, wp, idx, face, Wp = pair_features(q, p, tol, n, geo)
+        for j in range(count):
+            pair[m] = p
+            who[m] = wp[j]
+            vertex[m] = -1 if face[j] >= 0 else idx[j]
+            Q[m] = Qp[j]
+            N[m] = Np[j]
+            W[m] = Wp[j]
+            m += 1
+    return m, pair, who, vertex, Q, N, W
+
+
+@njit
+def building_groups(plist, geo):
+    """Group label (k,) of every pair of ``plist`` (k,) int: pairs linked through shared buildings
+    (directly or along a row) share a label, the smallest position in ``plist`` of their group.
+
+    Impulses on pairs of different groups act on disjoint modes (their modal rows have no common
+    entry, so their Delassus coupling is exactly zero): each group is one Newton problem.
+    """
+    nb = geo.n_modes.shape[0]
+    parent = np.arange(nb)
+    for j in range(plist.shape[0]):
+        ra = _root(parent, geo.pa[plist[j], 0])
+        rb = _root(parent, geo.pb[plist[j], 0])
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    first = np.full(nb, -1, dtype=np.int64)
+    label = np.empty(plist.shape[0], dtype=np.int64)
+    for j in range(plist.shape[0]):
+        r = _root(parent, geo.pa[plist[j], 0])
+        if first[r] < 0:
+            first[r] = j
+        label[j] = first[r]
+    return label
+
+
+@njit
+def _root(parent, i):
+    while parent[i] != i:
+        i = parent[i]
+    return i

@@ -19,10 +19,11 @@ silenced (``[analysis] silence = ["mass_per_area"]`` or ``--silence NAME``).
   eigenvalue of its condensed matrix [N/m]) is above 1000x the median of the
   building's elements. Walls are 10-300x stiffer than frames; a section in mm
   or E in kPa is 1e3-1e12 off.
-* ``no_common_level``: two buildings with no slabs at a common level. Pounding
-  is checked between slabs at a common level only, so nothing is checked
-  between them (said once for the scene, naming every such pair). Unequal
-  storey heights, or a slip in one of them, are the usual cause.
+* ``no_common_level``: two buildings with no slabs at a common level. Their
+  slabs can only strike each other's facades between floors
+  (:mod:`pounding.framework.facade`), a stronger idealisation than slab against
+  slab (said once for the scene, naming every such pair). Unequal storey
+  heights, or a slip in one of them, are the usual cause.
 """
 
 from __future__ import annotations
@@ -55,8 +56,8 @@ CHECKS = (
           "an element missing or undersized in that storey, a wrong storey height, or an element's `storeys` too small"),
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
-    Check("no_common_level", "two buildings have no slabs at a common level: no pounding between them is checked",
-          "unequal storey heights (slab-to-column impacts between floors are not modelled), or a slip in a storey height"),
+    Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
+          "unequal storey heights (intended: see the facade contact in the README), or a slip in a storey height"),
 )
 NAMES = tuple(c.name for c in CHECKS)
 
@@ -99,8 +100,8 @@ def _no_common_level(buildings) -> list[Finding]:
     if not pairs:
         return []
     named = ", ".join(f"{a!r} and {b!r}" for a, b in pairs)
-    return [Finding("no_common_level", f"no slabs at a common level between {named}: pounding is checked between slabs at a common "
-                                       "level only, so nothing is checked there (unequal storey heights?)")]
+    return [Finding("no_common_level", f"no slabs at a common level between {named}: their slabs can only strike each other's "
+                                       "columns and walls between floors (slab-to-facade impacts; unequal storey heights?)")]
 
 
 def warn(scene, silence=()) -> list[Finding]:

@@ -164,6 +164,7 @@ CONTACT_LAWS: Registry = Registry(
     {
         "impulse": "pounding.contact.impulse:Impulse",
         "penalty": "pounding.contact.penalty:Penalty",
+        "facade_penalty": "pounding.contact.penalty:FacadePenalty",
         "none": "pounding.contact.none:NoContact",
     },
     "contact law",

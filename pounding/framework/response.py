@@ -159,19 +159,16 @@ def contact_row(result, q: np.ndarray, pair: int, point: np.ndarray, normal: np.
     """Modal row w (ntot,) of a contact at ``point`` [m] with unit ``normal`` (slab a -> b), modal state q.
 
     d gap = w . dq, and an impulse I pushing the slabs apart changes q' by w I
-    (mass-normalised modes: w . w = sum(1/m + h^2/J), the paper's a).
+    (mass-normalised modes: w . w = sum(1/m + h^2/J), the paper's a). The run's own row
+    (:func:`pounding.framework.pairs.contact_row`, on the pair geometry ``result.geo``), so a
+    facade pair's row is its storey shape's.
     """
-    a, fa, b, fb, _ = result.pairs[pair]
-    w = np.zeros(q.shape[0])
-    for sign, bld, f in ((-1.0, a, fa), (1.0, b, fb)):
-        s = result.systems[bld]
-        i0 = int(result.mode_start[bld])
-        rows = s.modes[3 * f : 3 * f + 3, :]
-        dofs = rows @ q[i0 : i0 + s.n_dof]
-        r = np.asarray(point) - (s.slabs[f].centre + dofs[:2])
-        g = np.array([normal[0], normal[1], r[0] * normal[1] - r[1] * normal[0]])
-        w[i0 : i0 + s.n_dof] += sign * (rows.T @ g)
-    return w
+    from pounding.framework.pairs import pair_row
+
+    if result.geo is None:
+        raise ValueError("the result carries no pair geometry (Result.geo): build it with Driver.result or load_result")
+    return pair_row(np.ascontiguousarray(q, dtype=float), int(pair), float(point[0]), float(point[1]), float(normal[0]), float(normal[1]),
+                    result.geo)
 
 
 def impact_instants(result) -> list[tuple[float, int, list[int]]]:
@@ -191,8 +188,8 @@ def impact_instants(result) -> list[tuple[float, int, list[int]]]:
 def impact_velocity_changes(result) -> list[tuple[float, np.ndarray, list[int], np.ndarray]]:
     """Per impact instant: (time, modal state before (q, q') as (2, ntot), impacts, modal velocity change (ntot,)).
 
-    The change is the sum of ``w_j I_j`` over the instant's impacts: the pairs act one after
-    the other at one instant, so their velocity changes add.
+    The change is the sum of ``w_j I_j`` over the instant's impacts (solved together or group by
+    group, their velocity changes add).
     """
     out = []
     for t, j, idx in impact_instants(result):

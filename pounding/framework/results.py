@@ -110,6 +110,14 @@ class Result:
     #: the integrator's own solution inside a step (:class:`pounding.framework.peaks.ExactIntraStep`) for
     #: the true peaks, or None (the cubic Hermite through the step ends); not written to files
     intra_step: object = field(default=None, repr=False)
+    #: the pair geometry of the run (:class:`~pounding.framework.bundles.PairArrays`): the modal
+    #: contact rows of impacts (:func:`pounding.framework.response.contact_row`) come from it
+    geo: object = None
+    #: {pair index: :class:`~pounding.framework.facade.Facade`} of the pairs where a slab strikes a
+    #: neighbour between its floors
+    facades: dict = field(default_factory=dict)
+    #: the scene's buildings (elements with their plan lines and sections), for the struck element
+    buildings: tuple = ()
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:
@@ -170,6 +178,14 @@ class Result:
     def striking_building(self, imp: Impact) -> str:
         a, _, b, _, _ = self.pairs[imp.pair]
         return self.names[a if imp.striker == 0 else b]
+
+    def struck_building(self, imp: Impact) -> str:
+        """The building struck: the pair's other building (for a facade pair, the one whose
+        columns and walls were hit, whichever polygon's vertex touched first)."""
+        a, _, b, _, _ = self.pairs[imp.pair]
+        if imp.pair in self.facades:
+            return self.names[b]
+        return self.names[b if imp.striker == 0 else a]
 
     def energy_balance(self) -> dict:
         """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work."""

@@ -218,7 +218,9 @@ def plot_displacement_histories(result, path, *, points: Sequence | None = None,
 
 
 def plot_impact_timeline(result, path) -> Path:
-    """Impacts: time vs storey, a marker per striking (building, vertex), area ~ impulse."""
+    """Impacts: time vs storey (of the striking slab), a marker per striking (building, vertex) and
+    what it struck (the other building's slab, or a storey's columns and walls between floors),
+    area ~ impulse."""
     fig = _figure(9.0, 4.0)
     ax = fig.add_subplot(1, 1, 1)
     storeys = sorted({p[1] + 1 for p in pairs_of(result)}) or [1]
@@ -226,10 +228,13 @@ def plot_impact_timeline(result, path) -> Path:
         ax.text(0.5, 0.5, "no impacts", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
     else:
         groups: dict = {}
+        facades = getattr(result, "facades", {})
         for imp in result.impacts:
-            key = (result.striking_building(imp), imp.vertex)
+            # what was struck: the other building's slab, or its columns and walls between floors
+            F = facades.get(imp.pair)
+            key = (result.striking_building(imp), imp.vertex, result.struck_building(imp), -1 if F is None else F.storey + 1)
             groups.setdefault(key, []).append(imp)
-        keys = sorted(groups, key=lambda k: (result.names.index(k[0]), k[1]))
+        keys = sorted(groups, key=lambda k: (result.names.index(k[0]), k[1], result.names.index(k[2]), k[3]))
         imax = max(i.impulse for i in result.impacts) or 1.0
         n = len(keys)
         for g, key in enumerate(keys):
@@ -238,9 +243,10 @@ def plot_impact_timeline(result, path) -> Path:
             t = [i.time for i in imps]
             y = [result.impact_storey(i) + off for i in imps]
             s = [15 + 300 * i.impulse / imax for i in imps]
-            label = f"{key[0]} {'face' if key[1] < 0 else f'vertex {key[1]}'}"
+            struck = f"{key[2]} slab" if key[3] < 0 else f"{key[2]} storey {key[3]} columns"
+            label = f"{key[0]} {'face' if key[1] < 0 else f'vertex {key[1]}'} -> {struck}"
             ax.scatter(t, y, s=s, marker=MARKERS[g % len(MARKERS)], color=COLOURS[g % len(COLOURS)], alpha=0.7, edgecolors="k", linewidths=0.4, label=label)
-        leg = ax.legend(title="striking", fontsize=8, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+        leg = ax.legend(title="striking -> struck", fontsize=8, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
         leg.get_frame().set_linewidth(0.4)
         for handle in getattr(leg, "legend_handles", getattr(leg, "legendHandles", [])):
             handle.set_sizes([40.0])

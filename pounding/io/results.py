@@ -21,7 +21,10 @@ are kept.
   n_impacts, impacts per storey, the pair's energy balance with the flag of a
   contact rule that creates energy.
 * ``impacts.csv``: one row per impact (header only while there is none), units
-  in the header, with the equivalent peak force and contact duration.
+  in the header, with the equivalent peak force and contact duration, and what was
+  struck: the building, storey, height and element, and for a slab striking a
+  neighbour between its floors the local stiffness and shear demand of the struck
+  element (:func:`pounding.framework.facade.impact_sites`).
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
   instants) for ``pounding plot`` and ``pounding render``.
@@ -41,6 +44,9 @@ from pounding.framework.results import Result
 IMPACT_COLUMNS = [
     "time [s]", "storey", "striking_building", "vertex", "impulse [N s]", "normal_x", "normal_y", "approach_velocity [m/s]",
     "energy_loss [J]", "peak_force [N]", "contact_duration [s]",
+    # what was struck (pounding.framework.facade.impact_sites): a slab, or a facade between floors
+    "struck_building", "struck_storey", "struck_height [m]", "struck_element", "struck_fraction",
+    "local_stiffness [N/m]", "struck_shear_below [N]", "struck_shear_above [N]",
 ]
 
 
@@ -117,14 +123,19 @@ def _true_drift_peaks(result: Result, name: str, peaks: dict) -> dict:
 
 
 def impact_rows(result: Result) -> list[list]:
+    """impacts.csv rows (:data:`IMPACT_COLUMNS`): ``storey`` is the pair's first slab's storey (1-based; for a
+    facade pair, the striking slab's), the struck side follows in the ``struck_*`` columns."""
+    from pounding.framework.facade import impact_sites
     from pounding.framework.response import impact_forces
 
     force, tau = impact_forces(result)
+    sites = impact_sites(result, force)
     return [
-        [i.time, result.impact_storey(i), result.striking_building(i), i.vertex, i.impulse, i.normal[0], i.normal[1], i.approach_velocity, i.energy_loss,
-         f, d]
-        for i, f, d in zip(result.impacts, force, tau)
+        [i.time, result.impact_storey(i), result.striking_building(i), i.vertex, i.impulse, i.normal[0], i.normal[1], i.approach_velocity,
+         i.energy_loss, f, d, *site]
+        for i, f, d, site in zip(result.impacts, force, tau, sites)
     ]
+
 
 
 def write_files(result: Result, folder: Path, scene_text: str | None = None) -> None:
@@ -207,6 +218,10 @@ def load_result(folder: str | Path):
         slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
         springs=springs,
     )
+    from pounding.framework.analysis import Model
+
+    model = Model(scene, result.systems)  # the pair geometry, as the run built it
+    result.geo, result.facades, result.buildings = model.geo, model.facades, scene.buildings
     return scene, result
 
 

@@ -192,7 +192,15 @@ def pair_gaps(result, pairs: Sequence | None = None) -> np.ndarray:
     """Signed gap of every pair (default ``result.pairs``) at every output step [m], shape (nt, n_pairs)."""
     slabs = [tuple(s.slabs) for s in result.systems]
     cm = [result.cm(n) for n in result.names]
-    return pair_gap_history(slabs, cm, result.pairs if pairs is None else pairs)
+    out = pair_gap_history(slabs, cm, result.pairs if pairs is None else pairs)
+    facades = getattr(result, "facades", None)
+    if pairs is None and facades:
+        # a slab against a neighbour's facade between floors: the facade's own motion (storey shape)
+        from pounding.framework.pairs import pair_gap
+
+        for p in facades:
+            out[:, p] = [pair_gap(np.ascontiguousarray(q), p, np.inf, result.geo) for q in result.q]
+    return out
 
 
 # =============================================================================
