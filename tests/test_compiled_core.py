@@ -181,3 +181,36 @@ def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert s["timings_s"]["solve"] == s["runtime_s"] == r.runtime_s
     assert s["timings_s"]["load_and_compile"] >= s["timings_s"]["compile"] >= 0.0
+
+
+@needs_numba
+def test_install_warm_up_compiles_only_what_runs_use():
+    """The install-time warm-up (``python -m pounding.compiler --warm``) compiles, for every compiled
+    function, only signatures that the runs it prepares use: the paper pair with pounding and the
+    same pair with contact off. Its ``shared`` task calls inner functions from Python so that the
+    other process finds them cached; a different argument type there would compile a second
+    specialization that no run loads. (Fresh processes on the package's cache: loads, no compiling
+    once the cache is warm.)"""
+    sigs = "print(json.dumps({k.__module__ + '.' + k.__name__: sorted(str(s) for s in k.signatures) for k in compiler.kernels() if k.signatures}))\n"
+    warmed = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
+                     + "".join(f"compiler._warm_task({t!r})\n" for t in compiler.WARM_TASKS) + sigs)
+    used: dict = {}
+    for contact in ("impulse", "none"):
+        out = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
+                      "from pounding.framework.analysis import run\nfrom pounding.io.scene import load_scene\n"
+                      f"run(load_scene({str(PAPER)!r}).with_analysis(contact={contact!r}))\n" + sigs)
+        for name, s in out.items():
+            used.setdefault(name, set()).update(s)
+    extra = {name: sorted(set(s) - used.get(name, set())) for name, s in warmed.items() if set(s) - used.get(name, set())}
+    assert extra == {}
+    assert set(used) <= set(warmed)  # and nothing a run uses is left to compile at its first call
+
+
+def test_warm_up_if_needed_returns_at_once_when_marked(tmp_path, monkeypatch):
+    """``--warm --if-needed`` (what ``make demo`` and ``make test`` run every time) starts no
+    process when this version of the compiled modules was already warmed."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(compiler, "enabled", lambda: True)
+    (tmp_path / "pounding-warmed.json").write_text("{}\n")
+    monkeypatch.setattr(subprocess, "Popen", lambda *a, **k: pytest.fail("a warm-up process was started"))
+    assert compiler.warm(if_needed=True, quiet=True)["skipped"] is True
