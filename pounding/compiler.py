@@ -156,10 +156,18 @@ def kernels() -> list[Kernel]:
 
 
 def compiled_modules() -> list[Path]:
-    """Source files of the package that declare compiled functions (a line ``@njit``), sorted."""
+    """Source files of the package that declare compiled functions (a line ``@njit``), sorted.
+
+    Files under ``__pycache__`` are not the package's source: the compiled steppers that
+    :mod:`pounding.framework.inelastic` generates per hysteresis law are written into the cache
+    folder itself, and counting them changed the key after every run of a yielding scene (the next
+    process then compiled everything again, into a new folder). They are derived from scanned
+    modules (``inelastic.py`` and the laws), so the key still changes when their source does."""
     pattern = re.compile(rb"^@njit\b", re.MULTILINE)
     out = []
     for path in sorted(PACKAGE_ROOT.rglob("*.py")):
+        if "__pycache__" in path.relative_to(PACKAGE_ROOT).parts:
+            continue
         try:
             if pattern.search(path.read_bytes()):
                 out.append(path)
@@ -375,7 +383,7 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
     if marker is None:  # no numba, or NUMBA_DISABLE_JIT: nothing to compile
         return {"skipped": False, "wall_s": time.perf_counter() - t0, "jobs": 0, "tasks": {}}
     jobs = max(1, min(len(WARM_TASKS), jobs or min(2, os.cpu_count() or 1)))
-    say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; ~30 s of CPU) ...")
+    say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; once per version of the code, about 40 s of CPU) ...")
     groups: list[list[str]] = [[WARM_TASKS[0]], list(WARM_TASKS[1:])] if jobs > 1 else [list(WARM_TASKS)]
     times: dict[str, float] = {}
     procs = {}
