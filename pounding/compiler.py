@@ -299,12 +299,15 @@ def _warm_task(name: str) -> None:
 
     The two processes of ``--jobs 2`` share the work without compiling the same function twice:
     numba caches every compiled function on its own, and a process that needs a function
-    another has already cached loads it. ``kernel``: the signed gap of two polygons and of a
-    slab pair (what the free stretch needs first), then a whole run of the paper pair with
-    pounding. ``shared``: what that run needs later, called from Python with the argument types
-    the compiled code passes: the touching features of a pair (the polygon contact points), the
-    Newton impulses, the features of several pairs, then the held stretch (a call over no
-    steps). ``free``: the contact-free stretch (the same scene with contact ``none``)."""
+    another has already cached loads it, but compiles it itself when the other is still at it.
+    ``kernel``: the polygon geometry (the signed gap and the contact points of two polygons,
+    which everything else calls), then tells the other process (``POUNDING_WARM_SENTINEL``),
+    then the gap of a slab pair and a whole run of the paper pair with pounding. ``shared``: the
+    Newton impulses (no geometry), then, once the geometry is cached, what that run needs later,
+    called from Python with the argument types the compiled code passes: the touching features
+    of a pair and of several pairs, and the held stretch (a call over no steps). ``free``: the
+    contact-free stretch (the same scene with contact ``none``). Measured in
+    ``benchmarks/bench_compile.py``."""
     import warnings
 
     import numpy as np
@@ -313,23 +316,33 @@ def _warm_task(name: str) -> None:
 
     warnings.simplefilter("ignore")
     scene = _paper_scene()
+    sentinel = os.environ.get("POUNDING_WARM_SENTINEL")
     if name == "kernel":
-        from pounding.contact.geometry import signed_gap
+        from pounding.contact.geometry import contact_points, signed_gap
 
         square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
         signed_gap(square, square + 2.0)
+        contact_points(square, square + np.array([1.0, 0.0]), 1e-4)
+        if sentinel:
+            Path(sentinel).touch()
         driver = Driver(scene)
         driver.model.pair_gap(np.zeros(driver.model.n), 0)
         run(scene)
     elif name == "shared":
         from pounding.contact.base import newton_impulses
 
+        import time
+
+        newton_impulses(np.eye(2), np.ones(2), 0.5)
+        waited = 0.0
+        while sentinel and not Path(sentinel).exists() and waited < 900.0:  # the geometry, compiled by `kernel`
+            time.sleep(0.1)
+            waited += 0.1
         driver = Driver(scene)
         model = driver.model
         q = np.zeros(model.n)
         model.features(q, 0, driver.tol)
         model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
-        newton_impulses(np.eye(2), np.ones(2), 0.5)
         driver.advance_held(0, 0)
     elif name == "free":
         run(scene.with_analysis(contact="none"))
@@ -386,10 +399,14 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
     say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; once per version of the code, about 40 s of CPU) ...")
     groups: list[list[str]] = [[WARM_TASKS[0]], list(WARM_TASKS[1:])] if jobs > 1 else [list(WARM_TASKS)]
     times: dict[str, float] = {}
+    import tempfile
+
     procs = {}
+    scratch = tempfile.TemporaryDirectory(prefix="pounding-warm-")
+    env = dict(os.environ, POUNDING_WARM_SENTINEL=str(Path(scratch.name) / "geometry-compiled"))
     for group in groups:
         cmd = [sys.executable, "-m", "pounding.compiler", "--task", ",".join(group)]
-        procs[",".join(group)] = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True)
+        procs[",".join(group)] = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
     failed = []
     while procs:
         for name, proc in list(procs.items()):
@@ -398,9 +415,13 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
             times[name] = time.perf_counter() - t0
             if proc.returncode != 0:
                 failed.append(f"{name}: {proc.stderr.read().strip()[-600:]}")
+                for other in procs.values():  # a worker may be waiting for the failed one
+                    if other is not proc and other.poll() is None:
+                        other.terminate()
             proc.stderr.close()
             del procs[name]
         time.sleep(0.05)
+    scratch.cleanup()
     wall = time.perf_counter() - t0
     if failed:
         raise RuntimeError("pounding: compiling the numerical core failed\n" + "\n".join(failed))
