@@ -1,13 +1,16 @@
 # Two commands do all set-up on a machine with Python 3.11+ and pip:
 #   make demo   - creates .venv, installs pounding, runs the paper example
 #   make test   - creates .venv, installs pounding with its test extra, runs pytest
+# Both then compile the numerical core once, in two processes (python -m pounding.compiler
+# --warm; skipped when this version of the compiled modules is already in the cache), so
+# that the first run loads machine code instead of compiling it.
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
 PIP    := $(PY) -m pip --disable-pip-version-check -q
 DEMO_OUT ?= demo_output
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean warm
 
 $(VENV)/.stamp-base: pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
@@ -20,15 +23,18 @@ $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-base
 	$(PIP) install -e examples/plugin_element
 	@touch $@
 
-demo: $(VENV)/.stamp-base
+warm: $(VENV)/.stamp-base
+	$(PY) -m pounding.compiler --warm --if-needed
+
+demo: $(VENV)/.stamp-base warm
 	$(VENV)/bin/pounding demo --out $(DEMO_OUT)
 
 # The openseespy 3.7.1 wheel (Python 3.11) needs BLAS/LAPACK; tests load the
 # copies it bundles (pounding.peer.opensees), so no system package is needed.
-test: $(VENV)/.stamp-test
+test: $(VENV)/.stamp-test warm
 	$(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS)
 
-bench: $(VENV)/.stamp-test
+bench: $(VENV)/.stamp-test warm
 	$(PY) benchmarks/run.py
 
 clean:

@@ -11,7 +11,13 @@ Whole processes, median of N (default 5), in one run beside the baseline
 * warm in-process solver time (``Result.runtime_s``, median of 7) of the paper pair and
   of two 60-storey buildings with pounding; target: no worse than before;
 * where a cold run's time goes: every compiled function and its compile time
-  (one cold process).
+  (one cold process);
+* the install-time warm-up (``python -m pounding.compiler --warm``, what ``make demo`` and
+  ``make test`` run once per version of the compiled modules) from an empty cache, in 2
+  processes and in 1, wall and CPU time, and the user's first ``pounding run`` after it.
+
+Cold figures depend heavily on the load of the machine: each is given with the load average
+read before and after.
 
 ``--python`` and ``--root`` measure another checkout the same way (e.g. the code
 before the change, for the "before" column): ``--python /work/main/.venv/bin/python
@@ -44,9 +50,25 @@ def timed(cmd: list[str], env: dict, cwd: Path) -> float:
     return dt
 
 
+def timed_cpu(cmd: list[str], env: dict, cwd: Path) -> dict:
+    """Wall and CPU (user + system of the process and its children) time [s] of one command."""
+    import resource
+
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    load0 = os.getloadavg()[0]
+    wall = timed(cmd, env, cwd)
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+    return {"wall_s": wall, "cpu_s": cpu, "load_before": load0, "load_after": os.getloadavg()[0]}
+
+
 def median_of(cmd, env, cwd, reps) -> dict:
-    times = [timed(cmd, env, cwd) for _ in range(reps)]
-    return {"median_s": statistics.median(times), "min_s": min(times), "runs": reps}
+    """Median wall time [s] of ``reps`` runs, and their median CPU time (on a loaded machine the
+    wall time measures the other jobs as much as this one; the CPU time much less)."""
+    runs = [timed_cpu(cmd, env, cwd) for _ in range(reps)]
+    walls = [r["wall_s"] for r in runs]
+    return {"median_s": statistics.median(walls), "min_s": min(walls), "median_cpu_s": statistics.median(r["cpu_s"] for r in runs),
+            "runs": reps, "load": [runs[0]["load_before"], runs[-1]["load_after"]]}
 
 
 SOLVER = r"""
@@ -95,6 +117,7 @@ def main(argv=None) -> dict:
     ap.add_argument("--root", default=str(HERE.parent), help="that checkout's folder")
     ap.add_argument("--reps", type=int, default=5)
     ap.add_argument("--cold-reps", type=int, default=5)
+    ap.add_argument("--warm-reps", type=int, default=1, help="repetitions of the install-time warm-up (per job count)")
     ap.add_argument("--out", default=None, help="JSON file for the figures")
     args = ap.parse_args(argv)
     root = Path(args.root)
@@ -117,9 +140,23 @@ def main(argv=None) -> dict:
         cold = []
         for i in range(args.cold_reps):
             with tempfile.TemporaryDirectory() as cache:
-                cold.append(timed([exe, "run", paper, "--out", f"{tmp}/c{i}", "--quiet"], dict(env, NUMBA_CACHE_DIR=cache), root))
-            log(f"cold pounding run {i + 1}: {cold[-1]:.1f} s")
-        res["cold_run"] = {"median_s": statistics.median(cold), "min_s": min(cold), "runs": len(cold)}
+                cold.append(timed_cpu([exe, "run", paper, "--out", f"{tmp}/c{i}", "--quiet"], dict(env, NUMBA_CACHE_DIR=cache), root))
+            log(f"cold pounding run {i + 1}: {cold[-1]}")
+        walls = [c["wall_s"] for c in cold]
+        res["cold_run"] = {"median_s": statistics.median(walls), "min_s": min(walls), "runs": len(cold), "each": cold}
+        res["warm_up"] = {}
+        for jobs in (2, 1):
+            reps = []
+            for i in range(args.warm_reps):
+                with tempfile.TemporaryDirectory() as cache:
+                    cenv = dict(env, NUMBA_CACHE_DIR=cache)
+                    w = timed_cpu([py, "-m", "pounding.compiler", "--warm", "--jobs", str(jobs), "--quiet"], cenv, root)
+                    if jobs == 2:  # the user's first run after the install-time warm-up
+                        w["first_run_after_s"] = timed([exe, "run", paper, "--out", f"{tmp}/a{i}", "--quiet"], cenv, root)
+                reps.append(w)
+                log(f"warm-up with {jobs} process(es) {i + 1}: {w}")
+            res["warm_up"][f"jobs_{jobs}"] = {"median_wall_s": statistics.median(r["wall_s"] for r in reps),
+                                              "median_cpu_s": statistics.median(r["cpu_s"] for r in reps), "each": reps}
         with tempfile.TemporaryDirectory() as cache:
             p = subprocess.run([py, "-c", BREAKDOWN.format(paper=paper)], env=dict(env, NUMBA_CACHE_DIR=cache), cwd=root,
                                capture_output=True, text=True)
@@ -129,6 +166,8 @@ def main(argv=None) -> dict:
     log(f"warm solver: {res['solver']}")
     base = res["baseline_numpy_scipy"]["median_s"]
     res["ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_s"] / base, "info": res["info"]["median_s"] / base}
+    base_cpu = res["baseline_numpy_scipy"]["median_cpu_s"]
+    res["cpu_ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_cpu_s"] / base_cpu, "info": res["info"]["median_cpu_s"] / base_cpu}
     if args.out:
         Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))

@@ -39,7 +39,9 @@ def test_cache_key_covers_every_compiled_module():
     for name in COMPILED_PACKAGES:
         importlib.import_module(name)
     scanned = {str(p) for p in compiler.compiled_modules()}
+    # steppers generated per hysteresis law live in the cache folder and are keyed through their sources
     declaring = {str(Path(sys.modules[k.__module__].__file__).resolve()) for k in compiler.kernels()}
+    declaring = {p for p in declaring if "__pycache__" not in Path(p).parts}
     if compiler.enabled():
         assert declaring, "no compiled function declared"
     assert declaring <= scanned, sorted(declaring - scanned)
@@ -58,6 +60,20 @@ def test_cache_key_changes_with_a_compiled_module(tmp_path, monkeypatch):
     assert compiler.cache_key() == k0  # not a compiled module
     (root / "a.py").write_text("@njit\ndef f(x):\n    return 2 * x\n")
     assert compiler.cache_key() != k0
+
+
+def test_cache_key_ignores_files_written_into_the_cache(tmp_path, monkeypatch):
+    """Compiled modules generated into the cache folder (the per-law steppers of yielding runs)
+    do not change the key: a yielding run must not send the next process to a new, empty cache."""
+    root = tmp_path / "pkg"
+    root.mkdir()
+    (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
+    monkeypatch.setattr(compiler, "PACKAGE_ROOT", root)
+    k0 = compiler.cache_key()
+    generated = root / "__pycache__" / ("numba-" + k0) / "steppers"
+    generated.mkdir(parents=True)
+    (generated / "stepper_law.py").write_text("@njit\ndef stretch(x):\n    return x\n")
+    assert compiler.cache_key() == k0
 
 
 def test_loading_a_scene_and_info_import_no_numba():
@@ -181,3 +197,33 @@ def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
     s = json.loads((tmp_path / "out" / "summary.json").read_text())
     assert s["timings_s"]["solve"] == s["runtime_s"] == r.runtime_s
     assert s["timings_s"]["load_and_compile"] >= s["timings_s"]["compile"] >= 0.0
+
+
+@needs_numba
+def test_install_warm_up_covers_the_runs_with_one_specialization_each():
+    """The install-time warm-up (``python -m pounding.compiler --warm``) prepares what the runs it is
+    for call from Python (the paper pair with pounding, and with contact off) with the very
+    signatures those runs use, and its own calls from Python (the ``shared`` task, which compiles
+    inner functions ahead for the other process) add no second specialization: every compiled
+    function it touches has one signature. (Fresh processes on the package's cache: once the cache
+    is warm they load machine code and compile nothing. Which inner functions a second process then
+    loads rather than compiles is shown by ``NUMBA_DEBUG_CACHE=1``, see benchmarks/README.md.)"""
+    sigs = "print(json.dumps({k.__module__ + '.' + k.__name__: sorted(str(s) for s in k.signatures) for k in compiler.kernels() if k.signatures}))\n"
+    warmed = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
+                     + "".join(f"compiler._warm_task({t!r})\n" for t in compiler.WARM_TASKS) + sigs)
+    assert {name: s for name, s in warmed.items() if len(s) != 1} == {}
+    for contact in ("impulse", "none"):
+        used = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
+                       "from pounding.framework.analysis import run\nfrom pounding.io.scene import load_scene\n"
+                       f"run(load_scene({str(PAPER)!r}).with_analysis(contact={contact!r}))\n" + sigs)
+        assert {name: s for name, s in used.items() if warmed.get(name) != s} == {}
+
+
+def test_warm_up_if_needed_returns_at_once_when_marked(tmp_path, monkeypatch):
+    """``--warm --if-needed`` (what ``make demo`` and ``make test`` run every time) starts no
+    process when this version of the compiled modules was already warmed."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(compiler, "enabled", lambda: True)
+    (tmp_path / "pounding-warmed.json").write_text("{}\n")
+    monkeypatch.setattr(subprocess, "Popen", lambda *a, **k: pytest.fail("a warm-up process was started"))
+    assert compiler.warm(if_needed=True, quiet=True)["skipped"] is True
