@@ -17,10 +17,10 @@ def add_parser(sub) -> None:
         help="minimum separation gap that avoids pounding, with ABS/SRSS/DDC estimates",
         description=(
             "Find the smallest clear distance between the facing slab edges (at rest, along the direction) at which no "
-            "pair of slabs ever touches under the scene's ground motion, from one run without contact (rotations "
+            "pair of slabs ever touches (nor a slab the other building's facade between two of its floors) under the scene's ground motion, from one run without contact (rotations "
             "included, any polygon). The second building of the scene is the one moved. With three or more buildings "
-            "(a row or block), the same for every adjacent pair (slabs at a common level facing each other with no "
-            "building between), each pair measured and checked as if it stood alone, from one run. Reports the governing storey, "
+            "(a row or block), the same for every adjacent pair (slabs at a common level, or a slab between two floors of "
+            "the other building against its facade, facing each other with no building between), each pair measured and checked as if it stood alone, from one run. Reports the governing storey, "
             "instant and corner, checks the answer with two full runs at 0.99x (impacts expected) and 1.01x (none), and "
             "prints the building-code estimates ABS, SRSS and DDC from the same run. Exit code 1 if the check fails."
         ),
@@ -84,7 +84,7 @@ def cmd_gap(args: argparse.Namespace) -> int:
 def _row(args, scene, direction) -> int:
     """Three or more buildings: the required gap of every adjacent pair, each checked alone."""
     from pounding.errors import InputError
-    from pounding.framework.gap import minimum_gaps, pair_scene, verify_gap
+    from pounding.framework.gap import minimum_gaps, pair_scene, pair_sites, verify_gap
 
     for opt in ("angles", "history"):
         if getattr(args, opt) is not None:
@@ -94,8 +94,7 @@ def _row(args, scene, direction) -> int:
     partial = []  # pairs facing at some of their common storeys only: alone they would meet at the others too
     for r in row.reports:
         a, b = (scene.buildings[names.index(n)] for n in r.buildings)
-        n_common = sum(abs(sa.elevation - sb.elevation) < 1e-6 for sa in a.slabs for sb in b.slabs)
-        if len(r.required) < n_common:
+        if len(r.required) < len(pair_sites(a, b)):
             partial.append(r.buildings)
         elif not args.no_check:
             verify_gap(pair_scene(scene, names.index(a.name), names.index(b.name)), r)
@@ -110,7 +109,7 @@ def _row(args, scene, direction) -> int:
                 print(f"  faces {r.buildings[1]!r} at storeys {', '.join(str(fa) for fa, _, _, _ in r.required)} only (a building "
                       "between them below): required gap over those storeys, not checked by runs of the pair alone")
         for a, b in row.screened:
-            print(f"{a!r} and {b!r}: not adjacent (a building stands between them at every common level): no gap reported")
+            print(f"{a!r} and {b!r}: not adjacent (a building stands between them wherever they could meet): no gap reported")
     if any(r.check is not None and not r.check.ok for r in row.reports):
         print("pounding: warning: the check runs disagree with the minimum gap of a pair (see 'check')", file=sys.stderr)
         return 1
@@ -168,10 +167,24 @@ def write_history(report, path: Path) -> Path:
     path.parent.mkdir(parents=True, exist_ok=True)
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(["time"] + [f"clearance_storey_{fa}" for fa, _, _, _ in report.required])
+        w.writerow(["time"] + [_column(report, k) for k in range(len(report.required))])
         for t, row in zip(report.t, report.clearance):
             w.writerow([repr(float(t))] + [repr(float(c)) if math.isfinite(c) else "" for c in row])
     return path
+
+
+def _column(report, k: int) -> str:
+    """History column of row k of ``report.required``: a common storey, or a slab against a facade."""
+    fa = report.required[k][0]
+    F = report.facades[k] if k < len(report.facades) else None
+    if F is None:
+        return f"clearance_storey_{fa}"
+    return f"clearance_{F['striking']}_slab_{F['slab_storey']}_{F['struck']}_facade_storey_{F['struck_storey']}"
+
+
+def _facade_words(F: dict) -> str:
+    return (f"slab {F['slab_storey']} of {F['striking']!r} (z = {F['height']:.3f} m) against the facade of {F['struck']!r} "
+            f"in its storey {F['struck_storey']} (eta = {F['eta']:.3f})")
 
 
 def format_report(r) -> str:
@@ -180,12 +193,18 @@ def format_report(r) -> str:
     lines = [f"gap between {a!r} and {b!r} along ({dx:.4g}, {dy:.4g}) ({b!r} moved)"]
     lines.append(f"  clear distance at rest in the scene: {r.current_gap:.4f} m")
     lines.append(f"  minimum gap (no slabs ever touch):  {r.min_gap:.4f} m")
+    where = f"storey {r.storey}" if r.facade is None else _facade_words(r.facade)
     lines.append(
-        f"  governing: storey {r.storey} at t = {r.time:.3f} s, corner {r.vertex} of {r.striking!r} against edge {r.edge} of "
+        f"  governing: {where} at t = {r.time:.3f} s, corner {r.vertex} of {r.striking!r} against edge {r.edge} of "
         f"{r.struck!r} at ({r.point[0]:.3f}, {r.point[1]:.3f})"
     )
-    per = ", ".join(f"{fa}: {g:.4f} m" for fa, _, g, _ in r.required if g is not None)
-    lines.append(f"  required per storey: {per}")
+    facades = r.facades or [None] * len(r.required)
+    per = ", ".join(f"{fa}: {g:.4f} m" for (fa, _, g, _), F in zip(r.required, facades) if g is not None and F is None)
+    if per:
+        lines.append(f"  required per storey: {per}")
+    for (_, _, g, _), F in zip(r.required, facades):
+        if F is not None and g is not None:
+            lines.append(f"  required, {_facade_words(F)}: {g:.4f} m")
     if r.check is not None:
         c = r.check
         verdict = "OK" if c.ok else "FAILED"

@@ -28,6 +28,17 @@ continuous trajectory, refined inside the steps next to the largest step-end
 values on the integrator's own interpolant (:mod:`pounding.framework.peaks`).
 :func:`verify_gap` checks it with two full runs at 0.99 and 1.01 times the answer.
 
+Slabs between a neighbour's floors
+----------------------------------
+A slab whose level lies strictly between two floors of the other building (or between the
+ground and its first floor), below its roof, strikes that building's facade (its columns and
+walls) there. The facade is the one the run with contact uses
+(:func:`pounding.framework.facade.facade`): the outline of the floor above, moving rigidly in
+plan with the Hermite blend N1 u_below + N2 u_above of the two floors' motions. Such a
+slab-facade pair is one more site, treated exactly like a pair of slabs at a common level
+(translation to contact along d at every step, refined inside the steps); a pair of buildings
+with no common level but such a site is adjacent.
+
 Building-code estimates
 -----------------------
 From the same run, at the governing storey, with u_a and u_b the peak
@@ -203,18 +214,77 @@ def direction_vector(value) -> np.ndarray | None:
     return v / np.hypot(*v)
 
 
+class _AtRest:
+    """A scene building seen by :func:`pounding.framework.facade.facade` before assembly: its slabs,
+    no modes (the facade's outline, storey and eta at rest; its rows come from the run's system)."""
+
+    def __init__(self, building):
+        self.slabs = building.slabs
+        self.modes = np.zeros((3 * len(building.slabs), 0))
+
+
+def _facade_at(building, height: float):
+    """The :class:`~pounding.framework.facade.Facade` of a scene building at ``height`` [m] at rest
+    (no modal rows), or None (at a floor, at or below the ground, above the roof)."""
+    from pounding.framework.facade import facade
+
+    return facade(_AtRest(building), -1, height)
+
+
+def pair_sites(a, b) -> list[tuple]:
+    """Every place where two buildings can meet, 0-based: slabs at a common level ``(fa, fb)`` first
+    (scene order), then a slab of one against the facade of the other between two of its floors:
+    ``(fa, j, "b")`` slab fa of a against b's storey j (0-based, between floor j - 1 or the ground
+    and floor j), and ``(j, fb, "a")`` slab fb of b against a's storey j."""
+    sites = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
+    for fa, sa in enumerate(a.slabs):
+        F = _facade_at(b, sa.elevation)
+        if F is not None:
+            sites.append((fa, F.storey, "b"))
+    for fb, sb in enumerate(b.slabs):
+        F = _facade_at(a, sb.elevation)
+        if F is not None:
+            sites.append((F.storey, fb, "a"))
+    return sites
+
+
+def _site_outlines(a, b, site) -> tuple[np.ndarray, np.ndarray]:
+    """Rest outlines (A, B) of a site: a slab, or the facade's (the outline of the floor above)."""
+    return a.slabs[site[0]].vertices, b.slabs[site[1]].vertices
+
+
+def _site_level(a, b, site) -> float:
+    """Elevation [m] of a site: the common level, or the striking slab's."""
+    if len(site) == 3 and site[2] == "a":
+        return float(b.slabs[site[1]].elevation)
+    return float(a.slabs[site[0]].elevation)
+
+
+def _site_facade(a, b, site) -> dict | None:
+    """What a slab-facade site is, for the report (None at a common level); storeys 1-based."""
+    if len(site) == 2:
+        return None
+    fa, fb, side = site
+    z = _site_level(a, b, site)
+    struck, striking, slab = (b, a, fa) if side == "b" else (a, b, fb)
+    F = _facade_at(struck, z)
+    return {"striking": striking.name, "slab_storey": slab + 1, "height": z, "struck": struck.name,
+            "struck_storey": F.storey + 1, "eta": F.eta}
+
+
 def _pair_of(scene: Scene, storeys=None):
-    """The two buildings and their common storeys [(storey a, storey b)] (0-based; only those in
-    ``storeys`` if given: a pair of a row where it faces, see :func:`facing_storeys`)."""
+    """The two buildings and their sites (:func:`pair_sites`; only those in ``storeys`` if given: a
+    pair of a row where it faces, see :func:`facing_storeys`)."""
     if len(scene.buildings) != 2:
         raise InputError(f"setting or designing one gap needs a scene of exactly two buildings, this one has {len(scene.buildings)} "
                          "(`pounding gap` reports every adjacent pair of a row)", field="building")
     a, b = scene.buildings
-    common = [(fa, fb) for fa, sa in enumerate(a.slabs) for fb, sb in enumerate(b.slabs) if abs(sa.elevation - sb.elevation) < LEVEL_TOL]
+    common = pair_sites(a, b)
     if storeys is not None:
         common = [c for c in common if c in set(storeys)]
     if not common:
-        raise InputError(f"buildings {a.name!r} and {b.name!r} have no storey at a common level: their slabs can never meet", field="building")
+        raise InputError(f"buildings {a.name!r} and {b.name!r} have no storey at a common level and no slab between the other's "
+                         "floors: their slabs can never meet", field="building")
     return a, b, common
 
 
@@ -252,13 +322,31 @@ def _crosses(p: np.ndarray, q: np.ndarray, V: np.ndarray) -> bool:
     return False
 
 
-def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple[int, int]]:
-    """Storeys (a, b), 0-based, at which buildings i and j have slabs at a common level facing each
-    other: the shortest segment between the two slabs at rest passes through no other building's
-    slab at that level (the segment's midpoint inside, or an edge crossed)."""
+def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple]:
+    """Sites (:func:`pair_sites`) at which buildings i and j face each other: the shortest segment
+    between the two slabs at rest passes through no other building's slab at that level (the
+    segment's midpoint inside, or an edge crossed). A slab against a facade: the segment from the
+    slab to the facade's outline, screened by another building's slab at that level or its facade
+    there (the outline of its floor above)."""
     bs = scene.buildings
     a, b = bs[i], bs[j]
     out = []
+    for site in pair_sites(a, b):
+        if len(site) == 2:
+            continue
+        A, B = _site_outlines(a, b, site)
+        z = _site_level(a, b, site)
+        pa, pb, _ = _closest_points(A, B)
+        between = []
+        for k, c in enumerate(bs):
+            if k in (i, j):
+                continue
+            at = [s.vertices for s in c.slabs if abs(s.elevation - z) < LEVEL_TOL]
+            F = None if at else _facade_at(c, z)
+            between += at if F is None else [F.vertices]
+        if not any(_crosses(pa, pb, V) for V in between):
+            out.append(site)
+    level = []
     for fa, sa in enumerate(a.slabs):
         for fb, sb in enumerate(b.slabs):
             if abs(sa.elevation - sb.elevation) >= LEVEL_TOL:
@@ -266,23 +354,23 @@ def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple[int, int]]:
             pa, pb, _ = _closest_points(sa.vertices, sb.vertices)
             between = [s.vertices for k, c in enumerate(bs) if k not in (i, j) for s in c.slabs if abs(s.elevation - sa.elevation) < LEVEL_TOL]
             if not any(_crosses(pa, pb, V) for V in between):
-                out.append((fa, fb))
-    return out
+                level.append((fa, fb))
+    return level + out
 
 
 def adjacent_pairs(scene: Scene) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
-    """(adjacent, screened): pairs (i, j), i < j, of buildings with slabs at a common level.
+    """(adjacent, screened): pairs (i, j), i < j, of buildings that can meet (:func:`pair_sites`:
+    slabs at a common level, or a slab of one between two floors of the other, below its roof).
 
-    A pair is adjacent when its slabs face each other at one common level at least
-    (:func:`facing_storeys`). A pair with common levels but a third building between them at
-    every one (the ends of a row of equal heights) is screened. Pairs with no common level are
-    in neither list (no slabs of theirs can meet).
+    A pair is adjacent when it faces at one site at least (:func:`facing_storeys`). A pair with
+    sites but a third building between them at every one (the ends of a row of equal heights) is
+    screened. Pairs with no site are in neither list (no slab of theirs can meet the other).
     """
     bs = scene.buildings
     adjacent, screened = [], []
     for i, a in enumerate(bs):
         for j in range(i + 1, len(bs)):
-            if not any(abs(sa.elevation - sb.elevation) < LEVEL_TOL for sa in a.slabs for sb in bs[j].slabs):
+            if not pair_sites(a, bs[j]):
                 continue
             (adjacent if facing_storeys(scene, i, j) else screened).append((i, j))
     return adjacent, screened
@@ -302,8 +390,8 @@ def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]
     if d is None:
         # the normal of the facing edges: the shortest segment between the slabs at rest
         best = None
-        for fa, fb in common:
-            pa, pb, dist = _closest_points(a.slabs[fa].vertices, b.slabs[fb].vertices)
+        for site in common:
+            pa, pb, dist = _closest_points(*_site_outlines(a, b, site))
             if best is None or dist < best[0]:
                 best = (dist, pa, pb)
         dist, pa, pb = best
@@ -311,11 +399,11 @@ def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]
         v = np.where(np.abs(v) < 1e-12 * max(1.0, float(np.abs(v).max())), 0.0, v)
         d = v / np.hypot(*v)
     lo, hi = np.inf, -np.inf
-    for fa, fb in common:
-        dl, _ = translation_to_contact(a.slabs[fa].vertices, b.slabs[fb].vertices, d)
+    for site in common:
+        dl, _ = translation_to_contact(*_site_outlines(a, b, site), d)
         if np.isfinite(dl):
             hi = max(hi, float(dl))
-        dr, _ = translation_to_contact(a.slabs[fa].vertices, b.slabs[fb].vertices, -d)
+        dr, _ = translation_to_contact(*_site_outlines(a, b, site), -d)
         if np.isfinite(dr):
             lo = min(lo, -float(dr))
     if not np.isfinite(hi):
@@ -420,6 +508,11 @@ class GapReport:
     #: the minimum gap over the step ends only (what a run with contact, which checks after each step, sees);
     #: ``min_gap`` is over the continuous trajectory (:mod:`pounding.framework.peaks`)
     min_gap_grid: float | None = None
+    #: the governing site when a slab strikes the other building's facade between two of its floors:
+    #: {"striking", "slab_storey", "height" [m], "struck", "struck_storey", "eta"} (storeys 1-based), else None
+    facade: dict | None = None
+    #: per row of ``required``: the same for slab-facade rows, None at a common level
+    facades: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         out = {
@@ -437,15 +530,23 @@ class GapReport:
             "corner": {"building": self.striking, "vertex": self.vertex},
             "edge": {"building": self.struck, "edge": self.edge},
             "point": [float(self.point[0]), float(self.point[1])],
-            "required_per_storey": [{"storey": fa, "storey_b": fb, "gap": g, "time": t} for fa, fb, g, t in self.required],
+            "required_per_storey": [self._row(k, fa, fb, g, t) for k, (fa, fb, g, t) in enumerate(self.required)],
             "periods": {self.buildings[0]: self.periods[0], self.buildings[1]: self.periods[1]},
             "damping_ratios": {self.buildings[0]: self.damping[0], self.buildings[1]: self.damping[1]},
             "peak_displacements": {self.buildings[0]: self.peaks[0], self.buildings[1]: self.peaks[1]},
             "rho": self.rho,
         }
+        if self.facade is not None:
+            out["facade"] = dict(self.facade)
         if self.check is not None:
             out["check"] = self.check.to_dict()
         return out
+
+    def _row(self, k: int, fa: int, fb: int, g, t) -> dict:
+        row = {"storey": fa, "storey_b": fb, "gap": g, "time": t}
+        if k < len(self.facades) and self.facades[k] is not None:
+            row["facade"] = dict(self.facades[k])
+        return row
 
 
 def _fundamental(system, d: np.ndarray) -> tuple[float, float]:
@@ -463,6 +564,49 @@ def _point_history(cm: np.ndarray, centre: np.ndarray, point: np.ndarray, d: np.
     return ux * d[0] + uy * d[1]
 
 
+@dataclass
+class _Side:
+    """One side of a site in a run: a slab or a facade, as modal rows (3, n) of its (u, v, phi) about
+    ``centre``, its rest outline, and its displaced-vertex offsets (nt, k, 2) at the output steps."""
+
+    name: str
+    vertices: np.ndarray
+    centre: np.ndarray
+    rows: np.ndarray
+    offsets: np.ndarray
+    facade: bool
+
+    def at(self, q: np.ndarray) -> np.ndarray:
+        """The displaced outline (k, 2) for the building's modal coordinates q (n,)."""
+        u, v, phi = self.rows @ q
+        r = self.vertices - self.centre
+        return self.vertices + np.stack([u - phi * r[:, 1], v + phi * r[:, 0]], axis=-1)
+
+
+def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
+    """The two sides of ``site`` (:func:`pair_sites`) in ``result``: the slabs' motion, or the facade
+    the driver uses (:func:`pounding.framework.facade.facade`, from the run's assembled system);
+    ``vertices``: {building name: ``result.vertices(name)``}."""
+    from pounding.framework.facade import facade
+
+    z = _site_level(a, b, site)
+    out = []
+    for building, f, struck in ((a, site[0], len(site) == 3 and site[2] == "a"), (b, site[1], len(site) == 3 and site[2] == "b")):
+        i = result.names.index(building.name)
+        system = result.systems[i]
+        if not struck:
+            k = len(building.slabs[f].vertices)
+            out.append(_Side(building.name, building.slabs[f].vertices, system.slabs[f].centre,
+                             np.asarray(system.modes, dtype=float)[3 * f: 3 * f + 3], vertices[building.name][:, f, :k], False))
+            continue
+        F = facade(system, i, z)
+        uvp = result.modal(building.name) @ F.rows.T  # (nt, 3) about the facade's centre
+        r = F.vertices - F.centre
+        off = np.stack([uvp[:, :1] - uvp[:, 2:] * r[:, 1], uvp[:, 1:2] + uvp[:, 2:] * r[:, 0]], axis=-1)
+        out.append(_Side(building.name, F.vertices, F.centre, F.rows, off, True))
+    return out[0], out[1]
+
+
 def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, storeys=None) -> GapReport:
     """The :class:`GapReport` from a run of ``scene`` (normally without contact; output every step).
 
@@ -472,7 +616,8 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     block by block, until the bound (raised by 1e-12 of the coordinates against rounding) falls
     below the best exact value found. The answer is the same (same values, same governing step on
     ties); ``clearance`` then holds ``inf`` at the steps not evaluated. ``storeys``: only these
-    common storeys (a, b), 0-based (a pair of a row, where it faces).
+    sites (:func:`pair_sites`; a pair of a row, where it faces). Sites are slabs at a common level
+    and slabs against the other building's facade between two of its floors.
     """
     a, b, common = _pair_of(scene, storeys)
     d, g0 = _oriented(scene, direction, storeys)
@@ -481,10 +626,11 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     nt = len(result.t)
     D = np.full((nt, len(common)), -np.inf)
     infos = []
-    for c, (fa, fb) in enumerate(common):
-        ka, kb = len(a.slabs[fa].vertices), len(b.slabs[fb].vertices)
-        A = a.slabs[fa].vertices + va[:, fa, :ka]
-        B = b.slabs[fb].vertices + vb[:, fb, :kb]
+    sides = [_sides(result, a, b, site, {a.name: va, b.name: vb}) for site in common]
+    for c, site in enumerate(common):
+        side_a, side_b = sides[c]
+        A = side_a.vertices + side_a.offsets
+        B = side_b.vertices + side_b.offsets
         info = {k: np.zeros(nt, dtype=float if k == "s" else int) for k in ("who", "vertex", "edge", "s")}
         if full:
             blocks = [slice(i0, min(nt, i0 + CHUNK)) for i0 in range(0, nt, CHUNK)]
@@ -511,7 +657,7 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     # (D itself, and the clearance history, stay at the step ends: what a run with contact checks)
     t_best = np.asarray(result.t, dtype=float)[np.argmax(D, axis=0)]
     cont = np.max(D, axis=0)
-    refined = _refine_inside_steps(result, a, b, common, d, D)
+    refined = _refine_inside_steps(result, a, b, sides, d, D)
     if refined is not None:
         for cc, (val, tc) in enumerate(refined):
             if val > cont[cc]:
@@ -519,30 +665,31 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     c = int(np.argmax(cont))
     k_t = int(np.argmax(D[:, c]))  # the governing step: the contact features are read there
     min_gap = g0 + float(cont[c])
-    fa, fb = common[c]
+    fa, fb = common[c][:2]
+    side_a, side_b = sides[c]
     info = {key: val[k_t] for key, val in infos[c].items()}
     who, vertex, edge, s = int(info["who"]), int(info["vertex"]), int(info["edge"]), float(info["s"])
     # the facing material points (rest positions) and the contact point at min_gap
-    sa, sb = a.slabs[fa], b.slabs[fb]
+    Va, Vb, oa = side_a.vertices, side_b.vertices, side_a.offsets
     if who == 1:  # a corner of b on an edge of a
         striking, struck = b.name, a.name
-        rest_b = sb.vertices[vertex]
-        ea0, ea1 = sa.vertices[edge], sa.vertices[(edge + 1) % len(sa.vertices)]
+        rest_b = Vb[vertex]
+        ea0, ea1 = Va[edge], Va[(edge + 1) % len(Va)]
         rest_a = ea0 + s * (ea1 - ea0)
-        point = rest_a + va[k_t, fa, edge] + s * (va[k_t, fa, (edge + 1) % len(sa.vertices)] - va[k_t, fa, edge])
+        point = rest_a + oa[k_t, edge] + s * (oa[k_t, (edge + 1) % len(Va)] - oa[k_t, edge])
     else:  # a corner of a on an edge of b
         striking, struck = a.name, b.name
-        rest_a = sa.vertices[vertex]
-        eb0, eb1 = sb.vertices[edge], sb.vertices[(edge + 1) % len(sb.vertices)]
+        rest_a = Va[vertex]
+        eb0, eb1 = Vb[edge], Vb[(edge + 1) % len(Vb)]
         rest_b = eb0 + s * (eb1 - eb0)
-        point = rest_a + va[k_t, fa, vertex]
-    u_a, u_b = _point_peaks(result, (a.name, fa, sa, rest_a), (b.name, fb, sb, rest_b), d, cm_a, cm_b)
+        point = rest_a + oa[k_t, vertex]
+    u_a, u_b = _point_peaks(result, (side_a, fa, rest_a), (side_b, fb, rest_b), d, cm_a, cm_b)
     sys_a, sys_b = (result.systems[result.names.index(n)] for n in (a.name, b.name))
     (T_a, z_a), (T_b, z_b) = _fundamental(sys_a, d), _fundamental(sys_b, d)
     rho = correlation(T_a, T_b, z_a, z_b)
     required = []
-    for cc, (ga, gb) in enumerate(common):
-        kk = int(np.argmax(D[:, cc]))
+    for cc, site in enumerate(common):
+        ga, gb = site[:2]
         required.append((ga + 1, gb + 1, float(g0 + cont[cc]) if np.isfinite(cont[cc]) else None, float(t_best[cc])))
     return GapReport(
         min_gap=float(min_gap),
@@ -568,14 +715,15 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
         ddc=math.sqrt(max(0.0, u_a * u_a + u_b * u_b - 2.0 * rho * u_a * u_b)),
         t=np.asarray(result.t),
         clearance=-D,
+        facade=_site_facade(a, b, common[c]),
+        facades=[_site_facade(a, b, site) for site in common],
     )
 
 
-def _point_row(system, f: int, rest: np.ndarray, d: np.ndarray) -> np.ndarray:
-    """Row over a building's modes of the displacement along d of slab f's material point ``rest``."""
-    Phi = np.asarray(system.modes, dtype=float)
-    r = np.asarray(rest, dtype=float) - system.slabs[f].centre
-    u, v, phi = Phi[3 * f], Phi[3 * f + 1], Phi[3 * f + 2]
+def _point_row(side: _Side, rest: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """Row over a building's modes of the displacement along d of a slab's or facade's material point ``rest``."""
+    r = np.asarray(rest, dtype=float) - side.centre
+    u, v, phi = side.rows
     return d[0] * (u - r[1] * phi) + d[1] * (v + r[0] * phi)
 
 
@@ -586,17 +734,17 @@ def _point_peaks(result, pa, pb, d, cm_a, cm_b) -> tuple[float, float]:
 
     seg = peaks.segments(result)
     out = []
-    for (name, f, slab, rest), cm in ((pa, cm_a), (pb, cm_b)):
+    for (side, f, rest), cm in ((pa, cm_a), (pb, cm_b)):
         if seg is None:
-            out.append(float(np.max(np.abs(_point_history(cm[:, f], slab.centre, rest, d)))))
+            hist = result.modal(side.name) @ side.rows.T if side.facade else cm[:, f]
+            out.append(float(np.max(np.abs(_point_history(hist, side.centre, rest, d)))))
             continue
-        system = result.systems[result.names.index(name)]
-        out.append(float(peaks.abs_peaks(peaks.building_segments(seg, result, name), _point_row(system, f, rest, d)[None, :])[0]))
+        out.append(float(peaks.abs_peaks(peaks.building_segments(seg, result, side.name), _point_row(side, rest, d)[None, :])[0]))
     return out[0], out[1]
 
 
-def _refine_inside_steps(result, a, b, common, d, D, top: int = 3):
-    """Per common storey: (max of the translation to contact inside the steps next to its ``top``
+def _refine_inside_steps(result, a, b, sides, d, D, top: int = 3):
+    """Per site (its two :class:`_Side`): (max of the translation to contact inside the steps next to its ``top``
     largest step-end values, the instant [s]) on the continuous trajectory; None when the output is
     thinned. The translation is piecewise smooth in the displacements (a fixed vertex on a fixed
     edge near its maximum), so a bounded search on each piece finds it."""
@@ -611,19 +759,13 @@ def _refine_inside_steps(result, a, b, common, d, D, top: int = 3):
     slb = slice(int(result.mode_start[ib]), int(result.mode_start[ib]) + sys_b.n_dof)
     t0 = np.asarray(seg.t0)
     out = []
-    for c, (fa, fb) in enumerate(common):
+    for c, (side_a, side_b) in enumerate(sides):
         if not np.any(np.isfinite(D[:, c])):
             out.append((-np.inf, 0.0))
             continue
-        ra, rb = sys_a.slabs[fa], sys_b.slabs[fb]
 
-        def polygon(system, f, slab, q):
-            u, v, phi = np.asarray(system.modes, dtype=float)[3 * f : 3 * f + 3] @ q
-            r = slab.vertices - slab.centre
-            return slab.vertices + np.stack([u - phi * r[:, 1], v + phi * r[:, 0]], axis=-1)
-
-        def D_of(q):
-            val, _ = translation_to_contact(polygon(sys_a, fa, ra, q[sla]), polygon(sys_b, fb, rb, q[slb]), d)
+        def D_of(q, side_a=side_a, side_b=side_b):
+            val, _ = translation_to_contact(side_a.at(q[sla]), side_b.at(q[slb]), d)
             return float(val) if np.isfinite(val) else -np.inf
 
         ks = np.argsort(-np.where(np.isfinite(D[:, c]), D[:, c], -np.inf), kind="stable")[:top]
