@@ -126,3 +126,28 @@ def test_cli_reports_the_facade_contact(tmp_path):
     assert header == ["time", "clearance_left_slab_1_right_facade_storey_2", "clearance_right_slab_1_left_facade_storey_1"]
     text = subprocess.run([sys.executable, "-m", "pounding", "gap", str(path), "--no-check"], capture_output=True, text=True, timeout=120)
     assert text.returncode == 0 and "against the facade of" in text.stdout
+
+
+def test_a_stepped_building_between_two_equal_ones_screens_them_and_faces_both():
+    """A row: "left" (one 3.0 m storey), "middle" (two 2.0 m storeys), "right" (one 3.0 m storey), 0.02 m apart
+    along x. left and right share the level 3.0 m, but middle's facade stands between them there: screened.
+    left-middle and middle-right share no level yet meet at the facades: both adjacent. Each pair's required
+    gap from the run of the row equals the pair's run alone (without contact the buildings are independent:
+    the same modal histories, so the same numbers to the rounding of the report, 1e-12 relative)."""
+    from pounding.framework.gap import facing_storeys, minimum_gaps, pair_scene
+    from scenes_for_tests import box_building
+
+    data = _stepped(duration=1.5)
+    data["building"][1]["name"] = "middle"
+    third = box_building("right", 22.04, 10.0, 10.0, 1, 0.3, 0.5)
+    third["storey_heights"] = [3.0]
+    data["building"].append(third)
+    sc = build(data)
+    assert adjacent_pairs(sc) == ([(0, 1), (1, 2)], [(0, 2)])
+    assert facing_storeys(sc, 0, 2) == [] and pair_sites(*sc.buildings[::2]) == [(0, 0)]
+    row = minimum_gaps(sc)
+    assert [r.buildings for r in row.reports] == [("left", "middle"), ("middle", "right")] and row.screened == [("left", "right")]
+    for r, (i, j) in zip(row.reports, [(0, 1), (1, 2)]):
+        alone = minimum_gap(pair_scene(sc, i, j))
+        assert r.min_gap == pytest.approx(alone.min_gap, rel=1e-12) and r.facade == alone.facade
+        assert r.facade is not None and r.current_gap == pytest.approx(0.02, abs=1e-12)

@@ -213,7 +213,7 @@ def format_report(r) -> str:
             f"{c.factors[1]:g}x = {c.gaps[1]:.4f} m -> {plural(c.n_impacts[1], 'impact')}  {verdict}"
         )
     lines.append(
-        f"  code estimates at storey {r.storey} from the peak displacements along the direction of the facing points "
+        f"  code estimates at {where} from the peak displacements along the direction of the facing points "
         f"({a}: {r.peaks[0]:.4f} m, {b}: {r.peaks[1]:.4f} m)"
     )
     lines.append(f"    {'rule':<6} {'gap [m]':>9} {'/ minimum':>10}")

@@ -322,40 +322,32 @@ def _crosses(p: np.ndarray, q: np.ndarray, V: np.ndarray) -> bool:
     return False
 
 
+def _screens(scene: Scene, i: int, j: int, z: float) -> list[np.ndarray]:
+    """Rest outlines at the level z [m] of the buildings other than i and j: a slab at that level,
+    else the facade there (the outline of the floor above, when z is between two floors)."""
+    out = []
+    for k, c in enumerate(scene.buildings):
+        if k in (i, j):
+            continue
+        at = [s.vertices for s in c.slabs if abs(s.elevation - z) < LEVEL_TOL]
+        F = None if at else _facade_at(c, z)
+        out += at if F is None else [F.vertices]
+    return out
+
+
 def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple]:
     """Sites (:func:`pair_sites`) at which buildings i and j face each other: the shortest segment
-    between the two slabs at rest passes through no other building's slab at that level (the
-    segment's midpoint inside, or an edge crossed). A slab against a facade: the segment from the
-    slab to the facade's outline, screened by another building's slab at that level or its facade
-    there (the outline of its floor above)."""
+    between their outlines at rest (slab, or facade: the outline of the floor above) passes
+    through no other building at that level, neither a slab of it at that level nor its facade
+    there (the segment's midpoint inside, or an edge crossed)."""
     bs = scene.buildings
     a, b = bs[i], bs[j]
     out = []
     for site in pair_sites(a, b):
-        if len(site) == 2:
-            continue
-        A, B = _site_outlines(a, b, site)
-        z = _site_level(a, b, site)
-        pa, pb, _ = _closest_points(A, B)
-        between = []
-        for k, c in enumerate(bs):
-            if k in (i, j):
-                continue
-            at = [s.vertices for s in c.slabs if abs(s.elevation - z) < LEVEL_TOL]
-            F = None if at else _facade_at(c, z)
-            between += at if F is None else [F.vertices]
-        if not any(_crosses(pa, pb, V) for V in between):
+        pa, pb, _ = _closest_points(*_site_outlines(a, b, site))
+        if not any(_crosses(pa, pb, V) for V in _screens(scene, i, j, _site_level(a, b, site))):
             out.append(site)
-    level = []
-    for fa, sa in enumerate(a.slabs):
-        for fb, sb in enumerate(b.slabs):
-            if abs(sa.elevation - sb.elevation) >= LEVEL_TOL:
-                continue
-            pa, pb, _ = _closest_points(sa.vertices, sb.vertices)
-            between = [s.vertices for k, c in enumerate(bs) if k not in (i, j) for s in c.slabs if abs(s.elevation - sa.elevation) < LEVEL_TOL]
-            if not any(_crosses(pa, pb, V) for V in between):
-                level.append((fa, fb))
-    return level + out
+    return out
 
 
 def adjacent_pairs(scene: Scene) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
