@@ -32,7 +32,7 @@ def add_parser(sub) -> None:
     p.add_argument("--json", action="store_true", help="print JSON instead of text")
     p.add_argument("--no-check", action="store_true", help="skip the two verification runs")
     p.add_argument("--history", type=Path, default=None, metavar="CSV",
-                   help="also write the clear distance along the direction at every common storey over time (scene as given) to CSV")
+                   help="also write the clear distance along the direction at every common storey and slab-facade site over time (scene as given) to CSV")
     p.add_argument("--angles", default=None, metavar="LIST",
                    help="vary the incidence angle of the ground motion (its first component) [deg], e.g. 0:180:19; "
                         "reports the angle that needs the largest gap and plots the gap against the angle")
@@ -91,7 +91,7 @@ def _row(args, scene, direction) -> int:
             raise InputError(f"--{opt} needs a scene of two buildings (this one has {len(scene.buildings)})", field=f"--{opt}")
     row = minimum_gaps(scene, direction)
     names = [b.name for b in scene.buildings]
-    partial = []  # pairs facing at some of their common storeys only: alone they would meet at the others too
+    partial = []  # pairs facing at some of their sites only: alone they would meet at the others too
     for r in row.reports:
         a, b = (scene.buildings[names.index(n)] for n in r.buildings)
         if len(r.required) < len(pair_sites(a, b)):
@@ -160,7 +160,7 @@ def _angle_study(args, scene, direction) -> int:
 
 
 def write_history(report, path: Path) -> Path:
-    """t and the clear distance along the direction per common storey [m] (negative: overlapping; empty: never facing)."""
+    """t and the clear distance along the direction per common storey or slab-facade site [m] (negative: overlapping; empty: never facing)."""
     import csv
     import math
 

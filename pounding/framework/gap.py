@@ -4,7 +4,7 @@ Method
 ------
 One run of the scene without contact (``contact = "none"``; both buildings
 are then independent, so this is one no-contact run of each building) gives
-the displaced slab polygons of every common storey at every step (rotations
+the displaced slab polygons of every common storey (and facade, below) at every step (rotations
 included, any simple polygon). For a plan unit vector d pointing from the
 first building towards the second, define for two polygons A, B
 
@@ -17,7 +17,7 @@ onto every edge of A and every vertex of A along -d onto every edge of B
 (:func:`translation_to_contact`): the last contact of two polygons sliding
 along a line is always a vertex of one on an edge of the other. Moving the
 second building by ``(s - g0) d``, where ``g0`` is the clear distance along d
-at rest in the scene as given (smallest over the common storeys), keeps every
+at rest in the scene as given (smallest over the sites), keeps every
 pair apart at every instant if and only if
 
     s > min_gap = g0 + max over storeys and time of D(A_f(t), B_f(t), d).
@@ -415,7 +415,7 @@ def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]
 
 
 def rest_gap(scene: Scene, direction=None) -> tuple[float, np.ndarray]:
-    """Clear distance at rest along the direction [m] (smallest over the common storeys) and the oriented unit direction."""
+    """Clear distance at rest along the direction [m] (smallest over the sites, :func:`pair_sites`) and the oriented unit direction."""
     d, g0 = _oriented(scene, direction)
     return g0, d
 
@@ -486,7 +486,7 @@ class GapReport:
     struck: str
     edge: int
     point: np.ndarray  # contact point in plan at the governing instant, second building at min_gap
-    required: list  # per common storey: (storey a, storey b, required gap, time)
+    required: list  # per site (:func:`pair_sites`): (storey a, storey b, required gap, time); see ``facades``
     periods: tuple[float, float]
     damping: tuple[float, float]
     peaks: tuple[float, float]  # peak displacement along d of the facing points at the governing storey
@@ -495,7 +495,7 @@ class GapReport:
     srss: float
     ddc: float
     t: np.ndarray = field(repr=False)
-    clearance: np.ndarray = field(repr=False)  # (nt, common storeys) clear distance along d in the scene as given, at the step ends
+    clearance: np.ndarray = field(repr=False)  # (nt, sites) clear distance along d in the scene as given, at the step ends
     check: GapCheck | None = None
     #: the minimum gap over the step ends only (what a run with contact, which checks after each step, sees);
     #: ``min_gap`` is over the continuous trajectory (:mod:`pounding.framework.peaks`)
@@ -603,7 +603,7 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     """The :class:`GapReport` from a run of ``scene`` (normally without contact; output every step).
 
     ``full=False`` evaluates the exact translation to contact only at the steps that can govern:
-    per common storey, steps are taken in decreasing order of the bound
+    per site, steps are taken in decreasing order of the bound
     ``max_i A_i . d - min_j B_j . d`` (two polygons that touch overlap in their projections on d),
     block by block, until the bound (raised by 1e-12 of the coordinates against rounding) falls
     below the best exact value found. The answer is the same (same values, same governing step on
@@ -782,7 +782,8 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     Parameters
     ----------
     scene : Scene
-        Exactly two buildings with at least one storey at a common level.
+        Exactly two buildings that can meet: a storey at a common level, or a slab between
+        two floors of the other (:func:`pair_sites`).
     direction : None, "x", "y", angle [degrees] or (dx, dy)
         The direction the gap is measured and the second building moved along
         (oriented from the first building towards the second). Default: the
@@ -808,7 +809,8 @@ class RowGaps:
     one run of the whole scene without contact, over the storeys where the pair faces
     (:func:`facing_storeys`), and measured as if the pair stood alone (the second building of
     the pair is the one moved); ``screened`` names the pairs with slabs at a
-    common level that never face each other (a building between them at every such level).
+    common level (or slab-facade sites) that never face each other (a building between them
+    at every such level).
     """
 
     reports: list
@@ -827,7 +829,7 @@ def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
 
     adjacent, screened = adjacent_pairs(scene)
     if not adjacent:
-        raise InputError("no two buildings have slabs at a common level facing each other: there is no gap to design", field="building")
+        raise InputError("no two buildings have slabs facing each other at a common level or a facade between floors: there is no gap to design", field="building")
     subs = [(pair_scene(scene, i, j), facing_storeys(scene, i, j)) for i, j in adjacent]
     for sub, storeys in subs:
         _oriented(sub, direction, storeys)  # bad directions fail before the run
