@@ -147,8 +147,9 @@ class Scene:
         """A copy with the second building moved along ``direction`` so that the clear distance at rest is ``gap`` [m].
 
         ``direction``: ``None`` (the normal of the facing slab edges), ``"x"``, ``"y"``, an angle [degrees from x]
-        or a plan vector (dx, dy); the clear distance is the smallest over the storeys at a common level, measured
-        along it (:func:`pounding.framework.gap.with_gap`, used by ``pounding gap`` and ``pounding sweep``).
+        or a plan vector (dx, dy); the clear distance is the smallest over the places where the buildings can
+        meet (slabs at a common level, and a slab against the neighbour's facade between its floors,
+        :func:`pounding.framework.gap.pair_sites`), measured along it (:func:`pounding.framework.gap.with_gap`, used by ``pounding gap`` and ``pounding sweep``).
         """
         from pounding.framework.gap import with_gap
 
