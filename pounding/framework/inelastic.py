@@ -82,24 +82,47 @@ class SpringSet:
 
     Attributes
     ----------
-    law : type
-        The hysteresis-law class shared by every spring (one law per building).
+    laws : tuple of type
+        The hysteresis-law classes of the building's springs, in order of first appearance.
+    law_id : ndarray (ns,) int
+        Index in ``laws`` of every spring's law.
     T : ndarray (ns, 3N)
         Deformation of every spring from the slab DOFs: u = T x [m].
     params : ndarray (ns, n_params)
-        Law parameters (k0 [N/m], Fy [N], b [-], ...).
+        Law parameters (k0 [N/m], Fy [N], b [-], ...), zero-padded to the widest law.
     element, storey : ndarray (ns,) int
         Element index in the building (0-based) and storey (1 = first floor).
     height : ndarray (ns,)
         Storey height [m].
     """
 
-    law: type
+    laws: tuple
+    law_id: np.ndarray
     T: np.ndarray
     params: np.ndarray
     element: np.ndarray
     storey: np.ndarray
     height: np.ndarray
+
+    @property
+    def law(self) -> type:
+        """The one hysteresis law of the springs (the contact-free stepper takes one law per building).
+
+        Raises
+        ------
+        InputError
+            If the building's springs follow more than one law.
+        """
+        if len(self.laws) > 1:
+            names = ", ".join(sorted(cls.name for cls in self.laws))
+            raise InputError(f"run_inelastic steps one hysteresis law per building, this one mixes {names}: "
+                             "run the scene with pounding.run (the driver steps any mix of laws)", field="building.element")
+        return self.laws[0]
+
+    @property
+    def n_state(self) -> int:
+        """Width of the law states: the widest of the building's laws."""
+        return max(cls.n_state for cls in self.laws)
 
     @property
     def size(self) -> int:
@@ -113,6 +136,10 @@ class SpringSet:
     def yield_deformation(self) -> np.ndarray:
         """u_y = Fy / k0 [m] per spring."""
         return self.params[:, 1] / self.params[:, 0]
+
+    def stored_energy(self, state: np.ndarray) -> np.ndarray:
+        """Recoverable energy [J] of every spring (ns,) in the states ``state`` (ns, >= n_state)."""
+        return np.array([self.laws[self.law_id[s]].stored_energy(state[s], self.params[s]) for s in range(self.size)])
 
 
 def require_elastic(scene: Scene, command: str = "this command") -> None:
@@ -138,22 +165,20 @@ def require_elastic(scene: Scene, command: str = "this command") -> None:
 
 
 def spring_set(building: Building, index: int = 0) -> SpringSet:
-    """The yielding springs of a building (ns may be 0).
+    """The yielding springs of a building (ns may be 0), elements in order, storeys bottom first.
 
-    Raises
-    ------
-    InputError
-        If the building mixes hysteresis laws (one law per building for now).
+    Elements may follow different hysteresis laws (``law_id`` says which).
     """
     from pounding.elements.storey_springs import StoreySprings
 
     n = building.n_storeys
     centres = np.array([s.centre for s in building.slabs])
-    rows, params, elem, storey, height, laws = [], [], [], [], [], set()
+    rows, params, elem, storey, height, ids, laws = [], [], [], [], [], [], []
     for e_idx, e in enumerate(building.elements):
         if not (isinstance(e, StoreySprings) and e.yields):
             continue
-        laws.add(type(e.law))
+        if type(e.law) not in laws:
+            laws.append(type(e.law))
         T = placement(centres, e.floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
         P = e.spring_parameters()
         for f in range(len(e.floors)):
@@ -163,16 +188,19 @@ def spring_set(building: Building, index: int = 0) -> SpringSet:
             elem.append(e_idx)
             storey.append(f + 1)
             height.append(e.heights[f])
-    if len(laws) > 1:
-        names = ", ".join(sorted(cls.name for cls in laws))
-        raise InputError(f"building {building.name!r} mixes hysteresis laws ({names}); one law per building for now",
-                         field=f"building[{index}].element")
-    law = laws.pop() if laws else Bilinear
+            ids.append(laws.index(type(e.law)))
+    if not laws:
+        laws = [Bilinear]
     ns = len(rows)
+    width = max(cls.n_params for cls in laws)
+    packed = np.zeros((ns, width))
+    for s, p in enumerate(params):
+        packed[s, : len(p)] = p
     return SpringSet(
-        law,
+        tuple(laws),
+        np.array(ids, dtype=np.int64),
         np.array(rows, dtype=float).reshape(ns, 3 * n),
-        np.array(params, dtype=float).reshape(ns, law.n_params),
+        packed,
         np.array(elem, dtype=np.int64),
         np.array(storey, dtype=np.int64),
         np.array(height, dtype=float),
