@@ -129,14 +129,17 @@ def solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, t
     index of a group whose Newton diverged, or -1.
     """
     ns = f.shape[0]
-    dl = np.empty(ns)
-    d = np.empty(ns)
-    kt = np.empty(ns)
     mmax = 0
     for j in range(bounds.shape[0] - 1):
         mmax = max(mmax, bounds[j + 1] - bounds[j])
-    J = np.empty((mmax, mmax))
-    x = np.empty(mmax)
+    return _solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, g1,
+                          np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(mmax))
+
+
+@njit
+def _solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, g1, dl, d, kt, J, x):
+    """:func:`solve_springs` with its work buffers given: dl, d, kt (ns,), J (m, m), x (m,) for the
+    largest group of m springs (the stretch allocates them once)."""
     deformations(q_lin, G, bounds, gmodes, dl)
     for j in range(bounds.shape[0] - 1):
         if solve_group(bounds[j], bounds[j + 1], law, dl, S, f, state, params, k0, tol[j], trial, d, f1, kt, J, x) < 0:
@@ -244,6 +247,10 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
     per = np.empty(nb)
     da = np.empty(3)
     db = np.empty(3)
+    mmax = 0
+    for j in range(bounds.shape[0] - 1):
+        mmax = max(mmax, bounds[j + 1] - bounds[j])
+    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(mmax)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -260,7 +267,7 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
             qlin[i] = z[i, 0]
-        if solve_springs(qlin, S, law, G, bounds, gmodes, f, state, params, kel, ntol, trial, f1, g1) >= 0:
+        if _solve_springs(qlin, S, law, G, bounds, gmodes, f, state, params, kel, ntol, trial, f1, g1, dl, d, kt, J, x) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
