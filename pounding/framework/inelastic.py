@@ -69,6 +69,7 @@ from pounding.contact.geometry import njit
 from pounding.errors import InputError
 from pounding.framework.assembly import System, assemble, placement
 from pounding.framework.model import Building, Scene
+from pounding.framework.kernel import _load_sum, modal_load
 from pounding.hysteresis.bilinear import Bilinear
 
 CONVERGED, DIVERGED = 0, 1
@@ -251,10 +252,12 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
         The hysteresis law's ``update`` (:mod:`pounding.hysteresis.base`).
     A, B : (n, 3, 3), (n, 3, 2)
         Transition of the grid step dt [s].
-    L, c2 : (n,)
-        Modal load per unit ground acceleration (p = -L ag) and 2 zeta omega [1/s].
-    ag : (nsteps + 1,)
-        Ground acceleration on the grid [m/s^2].
+    L : (n, c)
+        Modal load per unit ground acceleration of each component (p = -L ag).
+    c2 : (n,)
+        2 zeta omega [1/s].
+    ag : (nsteps + 1, c)
+        Ground acceleration on the grid [m/s^2], one column per component.
     z : (n, 3)
         Modal state (q, q', q''), updated in place.
     every : int
@@ -305,11 +308,11 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
             z0[i, 0] = z[i, 0]
             z0[i, 1] = z[i, 1]
             z0[i, 2] = z[i, 2]
-        p0s = -ag[k]
-        p1s = -ag[k + 1]
+        ag0 = ag[k]
+        ag1 = ag[k + 1]
         for i in range(n):
-            p0 = L[i] * p0s - g[i]
-            p1 = L[i] * p1s
+            p0 = modal_load(L, i, ag0) - g[i]
+            p1 = modal_load(L, i, ag1)
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
         changed = False
@@ -397,7 +400,7 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
         # energy: trapezoidal rule on the step ends (average acceleration's exact identity)
         for i in range(n):
             vm = 0.5 * (z0[i, 1] + z[i, 1])
-            E[0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+            E[0] += _load_sum(dt * vm * 0.5, L, i, ag0, ag1)
             E[1] += dt * c2[i] * vm * vm
             E[2] += dt * vm * 0.5 * (g[i] + g1[i])
         for i in range(n):
@@ -427,6 +430,7 @@ _STEPPER_HEADER = """\
 import numpy as np
 
 from pounding.framework.inelastic import CONVERGED, DIVERGED, MAX_ITER, solve_in_place
+from pounding.framework.kernel import _load_sum, modal_load
 from {module} import {cls} as _law
 
 update = _law.update
@@ -612,32 +616,30 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
         raise InputError("run_inelastic steps buildings without contact: set contact = \"none\", or run the scene with "
                          "pounding.run (the driver steps yielding buildings with pounding)", field="analysis.contact")
     gm = scene.ground_motion
-    if len(gm.components) != 1:
-        raise InputError("yielding storeys under two ground-motion components are not available yet: "
-                         "give one component (record = ...)", field="ground_motion.components")
     dt = float(an.dt or gm.dt or 0.01)
     duration = float(an.duration or gm.duration)
     nsteps = max(1, int(np.ceil(duration / dt - 1e-9)))
     every = an.output_every
     integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
     t_grid = np.arange(nsteps + 1) * dt
-    ag = np.ascontiguousarray(gm.at(t_grid), dtype=float)
-    direction = gm.direction()
+    # (nsteps + 1, c): one column per ground-motion component, as the driver takes them
+    ag = np.ascontiguousarray(np.asarray(gm.samples(t_grid), dtype=float).reshape(nsteps + 1, -1))
+    directions = np.asarray(gm.directions(), dtype=float).reshape(-1, 2)
     sets = [spring_set(b, i) for i, b in enumerate(scene.buildings)]
     systems = [assemble(b) for b in scene.buildings]
     n_out = nsteps // every + 1
     t0 = time.perf_counter()
     out = []
     for b, system, springs in zip(scene.buildings, systems, sets):
-        out.append(_run_building(b, system, springs, integrator, dt, ag, nsteps, every, n_out, direction, tolerance, TransitionCache))
+        out.append(_run_building(b, system, springs, integrator, dt, ag, nsteps, every, n_out, directions, tolerance, TransitionCache))
     runtime = time.perf_counter() - t0
     return InelasticResult(t_grid[::every][:n_out], dt, nsteps, integrator.describe(), out, runtime)
 
 
-def _run_building(building, system, springs, integrator, dt, ag, nsteps, every, n_out, direction, tolerance, TransitionCache):
+def _run_building(building, system, springs, integrator, dt, ag, nsteps, every, n_out, directions, tolerance, TransitionCache):
     n, ns = system.n_dof, springs.size
     tr = TransitionCache(integrator, system.omega, system.zeta)(dt)
-    L = system.participation(system.influence(direction))
+    L = np.ascontiguousarray(np.stack([system.participation(system.influence(d)) for d in directions], axis=1))
     c2 = 2.0 * system.zeta * system.omega
     G = np.ascontiguousarray(springs.T @ system.modes)
     S = np.ascontiguousarray((G * tr.B[:, 0, 1]) @ G.T)
