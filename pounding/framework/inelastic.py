@@ -143,28 +143,6 @@ class SpringSet:
         return np.array([self.laws[self.law_id[s]].stored_energy(state[s], self.params[s]) for s in range(self.size)])
 
 
-def require_elastic(scene: Scene, command: str = "this command") -> None:
-    """Raise InputError if a building of ``scene`` has yielding storey springs.
-
-    The driver (:func:`pounding.framework.analysis.run`, ``pounding run``) steps yielding springs
-    with every contact law; the commands built on the compiled core alone (``pounding gap``,
-    ``pounding sweep``) step the initial elastic model only and refuse them rather than silently
-    treat them as elastic.
-    """
-    from pounding.elements.storey_springs import StoreySprings
-
-    for i, b in enumerate(scene.buildings):
-        for j, e in enumerate(b.elements):
-            if isinstance(e, StoreySprings) and e.yields:
-                raise InputError(
-                    f"yielding storey springs (yield_force) are not yet analysed by {command}, which would treat them "
-                    "as elastic; analyse them with `pounding run` (with or without contact), or omit "
-                    "yield_force for elastic springs",
-                    file=str(scene.source) if scene.source else None,
-                    field=f"building[{i}].element[{j}].yield_force",
-                )
-
-
 def spring_set(building: Building, index: int = 0) -> SpringSet:
     """The yielding springs of a building (ns may be 0), elements in order, storeys bottom first.
 
