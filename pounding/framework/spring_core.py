@@ -49,23 +49,24 @@ def update(law, u, state, params, new_state, s):
 
 
 @njit
-def solve_group(lo, hi, law, dl, S, f, state, params, k0, tol, trial, d, f1, kt, J, x):
+def solve_group(lo, hi, law, dl, sf, S, f, state, params, k0, tol, trial, d, f1, kt, J, x, act):
     """Newton on ``u + S f(u) = dl`` for springs lo..hi-1 (one building).
 
-    dl (ns,) the linear step's end deformations [m]; S (ns, ns) the step's compliance (block
-    diagonal by building); f (ns,) the remainders at the step's start [N]; state, params the
-    committed law states and parameters; k0 (ns,) initial stiffnesses [N/m]; tol the residual
-    tolerance [m]. Writes the end deformations d, remainders f1, tangents kt and trial states
-    (rows lo..hi-1); J (m, m), x (m,) are work buffers, m >= hi - lo.
+    dl (ns,) the linear step's end deformations [m]; sf (ns,) = S f, the start remainders' share
+    (the predictor keeps them through the step); S (ns, ns) the step's compliance (block diagonal
+    by building); f (ns,) the remainders at the step's start [N]; state, params the committed law
+    states and parameters; k0 (ns,) initial stiffnesses [N/m]; tol the residual tolerance [m].
+    Writes the end deformations d, remainders f1, tangents kt and trial states (rows lo..hi-1);
+    J (m, m), x (m,), act (m,) int are work buffers, m >= hi - lo.
+
+    The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the springs off their
+    initial branch (the active set a): (I + S_aa D_a) x_a = res_a is solved, and every row follows
+    as res - S[:, a] D_a x_a.
 
     Returns the Newton iterations taken, or -1 when it did not converge in MAX_ITER.
     """
-    m = hi - lo
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
-        acc = 0.0
-        for b in range(lo, hi):
-            acc += S[a, b] * f[b]
-        d[a] = dl[a] - acc
+        d[a] = dl[a] - sf[a]
     for it in range(MAX_ITER + 1):
         same = True
         for a in range(lo, hi):
@@ -85,14 +86,42 @@ def solve_group(lo, hi, law, dl, S, f, state, params, k0, tol, trial, d, f1, kt,
             worst = max(worst, abs(acc))
         if worst <= tol:
             return it
-        for a in range(m):
-            for b in range(m):
-                J[a, b] = S[lo + a, lo + b] * (kt[lo + b] - k0[lo + b])
-            J[a, a] += 1.0
-        solve_in_place(J, x, m)
-        for a in range(m):
-            d[lo + a] -= x[a]
+        na = 0
+        for a in range(lo, hi):
+            if kt[a] != k0[a]:
+                act[na] = a
+                na += 1
+        if na == 0:
+            for a in range(lo, hi):
+                d[a] -= x[a - lo]
+            continue
+        for i in range(na):
+            for j in range(na):
+                J[i, j] = S[act[i], act[j]] * (kt[act[j]] - k0[act[j]])
+            J[i, i] += 1.0
+        y = x[hi - lo : hi - lo + na]  # the active rows' right-hand side, after the residuals
+        for i in range(na):
+            y[i] = x[act[i] - lo]
+        solve_in_place(J, y, na)
+        for i in range(na):
+            y[i] *= kt[act[i]] - k0[act[i]]
+        for a in range(lo, hi):
+            acc = x[a - lo]
+            for i in range(na):
+                acc -= S[a, act[i]] * y[i]
+            d[a] -= acc
     return -1
+
+
+@njit
+def compliance_load(f, S, bounds, sf):
+    """sf (ns,) <- S f per group (S block diagonal by building)."""
+    for j in range(bounds.shape[0] - 1):
+        for a in range(bounds[j], bounds[j + 1]):
+            acc = 0.0
+            for b in range(bounds[j], bounds[j + 1]):
+                acc += S[a, b] * f[b]
+            sf[a] = acc
 
 
 @njit
@@ -132,19 +161,24 @@ def solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, t
     mmax = 0
     for j in range(bounds.shape[0] - 1):
         mmax = max(mmax, bounds[j + 1] - bounds[j])
-    return _solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, g1,
-                          np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(mmax))
+    sf = np.empty(ns)
+    compliance_load(f, S, bounds, sf)
+    j = _solve_springs(q_lin, sf, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, np.empty(ns), np.empty(ns),
+                       np.empty(ns), np.empty((mmax, mmax)), np.empty(2 * mmax), np.empty(mmax, dtype=np.int64))
+    if j < 0:
+        end_load(f1, G, bounds, gmodes, g1)
+    return j
 
 
 @njit
-def _solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, g1, dl, d, kt, J, x):
-    """:func:`solve_springs` with its work buffers given: dl, d, kt (ns,), J (m, m), x (m,) for the
-    largest group of m springs (the stretch allocates them once)."""
+def _solve_springs(q_lin, sf, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, dl, d, kt, J, x, act):
+    """The groups' Newton (:func:`solve_group`) with S f and the work buffers given: dl, d, kt (ns,),
+    J (m, m), x (2 m,), act (m,) for the largest group of m springs (the stretch allocates them
+    once, and keeps S f until f changes). Returns the index of a group that diverged, or -1."""
     deformations(q_lin, G, bounds, gmodes, dl)
     for j in range(bounds.shape[0] - 1):
-        if solve_group(bounds[j], bounds[j + 1], law, dl, S, f, state, params, k0, tol[j], trial, d, f1, kt, J, x) < 0:
+        if solve_group(bounds[j], bounds[j + 1], law, dl, sf, S, f, state, params, k0, tol[j], trial, d, f1, kt, J, x, act) < 0:
             return j
-    end_load(f1, G, bounds, gmodes, g1)
     return -1
 
 
@@ -250,7 +284,10 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
     mmax = 0
     for j in range(bounds.shape[0] - 1):
         mmax = max(mmax, bounds[j + 1] - bounds[j])
-    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(mmax)
+    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(2 * mmax)
+    act = np.empty(mmax, dtype=np.int64)
+    sf = np.empty(ns)
+    compliance_load(f, S, bounds, sf)  # S f, kept until f changes (the same numbers solve_springs computes)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -267,12 +304,22 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
             qlin[i] = z[i, 0]
-        if _solve_springs(qlin, S, law, G, bounds, gmodes, f, state, params, kel, ntol, trial, f1, g1, dl, d, kt, J, x) >= 0:
+        if _solve_springs(qlin, sf, S, law, G, bounds, gmodes, f, state, params, kel, ntol, trial, f1, dl, d, kt, J, x, act) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
                 z[i, 2] = z0[i, 2]
             return k, DIVERGED, -1
+        changed = False
+        for s in range(ns):
+            if f1[s] != f[s]:
+                changed = True
+                break
+        if changed:
+            end_load(f1, G, bounds, gmodes, g1)
+        else:  # the same remainders: the same end load, bit for bit
+            for i in range(n):
+                g1[i] = g[i]
         for i in range(n):
             for r in range(3):
                 z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
@@ -311,6 +358,8 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
         # commit the springs
         for i in range(n):
             g[i] = g1[i]
+        if changed:
+            compliance_load(f1, S, bounds, sf)
         for s in range(ns):
             f[s] = f1[s]
             for c in range(state.shape[1]):
