@@ -222,7 +222,7 @@ def test_pounding_gap_on_yielding_buildings_is_checked_by_full_yielding_runs(tmp
 def test_pounding_sweep_on_yielding_buildings(tmp_path):
     """`pounding sweep --gaps` on two yielding buildings runs every case with the springs (one row
     per gap): impacts at a gap they close, none at a gap wider than any approach."""
-    import csv
+    from pounding.framework.sweep import read_table
 
     path = tmp_path / "pair.toml"
     path.write_text(PAIR)
@@ -230,6 +230,6 @@ def test_pounding_sweep_on_yielding_buildings(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "pounding", "sweep", str(path), "--gaps", "0.002,0.5", "--out", str(out), "--quiet"],
                           capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
-    rows = list(csv.DictReader(line for line in (out / "sweep.csv").read_text().splitlines() if not line.startswith("#")))
-    by_gap = {float(r["gap"]): int(float(r["n_impacts"])) for r in rows}
+    rows = read_table(out / "sweep.csv")
+    by_gap = {r["gap"]: r["n_impacts"] for r in rows}
     assert by_gap[0.002] > 0 and by_gap[0.5] == 0
