@@ -166,7 +166,7 @@ def compiled_modules() -> list[Path]:
     pattern = re.compile(rb"^@njit\b", re.MULTILINE)
     out = []
     for path in sorted(PACKAGE_ROOT.rglob("*.py")):
-        if "__pycache__" in path.relative_to(PACKAGE_ROOT).parts:
+        if "__pycache__" in path.relative_to(PACKAGE_ROOT).parts:  # generated modules live in the cache itself: keying on them would move it
             continue
         try:
             if pattern.search(path.read_bytes()):

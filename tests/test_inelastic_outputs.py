@@ -104,3 +104,59 @@ def test_pounding_plot_draws_hysteresis_loops_and_spring_profiles(written, tmp_p
     assert proc.returncode == 2
     assert "--spring" in proc.stderr and len(proc.stderr.strip().splitlines()) == 1
     assert not bad.exists()
+
+
+def test_drift_ratio_at_every_slab_corner_from_the_vertex_histories(written):
+    """response.npz ``B_drift_ratio_corners`` (nt, storeys, corners): at corner k of storey s,
+    |(vertex k displacement of slab s) - (that of slab s-1)| / h_s, read straight from B_vertices
+    (the buildings' slabs have the same polygon at every storey, so vertex k of both floors is the
+    same plan point; the ground does not move). Differences of O(1e-2) m: rounding 1e-16 m, so
+    1e-12 of the peak. summary.json ``peak_drift_ratio_corners`` is its peak per storey and corner,
+    and the worst corner is ``B_drift_ratio_corner``."""
+    scene, _, out = written
+    summ = json.loads((out / "summary.json").read_text())
+    with np.load(out / "response.npz") as npz:
+        for b in scene.buildings:
+            verts = npz[f"{b.name}_vertices"]
+            h = np.asarray(b.storey_heights)
+            below = np.concatenate([np.zeros_like(verts[:, :1]), verts[:, :-1]], axis=1)
+            corners = np.linalg.norm(verts - below, axis=-1) / h[None, :, None]
+            got = npz[f"{b.name}_drift_ratio_corners"]
+            assert got.shape == corners.shape == (len(npz["t"]), b.n_storeys, 4)
+            peak = corners.max()
+            assert np.abs(got - corners).max() <= 1e-12 * peak
+            np.testing.assert_allclose(summ["buildings"][b.name]["peak_drift_ratio_corners"], corners.max(axis=0),
+                                       rtol=0, atol=1e-12 * peak)
+            np.testing.assert_array_equal(npz[f"{b.name}_drift_ratio_corner"], got.max(axis=2))
+
+
+def test_vtk_cells_of_yielding_springs_carry_their_ductility(written, tmp_path):
+    """The VTK series colours storey-spring cells by ductility demand: on every cell that draws the
+    spring of element j in storey s, ``ductility_peak`` is that spring's peak |u| / u_y from the
+    run (summary.json's ductility, the same numbers) and ``ductility`` at the last frame is the
+    running peak of its recorded deformations over u_y; slabs carry NaN; ``element`` says which
+    element a cell draws."""
+    pytest.importorskip("vtkmodules")
+    from pounding.io.vtk import read_pvd, write_vtk_series
+    from test_vtk import read_vtu
+
+    scene, result, out = written
+    pvd = write_vtk_series(scene, result, tmp_path / "vtk", every=100, impact_times=())
+    entries = read_pvd(pvd)
+    _, _, _, cd, _ = read_vtu(entries[-1][1])
+    k_last = int(round(entries[-1][0] / (result.t[1] - result.t[0])))
+    summ = json.loads((out / "summary.json").read_text())
+    assert np.all(np.isnan(cd["ductility"][cd["element_type"] == 0]))
+    checked = 0
+    for b_idx, b in enumerate(scene.buildings):
+        sp = result.springs[b.name]
+        for line in summ["buildings"][b.name]["yielding_springs"]:
+            for s, mu in zip(line["storeys"], line["ductility"]):
+                mine = np.flatnonzero((cd["building"] == b_idx) & (cd["element"] == line["element"]) & (cd["storey"] == s))
+                assert len(mine) == 2  # the spring's zig-zag: two line cells
+                spring = np.flatnonzero((sp["element"] == line["element"]) & (sp["storey"] == s))[0]
+                running = np.abs(sp["deformation"][: k_last + 1, spring]).max() / sp["yield_deformation"][spring]
+                np.testing.assert_allclose(cd["ductility_peak"][mine], mu, rtol=1e-12)
+                np.testing.assert_allclose(cd["ductility"][mine], running, rtol=1e-12)
+                checked += 1
+    assert checked == sum(len(result.springs[b.name]["element"]) for b in scene.buildings)

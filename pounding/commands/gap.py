@@ -47,11 +47,8 @@ def cmd_gap(args: argparse.Namespace) -> int:
     from pounding.framework.gap import direction_vector, minimum_gap, verify_gap
     from pounding.io.scene import load_scene
 
-    from pounding.framework.inelastic import require_elastic
-
     direction = direction_vector(args.direction)
     scene = load_scene(args.scene)
-    require_elastic(scene, "`pounding gap`")
     from pounding.cli import time_overrides
 
     overrides = time_overrides(args)

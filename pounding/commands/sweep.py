@@ -52,11 +52,7 @@ def add_parser(sub) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from pounding.framework.inelastic import require_elastic
     from pounding.framework.sweep import parse_values, run_sweep
-    from pounding.io.scene import load_scene
-
-    require_elastic(load_scene(args.scene), "`pounding sweep`")  # its batch runs step the elastic model only
 
     check_cluster_options(args)
     gaps = parse_values(args.gaps, "--gaps", minimum=0.0) if args.gaps is not None else None

@@ -344,11 +344,10 @@ class Driver:
         self.timings = {"compile_s": 0.0, "load_s": 0.0}
         from pounding.framework.yielding import Yielding
 
-        #: yielding storey springs (None: every building elastic). The compiled core steps elastic
-        #: buildings only, so a scene with yielding springs runs on the Python path.
+        #: yielding storey springs (None: every building elastic). Their stretches between contact
+        #: events run compiled (:meth:`Yielding.advance`); every contact step is the Python step.
         self.springs = Yielding.of(scene, self.model)
         if self.springs is not None:
-            self.use_kernel = False
             ns = self.springs.size
             # spring deformation [m], force [N] and the law's dissipated energy [J] at the output rows
             self.spring_hist = np.zeros((3, n_out, ns))
@@ -459,7 +458,7 @@ class Driver:
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.use_kernel and self.sustained and self.law.kind == "impulse":
+            if self.use_kernel and self.sustained and self.law.kind == "impulse" and self.springs is None:
                 k_end = min(self.nsteps, k + 4096)
                 k_new, status, _ = self.advance_held(k, k_end)
             elif self.needs_python(k):
@@ -583,6 +582,8 @@ class Driver:
         """Free grid steps k0 -> k1, compiled (:func:`pounding.framework.kernel.advance`)."""
         from pounding.framework.kernel import advance, advance_free
 
+        if self.springs is not None:  # yielding springs: their own stretch, stopping before any contact
+            return self.springs.advance(self, k0, k1)
         if self.kgeo.pa.shape[0] == 0:  # nothing to watch: no contact code
             return advance_free(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo)
         return advance(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo,

@@ -69,6 +69,7 @@ from pounding.contact.geometry import njit
 from pounding.errors import InputError
 from pounding.framework.assembly import System, assemble, placement
 from pounding.framework.model import Building, Scene
+from pounding.framework.kernel import _load_sum, modal_load
 from pounding.hysteresis.bilinear import Bilinear
 
 CONVERGED, DIVERGED = 0, 1
@@ -82,24 +83,47 @@ class SpringSet:
 
     Attributes
     ----------
-    law : type
-        The hysteresis-law class shared by every spring (one law per building).
+    laws : tuple of type
+        The hysteresis-law classes of the building's springs, in order of first appearance.
+    law_id : ndarray (ns,) int
+        Index in ``laws`` of every spring's law.
     T : ndarray (ns, 3N)
         Deformation of every spring from the slab DOFs: u = T x [m].
     params : ndarray (ns, n_params)
-        Law parameters (k0 [N/m], Fy [N], b [-], ...).
+        Law parameters (k0 [N/m], Fy [N], b [-], ...), zero-padded to the widest law.
     element, storey : ndarray (ns,) int
         Element index in the building (0-based) and storey (1 = first floor).
     height : ndarray (ns,)
         Storey height [m].
     """
 
-    law: type
+    laws: tuple
+    law_id: np.ndarray
     T: np.ndarray
     params: np.ndarray
     element: np.ndarray
     storey: np.ndarray
     height: np.ndarray
+
+    @property
+    def law(self) -> type:
+        """The one hysteresis law of the springs (the contact-free stepper takes one law per building).
+
+        Raises
+        ------
+        InputError
+            If the building's springs follow more than one law.
+        """
+        if len(self.laws) > 1:
+            names = ", ".join(sorted(cls.name for cls in self.laws))
+            raise InputError(f"run_inelastic steps one hysteresis law per building, this one mixes {names}: "
+                             "run the scene with pounding.run (the driver steps any mix of laws)", field="building.element")
+        return self.laws[0]
+
+    @property
+    def n_state(self) -> int:
+        """Width of the law states: the widest of the building's laws."""
+        return max(cls.n_state for cls in self.laws)
 
     @property
     def size(self) -> int:
@@ -114,46 +138,26 @@ class SpringSet:
         """u_y = Fy / k0 [m] per spring."""
         return self.params[:, 1] / self.params[:, 0]
 
-
-def require_elastic(scene: Scene, command: str = "this command") -> None:
-    """Raise InputError if a building of ``scene`` has yielding storey springs.
-
-    The driver (:func:`pounding.framework.analysis.run`, ``pounding run``) steps yielding springs
-    with every contact law; the commands built on the compiled core alone (``pounding gap``,
-    ``pounding sweep``) step the initial elastic model only and refuse them rather than silently
-    treat them as elastic.
-    """
-    from pounding.elements.storey_springs import StoreySprings
-
-    for i, b in enumerate(scene.buildings):
-        for j, e in enumerate(b.elements):
-            if isinstance(e, StoreySprings) and e.yields:
-                raise InputError(
-                    f"yielding storey springs (yield_force) are not yet analysed by {command}, which would treat them "
-                    "as elastic; analyse them with `pounding run` (with or without contact), or omit "
-                    "yield_force for elastic springs",
-                    file=str(scene.source) if scene.source else None,
-                    field=f"building[{i}].element[{j}].yield_force",
-                )
+    def stored_energy(self, state: np.ndarray) -> np.ndarray:
+        """Recoverable energy [J] of every spring (ns,) in the states ``state`` (ns, >= n_state)."""
+        return np.array([self.laws[self.law_id[s]].stored_energy(state[s], self.params[s]) for s in range(self.size)])
 
 
 def spring_set(building: Building, index: int = 0) -> SpringSet:
-    """The yielding springs of a building (ns may be 0).
+    """The yielding springs of a building (ns may be 0), elements in order, storeys bottom first.
 
-    Raises
-    ------
-    InputError
-        If the building mixes hysteresis laws (one law per building for now).
+    Elements may follow different hysteresis laws (``law_id`` says which).
     """
     from pounding.elements.storey_springs import StoreySprings
 
     n = building.n_storeys
     centres = np.array([s.centre for s in building.slabs])
-    rows, params, elem, storey, height, laws = [], [], [], [], [], set()
+    rows, params, elem, storey, height, ids, laws = [], [], [], [], [], [], []
     for e_idx, e in enumerate(building.elements):
         if not (isinstance(e, StoreySprings) and e.yields):
             continue
-        laws.add(type(e.law))
+        if type(e.law) not in laws:
+            laws.append(type(e.law))
         T = placement(centres, e.floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
         P = e.spring_parameters()
         for f in range(len(e.floors)):
@@ -163,16 +167,19 @@ def spring_set(building: Building, index: int = 0) -> SpringSet:
             elem.append(e_idx)
             storey.append(f + 1)
             height.append(e.heights[f])
-    if len(laws) > 1:
-        names = ", ".join(sorted(cls.name for cls in laws))
-        raise InputError(f"building {building.name!r} mixes hysteresis laws ({names}); one law per building for now",
-                         field=f"building[{index}].element")
-    law = laws.pop() if laws else Bilinear
+            ids.append(laws.index(type(e.law)))
+    if not laws:
+        laws = [Bilinear]
     ns = len(rows)
+    width = max(cls.n_params for cls in laws)
+    packed = np.zeros((ns, width))
+    for s, p in enumerate(params):
+        packed[s, : len(p)] = p
     return SpringSet(
-        law,
+        tuple(laws),
+        np.array(ids, dtype=np.int64),
         np.array(rows, dtype=float).reshape(ns, 3 * n),
-        np.array(params, dtype=float).reshape(ns, law.n_params),
+        packed,
         np.array(elem, dtype=np.int64),
         np.array(storey, dtype=np.int64),
         np.array(height, dtype=float),
@@ -223,10 +230,12 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
         The hysteresis law's ``update`` (:mod:`pounding.hysteresis.base`).
     A, B : (n, 3, 3), (n, 3, 2)
         Transition of the grid step dt [s].
-    L, c2 : (n,)
-        Modal load per unit ground acceleration (p = -L ag) and 2 zeta omega [1/s].
-    ag : (nsteps + 1,)
-        Ground acceleration on the grid [m/s^2].
+    L : (n, c)
+        Modal load per unit ground acceleration of each component (p = -L ag).
+    c2 : (n,)
+        2 zeta omega [1/s].
+    ag : (nsteps + 1, c)
+        Ground acceleration on the grid [m/s^2], one column per component.
     z : (n, 3)
         Modal state (q, q', q''), updated in place.
     every : int
@@ -277,11 +286,11 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
             z0[i, 0] = z[i, 0]
             z0[i, 1] = z[i, 1]
             z0[i, 2] = z[i, 2]
-        p0s = -ag[k]
-        p1s = -ag[k + 1]
+        ag0 = ag[k]
+        ag1 = ag[k + 1]
         for i in range(n):
-            p0 = L[i] * p0s - g[i]
-            p1 = L[i] * p1s
+            p0 = modal_load(L, i, ag0) - g[i]
+            p1 = modal_load(L, i, ag1)
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
         changed = False
@@ -369,7 +378,7 @@ def stretch(update, A, B, L, c2, dt, ag, z, k0, k1, every, G, S, kel, params, st
         # energy: trapezoidal rule on the step ends (average acceleration's exact identity)
         for i in range(n):
             vm = 0.5 * (z0[i, 1] + z[i, 1])
-            E[0] += dt * vm * 0.5 * L[i] * (p0s + p1s)
+            E[0] += _load_sum(dt * vm * 0.5, L, i, ag0, ag1)
             E[1] += dt * c2[i] * vm * vm
             E[2] += dt * vm * 0.5 * (g[i] + g1[i])
         for i in range(n):
@@ -399,6 +408,7 @@ _STEPPER_HEADER = """\
 import numpy as np
 
 from pounding.framework.inelastic import CONVERGED, DIVERGED, MAX_ITER, solve_in_place
+from pounding.framework.kernel import _load_sum, modal_load
 from {module} import {cls} as _law
 
 update = _law.update
@@ -584,32 +594,30 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
         raise InputError("run_inelastic steps buildings without contact: set contact = \"none\", or run the scene with "
                          "pounding.run (the driver steps yielding buildings with pounding)", field="analysis.contact")
     gm = scene.ground_motion
-    if len(gm.components) != 1:
-        raise InputError("yielding storeys under two ground-motion components are not available yet: "
-                         "give one component (record = ...)", field="ground_motion.components")
     dt = float(an.dt or gm.dt or 0.01)
     duration = float(an.duration or gm.duration)
     nsteps = max(1, int(np.ceil(duration / dt - 1e-9)))
     every = an.output_every
     integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
     t_grid = np.arange(nsteps + 1) * dt
-    ag = np.ascontiguousarray(gm.at(t_grid), dtype=float)
-    direction = gm.direction()
+    # (nsteps + 1, c): one column per ground-motion component, as the driver takes them
+    ag = np.ascontiguousarray(np.asarray(gm.samples(t_grid), dtype=float).reshape(nsteps + 1, -1))
+    directions = np.asarray(gm.directions(), dtype=float).reshape(-1, 2)
     sets = [spring_set(b, i) for i, b in enumerate(scene.buildings)]
     systems = [assemble(b) for b in scene.buildings]
     n_out = nsteps // every + 1
     t0 = time.perf_counter()
     out = []
     for b, system, springs in zip(scene.buildings, systems, sets):
-        out.append(_run_building(b, system, springs, integrator, dt, ag, nsteps, every, n_out, direction, tolerance, TransitionCache))
+        out.append(_run_building(b, system, springs, integrator, dt, ag, nsteps, every, n_out, directions, tolerance, TransitionCache))
     runtime = time.perf_counter() - t0
     return InelasticResult(t_grid[::every][:n_out], dt, nsteps, integrator.describe(), out, runtime)
 
 
-def _run_building(building, system, springs, integrator, dt, ag, nsteps, every, n_out, direction, tolerance, TransitionCache):
+def _run_building(building, system, springs, integrator, dt, ag, nsteps, every, n_out, directions, tolerance, TransitionCache):
     n, ns = system.n_dof, springs.size
     tr = TransitionCache(integrator, system.omega, system.zeta)(dt)
-    L = system.participation(system.influence(direction))
+    L = np.ascontiguousarray(np.stack([system.participation(system.influence(d)) for d in directions], axis=1))
     c2 = 2.0 * system.zeta * system.omega
     G = np.ascontiguousarray(springs.T @ system.modes)
     S = np.ascontiguousarray((G * tr.B[:, 0, 1]) @ G.T)

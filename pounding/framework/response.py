@@ -93,6 +93,23 @@ def drift_ratios(system, cm: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return at_cm, corner
 
 
+def corner_drift_ratios(system, cm: np.ndarray) -> np.ndarray:
+    """Inter-storey drift ratio magnitude at every corner of every slab, shape (nt, N, kmax) [-].
+
+    Corner j of storey s is vertex j of slab s's polygon (scene order); the drift there is the
+    relative plan displacement of that material point of floor s and the floor below (rigid slabs:
+    ``(u - phi dy, v + phi dx)`` about each floor's centre; the ground below floor 1) over the storey
+    height. NaN-padded where storeys have fewer than kmax vertices.
+    """
+    centres = np.array([s.centre for s in system.slabs])
+    h = np.asarray(system.storey_heights, dtype=float)
+    kmax = max(len(s.vertices) for s in system.slabs)
+    verts = np.full((system.n_storeys, kmax, 2), np.nan)
+    for f, s in enumerate(system.slabs):
+        verts[f, : len(s.vertices)] = s.vertices
+    return np.linalg.norm(drift_at(cm, centres, h, verts), axis=-1)
+
+
 # --------------------------------------------------------------------------- storey forces
 @dataclass(frozen=True)
 class StoreyForces:
@@ -289,6 +306,7 @@ def building_response(result, name: str, durations: np.ndarray) -> dict[str, np.
         **extra,
         "drift_ratio_cm": d_cm,
         "drift_ratio_corner": d_corner,
+        "drift_ratio_corners": corner_drift_ratios(s, cm),
         "storey_shear": sf.shear,
         "element_shear": sf.element_shear,
         "overturning_moment": sf.overturning,
@@ -310,6 +328,7 @@ def peaks(hist: dict[str, np.ndarray]) -> dict[str, list]:
     return {
         "peak_drift_ratio_cm": hist["drift_ratio_cm"].max(axis=0).tolist(),
         "peak_drift_ratio_corner": hist["drift_ratio_corner"].max(axis=0).tolist(),
+        **({"peak_drift_ratio_corners": _nan_to_none(hist["drift_ratio_corners"].max(axis=0))} if "drift_ratio_corners" in hist else {}),
         "peak_storey_shear": shear.tolist(),
         "peak_storey_shear_x": np.abs(hist["storey_shear"][:, :, 0]).max(axis=0).tolist(),
         "peak_storey_shear_y": np.abs(hist["storey_shear"][:, :, 1]).max(axis=0).tolist(),
@@ -320,6 +339,11 @@ def peaks(hist: dict[str, np.ndarray]) -> dict[str, list]:
         "peak_floor_acceleration_impact": (spikes.max(axis=0) if len(spikes) else np.zeros(n)).tolist(),
         **({"yielding_springs": spring_summary(hist)} if "spring_force" in hist else {}),
     }
+
+
+def _nan_to_none(a: np.ndarray) -> list:
+    """Nested lists of a float array with NaN (padding) as None (JSON null)."""
+    return [[None if np.isnan(x) else float(x) for x in row] for row in a]
 
 
 def spring_summary(hist: dict[str, np.ndarray]) -> list[dict]:

@@ -19,188 +19,291 @@ penalty forces) solve the springs by an outer fixed-point loop on their end rema
 the contact solve (:meth:`Yielding.fixed_point`): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
 storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance.
+
+Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
+:func:`pounding.framework.spring_core.stretch`): the same step, and the slab pairs' check of the
+elastic kernel after it; a step ending with a pair within the contact tolerance is rolled back for
+the driver's Python step, which handles every contact event. The springs live in flat arrays over
+every building (:class:`Yielding`); both paths solve them with the same compiled functions of a
+spring core generated for the scene's hysteresis laws (:func:`core`), so they agree to rounding
+(bit for bit measured where no contact force acts at a step's end).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
-from pounding.framework.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
+from pounding.framework.inelastic import MAX_ITER, NEWTON_TOL, spring_set
 
 
-@dataclass
 class SpringTrial:
-    """The end-of-step remainders and law states of a trial step (one entry per spring group)."""
+    """The end-of-step remainders f (ns,), trial law states (ns, n_state) and their modal load g (n,)."""
 
-    f: list
-    state: list
-    g: np.ndarray  # (n,) modal load G^T f at the step's end
+    __slots__ = ("f", "state", "g")
+
+    def __init__(self, f: np.ndarray, state: np.ndarray, g: np.ndarray):
+        self.f = f
+        self.state = state
+        self.g = g
 
 
 class Group:
-    """The yielding springs of one building, over its slice of the stacked modes."""
+    """The yielding springs of one building: its slice of the flat spring arrays and of the modes."""
 
-    def __init__(self, springs: SpringSet, modes: np.ndarray, start: int, building: int):
+    def __init__(self, springs, lo: int, start: int, n_modes: int, building: int):
         self.springs = springs
-        self.law = springs.law
         self.building = building
-        self.sl = slice(start, start + modes.shape[1])
-        self.G = np.ascontiguousarray(springs.T @ modes)  # (ns, n_b)
-        self.k0 = np.ascontiguousarray(springs.k0)
-        self.params = np.ascontiguousarray(springs.params)
-        ns = springs.size
-        self.state = np.zeros((ns, self.law.n_state))
-        self.f = np.zeros(ns)
-        self.peak = np.zeros(ns)
+        self.lo, self.hi = lo, lo + springs.size
+        self.sl = slice(start, start + n_modes)
         self.tol = NEWTON_TOL * float(springs.yield_deformation.min())
-        self._S: dict = {}
-
-    def S(self, B1: np.ndarray) -> np.ndarray:
-        """The step's compliance G diag(B1) G^T (ns, ns) for the building's B1 = B[:, 0, 1]."""
-        key = B1.tobytes()
-        out = self._S.get(key)
-        if out is None:
-            if len(self._S) > 256:
-                self._S.clear()
-            out = self._S[key] = np.ascontiguousarray((self.G * B1) @ self.G.T)
-        return out
-
-    def forces(self, d: np.ndarray, trial: np.ndarray):
-        """Remainders r - k0 u (ns,) and tangents (ns,) at deformations d, writing the trial states."""
-        ns = d.shape[0]
-        f1 = np.empty(ns)
-        kt = np.empty(ns)
-        update = self.law.update
-        for s in range(ns):
-            r, k = update(float(d[s]), self.state, self.params, trial, s)
-            f1[s] = r - self.k0[s] * d[s]
-            kt[s] = k
-        return f1, kt
-
-    def newton(self, dl: np.ndarray, S: np.ndarray):
-        """End remainders f1 and trial states solving u + S f(u) = dl (see the inelastic module)."""
-        trial = np.zeros_like(self.state)
-        d = dl - S @ self.f  # predictor: the start remainders kept through the step
-        for it in range(MAX_ITER + 1):
-            f1, kt = self.forces(d, trial)
-            if it == 0 and np.array_equal(f1, self.f):
-                return f1, trial  # nothing changed: the predictor solves the step
-            res = d - dl + S @ f1
-            if np.max(np.abs(res)) <= self.tol:
-                return f1, trial
-            J = np.eye(len(d)) + S * (kt - self.k0)
-            d = d - np.linalg.solve(J, res)
-        raise FloatingPointError(
-            f"building {self.building}: the yielding springs' Newton iteration did not converge (try a smaller dt)")
 
 
 class Yielding:
-    """The yielding springs of every building of a driver's model; None-like when there are none."""
+    """The yielding springs of every building of a driver's model, as flat arrays (see
+    :mod:`pounding.framework.spring_core`); ``Yielding.of`` is None when there are none."""
 
-    def __init__(self, groups: list[Group], n: int):
+    def __init__(self, groups: list[Group], G_rows: list[np.ndarray], n: int, n_buildings: int):
         self.groups = groups
         self.n = n
+        laws: list = []
+        for grp in groups:
+            for cls in grp.springs.laws:
+                if cls not in laws:
+                    laws.append(cls)
+        self.laws = tuple(laws)
+        ns = sum(grp.springs.size for grp in groups)
+        width = max(cls.n_params for cls in laws)
+        self.n_state = max(cls.n_state for cls in laws)
+        nmax = max(gr.shape[1] for gr in G_rows)
+        self.G = np.zeros((ns, nmax))
+        self.params = np.zeros((ns, width))
+        self.law = np.zeros(ns, dtype=np.int64)
+        for grp, gr in zip(groups, G_rows):
+            sp = grp.springs
+            self.G[grp.lo:grp.hi, : gr.shape[1]] = gr
+            self.params[grp.lo:grp.hi, : sp.params.shape[1]] = sp.params
+            self.law[grp.lo:grp.hi] = [self.laws.index(sp.laws[i]) for i in sp.law_id]
+        self.k0 = np.ascontiguousarray(self.params[:, 0])
+        self.bounds = np.array([grp.lo for grp in groups] + [ns], dtype=np.int64)
+        self.gmodes = np.array([[grp.sl.start, grp.sl.stop - grp.sl.start] for grp in groups], dtype=np.int64).reshape(-1, 2)
+        self.ntol = np.array([grp.tol for grp in groups])
+        self.state = np.zeros((ns, self.n_state))
+        self.f = np.zeros(ns)
+        self.peak = np.zeros(ns)
         self.g = np.zeros(n)  # current modal load of the remainders, G^T f
-        self.work = np.zeros(max((grp.building for grp in groups), default=-1) + 1)
+        self.work = np.zeros(n_buildings)  # the remainders' work per building [J]
+        self._S: dict = {}
+        self.core = core(self.laws)
 
     @classmethod
     def of(cls, scene, model) -> "Yielding | None":
         from pounding.errors import InputError
 
-        groups = []
+        groups, rows, lo = [], [], 0
         for i, (b, system) in enumerate(zip(scene.buildings, model.systems)):
             try:
                 springs = spring_set(b, i)
             except InputError as exc:
                 raise exc.located(file=str(scene.source) if scene.source else None) from None
             if springs.size:
-                groups.append(Group(springs, system.modes, int(model.mode_start[i]), i))
+                groups.append(Group(springs, lo, int(model.mode_start[i]), system.modes.shape[1], i))
+                rows.append(springs.T @ system.modes)
+                lo += springs.size
         if not groups:
             return None
-        out = cls(groups, model.n)
-        out.work = np.zeros(len(model.systems))
-        return out
+        return cls(groups, rows, model.n, len(model.systems))
 
     @property
     def size(self) -> int:
-        return sum(grp.springs.size for grp in self.groups)
+        return self.f.shape[0]
+
+    def S(self, B1: np.ndarray) -> np.ndarray:
+        """The step's compliance (ns, ns), block diagonal by building: G diag(B1) G^T for the
+        stacked B1 = B[:, 0, 1] (n,) of the step."""
+        key = B1.tobytes()
+        out = self._S.get(key)
+        if out is None:
+            if len(self._S) > 256:
+                self._S.clear()
+            out = np.zeros((self.size, self.size))
+            for grp in self.groups:
+                Gg = self.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
+                out[grp.lo:grp.hi, grp.lo:grp.hi] = (Gg * B1[grp.sl]) @ Gg.T
+            self._S[key] = out
+        return out
 
     def record(self, row: np.ndarray) -> None:
         """row (3, ns): deformation, force and dissipated energy of every spring, groups in order."""
-        j = 0
-        for grp in self.groups:
-            ns = grp.springs.size
-            row[:, j:j + ns] = grp.state[:, :3].T
-            j += ns
+        row[:, :] = self.state[:, :3].T
 
     def histories(self, hist: np.ndarray, names: list) -> dict:
         """Per building name with yielding springs: :func:`spring_record` of its springs."""
-        out, j = {}, 0
+        out = {}
         for grp in self.groups:
-            ns = grp.springs.size
-            d, r, h = hist[0, :, j:j + ns], hist[1, :, j:j + ns], hist[2, :, j:j + ns]
-            out[names[grp.building]] = spring_record(grp.springs, d, r, h, grp.peak.copy(), grp.G)
-            j += ns
+            lo, hi = grp.lo, grp.hi
+            G = np.ascontiguousarray(self.G[lo:hi, : grp.sl.stop - grp.sl.start])
+            out[names[grp.building]] = spring_record(grp.springs, hist[0, :, lo:hi], hist[1, :, lo:hi], hist[2, :, lo:hi],
+                                                     self.peak[lo:hi].copy(), G)
         return out
 
-    def end_load(self, f: list) -> np.ndarray:
-        g = np.zeros(self.n)
-        for grp, f1 in zip(self.groups, f):
-            g[grp.sl] = grp.G.T @ f1
-        return g
+    def _diverged(self, j: int) -> FloatingPointError:
+        return FloatingPointError(f"building {self.groups[j].building}: the yielding springs' Newton iteration did not converge "
+                                  "(try a smaller dt)")
 
     def solve(self, q_lin: np.ndarray, B1: np.ndarray) -> SpringTrial:
         """Newton on every building for the linear step's end displacements q_lin (n,)."""
-        fs, states = [], []
-        for grp in self.groups:
-            f1, trial = grp.newton(grp.G @ q_lin[grp.sl], grp.S(B1[grp.sl]))
-            fs.append(f1)
-            states.append(trial)
-        return SpringTrial(fs, states, self.end_load(fs))
+        f1, g1, trial = np.empty(self.size), np.empty(self.n), np.zeros_like(self.state)
+        j = self.core.solve_springs(np.ascontiguousarray(q_lin), self.S(np.ascontiguousarray(B1)), self.law, self.G, self.bounds,
+                                    self.gmodes, self.f, self.state, self.params, self.k0, self.ntol, trial, f1, g1)
+        if j >= 0:
+            raise self._diverged(j)
+        return SpringTrial(f1, trial, g1)
 
     def at(self, q1: np.ndarray) -> SpringTrial:
         """Remainders and trial states at given end displacements q1 (n,) (the fixed-point pass)."""
-        fs, states = [], []
-        for grp in self.groups:
-            trial = np.zeros_like(grp.state)
-            f1, _ = grp.forces(grp.G @ q1[grp.sl], trial)
-            fs.append(f1)
-            states.append(trial)
-        return SpringTrial(fs, states, self.end_load(fs))
+        f1, g1, trial = np.empty(self.size), np.empty(self.n), np.zeros_like(self.state)
+        self.core.forces_at(np.ascontiguousarray(q1, dtype=float), self.law, self.G, self.bounds, self.gmodes, self.state,
+                            self.params, self.k0, trial, f1, g1)
+        return SpringTrial(f1, trial, g1)
 
     def fixed_point(self, solve):
         """Solve a step whose contact forces depend on its end: ``solve(g1) -> (step, q1)`` with the
         remainders' end load g1; iterate g1 until the springs' end deformations agree to tolerance."""
-        sp = SpringTrial([grp.f.copy() for grp in self.groups], [grp.state.copy() for grp in self.groups], self.g.copy())
+        sp = SpringTrial(self.f.copy(), self.state.copy(), self.g.copy())
         for _ in range(4 * MAX_ITER):
             st, q1 = solve(sp.g)
             new = self.at(q1)
             # a change of the remainders by df moves the end deformations by about S df <= df / k0
-            if all(np.max(np.abs(a - b), initial=0.0) <= grp.tol * grp.k0.min() for grp, a, b in zip(self.groups, new.f, sp.f)):
+            if all(np.max(np.abs(new.f[grp.lo:grp.hi] - sp.f[grp.lo:grp.hi]), initial=0.0)
+                   <= grp.tol * grp.springs.k0.min() for grp in self.groups):
                 return st, new
             sp = new
         raise FloatingPointError("the yielding springs' fixed-point iteration with contact forces did not converge (try a smaller dt)")
 
     def commit(self, sp: SpringTrial) -> None:
-        for grp, f1, trial in zip(self.groups, sp.f, sp.state):
-            grp.f = f1
-            grp.state = trial
-            np.maximum(grp.peak, np.abs(trial[:, 0]), out=grp.peak)
-        self.g = sp.g
+        self.f[:] = sp.f
+        self.state[:] = sp.state
+        np.maximum(self.peak, np.abs(sp.state[:, 0]), out=self.peak)
+        self.g[:] = sp.g
 
     def energy(self, building: int, q: np.ndarray, omega: np.ndarray, start: int) -> dict:
         """Strain and hysteretic energy of a building's springs [J] at modal displacements q (n,)."""
         for grp in self.groups:
             if grp.building != building:
                 continue
-            u = grp.G @ q[grp.sl]
-            stored = sum(grp.law.stored_energy(grp.state[s], grp.params[s]) for s in range(len(u)))
-            elastic = 0.5 * float(np.sum(grp.k0 * u * u))
-            return {"elastic_springs": elastic, "stored": float(stored),
-                    "hysteretic": elastic + float(self.work[building]) - float(stored)}
+            G = self.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
+            u = G @ q[grp.sl]
+            stored = float(grp.springs.stored_energy(self.state[grp.lo:grp.hi]).sum())
+            k0 = self.k0[grp.lo:grp.hi]
+            elastic = 0.5 * float(np.sum(k0 * u * u))
+            return {"elastic_springs": elastic, "stored": stored,
+                    "hysteretic": elastic + float(self.work[building]) - stored}
         return {"elastic_springs": 0.0, "stored": 0.0, "hysteretic": 0.0}
+
+    # ------------------------------------------------------------ the compiled stretch
+    def advance(self, driver, k0: int, k1: int):
+        """Grid steps k0 -> k1 compiled (:func:`pounding.framework.spring_core.stretch`), until a slab
+        pair comes within the contact tolerance: then (k, OVERLAP, pair) with the state at the start
+        of step k, which the driver takes in Python (``Driver.python_step``). Same answers as
+        :func:`pounding.framework.kernel.advance` (DONE or OVERLAP)."""
+        tr = driver.transition(driver.dt)
+        S = self.S(np.ascontiguousarray(tr.B[:, 0, 1]))
+        k, status, pair = self.core.stretch(tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
+                                            driver.kgeo, float(driver.tol), self.law, self.G, self.bounds, self.gmodes, S,
+                                            self.k0, self.ntol, self.params, self.state, np.zeros_like(self.state), self.f,
+                                            self.g, self.peak, self.work, driver.spring_hist)
+        if status == DIVERGED_STATUS:
+            raise FloatingPointError(f"the yielding springs' Newton iteration did not converge in the step starting at "
+                                     f"t = {k * driver.dt:g} s (try a smaller dt)")
+        return k, status, pair
+
+
+DIVERGED_STATUS = 5  # spring_core.DIVERGED, without importing the template
+
+
+_CORES: dict = {}
+
+def _dispatch(n_laws: int) -> str:
+    """Source of ``update(law, ...)`` dispatching on the law index to ``_u0``, ``_u1``, ..."""
+    lines = ["@njit", "def update(law, u, state, params, new_state, s):",
+             "    \"\"\"Dispatch on the law index of the spring to the laws' updates (generated).\"\"\""]
+    for j in range(n_laws - 1):
+        lines.append(f"    {'if' if j == 0 else 'elif'} law == {j}:")
+        lines.append(f"        return _u{j}(u, state, params, new_state, s)")
+    lines.append(f"    return _u{n_laws - 1}(u, state, params, new_state, s)")
+    return "\n".join(lines) + "\n"
+
+
+def core(laws: tuple):
+    """The compiled spring core (:mod:`pounding.framework.spring_core`) for a tuple of law classes.
+
+    A copy of ``spring_core`` is generated once into numba's cache folder with ``update``
+    dispatching on the law index to each law's own compiled update, imported as a module, and
+    cached by numba like any other kernel (see the template's docstring for why). The module's
+    text carries a digest of the modules it depends on, so editing one compiles afresh. Where the
+    cache folder cannot be written, a temporary folder is used (compiled per process).
+    """
+    import hashlib
+    import importlib.util
+    import os
+    import sys
+    import tempfile
+
+    key = tuple(f"{cls.__module__}:{cls.__qualname__}" for cls in laws)
+    if key in _CORES:
+        return _CORES[key]
+    from pounding.framework import spring_core
+
+    digest = hashlib.sha1()
+    for module in ("pounding.framework.spring_core", "pounding.framework.kernel", "pounding.framework.inelastic",
+                   "pounding.contact.geometry", *(cls.__module__ for cls in laws)):
+        __import__(module)
+        with open(sys.modules[module].__file__, "rb") as fh:
+            digest.update(fh.read())
+    with open(spring_core.__file__) as fh:
+        template = fh.read()
+    head, rest = template.split("# <dispatch>\n", 1)
+    _, tail = rest.split("# </dispatch>\n", 1)
+    imports = "".join(f"from {cls.__module__} import {cls.__qualname__} as _law{j}\n" for j, cls in enumerate(laws))
+    imports += "".join(f"_u{j} = _law{j}.update\n" for j in range(len(laws)))
+    text = (f"# Generated by pounding.framework.yielding.core for {', '.join(key)} from pounding/framework/spring_core.py.\n"
+            f"# Do not edit. Sources: {digest.hexdigest()}\n" + head + imports + "\n\n" + _dispatch(len(laws)) + tail)
+    stem = "spring_core_" + hashlib.sha1(" ".join(key).encode()).hexdigest()[:16]
+    try:
+        from pounding import compiler
+
+        base = compiler.cache_dir() if compiler.enabled() else None
+    except Exception:  # noqa: BLE001 - no numba: the generated module runs as plain Python
+        base = None
+    candidates = [os.path.join(base, "steppers")] if base else []
+    candidates.append(os.path.join(tempfile.gettempdir(), f"pounding-{os.getuid() if hasattr(os, 'getuid') else 0}", "steppers"))
+    module = None
+    for folder in candidates:
+        try:
+            os.makedirs(folder, exist_ok=True)
+            path = os.path.join(folder, stem + ".py")
+            try:
+                with open(path) as fh:
+                    current = fh.read()
+            except OSError:
+                current = None
+            if current != text:
+                tmp = f"{path}.{os.getpid()}.tmp"
+                with open(tmp, "w") as fh:
+                    fh.write(text)
+                os.replace(tmp, path)
+            name = "_pounding_" + stem
+            spec = importlib.util.spec_from_file_location(name, path)
+            module = importlib.util.module_from_spec(spec)
+            sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
+            spec.loader.exec_module(module)
+            break
+        except OSError:
+            module = None
+    if module is None:
+        raise OSError("pounding: no folder to write the yielding springs' compiled core to")
+    _CORES[key] = module
+    return module
 
 
 def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
@@ -231,24 +334,14 @@ def check_springs(scene) -> None:
 
 
 def force_work(tr, h, L_load0, L_load1, z0, z1, ftot0, ftot1, w0, w1):
-    """Work (n,) of a modal load w linear in a step of h [s] (w0 at its start, w1 at its end), on
-    the integrator's trajectory driven by the ground loads and the total extra loads ftot: the same
-    three rules as :func:`pounding.framework.kernel._accumulate_forces` (closed-form maps, Gauss
-    points on the trajectory, or the trapezoidal rule)."""
-    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr
-    if WA1.shape[0] > 0:
-        x = np.stack([z0[:, 0], z0[:, 1], L_load0 + ftot0, L_load1 + ftot1], axis=1)
-        iv0 = np.sum(WA1 * x, axis=1)
-        iv1 = np.sum(WA2 * x, axis=1)
-        return w0 * iv0 + (w1 - w0) / h * iv1
-    if gc.shape[0] == 0:
-        vm = 0.5 * (z0[:, 1] + z1[:, 1])
-        return h * vm * 0.5 * (w0 + w1)
-    out = np.zeros(z0.shape[0])
-    for j in range(gc.shape[0]):
-        pj = L_load0 + gc[j] * (L_load1 - L_load0)
-        fj = ftot0 + gc[j] * (ftot1 - ftot0)
-        vj = (GA[j, :, 1, 0] * z0[:, 0] + GA[j, :, 1, 1] * z0[:, 1] + GA[j, :, 1, 2] * z0[:, 2]
-              + GB[j, :, 1, 0] * (L_load0 + ftot0) + GB[j, :, 1, 1] * (pj + fj))
-        out += h * gw[j] * vj * (w0 + gc[j] * (w1 - w0))
+    """Work (n,) [J] of a modal load w linear in a step of h [s] (w0 at its start, w1 at its end), on
+    the integrator's trajectory driven by the modal ground loads L_load0, L_load1 (n,) and the total
+    extra loads ftot (n,): :func:`pounding.framework.spring_core.spring_work` (the compiled
+    stretch books its steps with the same function)."""
+    from pounding.framework.spring_core import spring_work
+
+    out = np.empty(z0.shape[0])
+    c = np.ascontiguousarray
+    spring_work(tr, float(h), c(L_load0, dtype=float), c(L_load1, dtype=float), c(z0), c(z1), c(ftot0, dtype=float),
+                c(ftot1, dtype=float), c(w0, dtype=float), c(w1, dtype=float), out)
     return out

@@ -17,7 +17,11 @@ values, never scaled). Cell data: ``building`` (index in scene order),
 1 frame member / line, 2 wall panel), ``in_contact`` (1 on both slab cells of
 a pair whose signed gap is <= the contact tolerance at that instant, computed
 from the geometry) and ``gap`` (the smallest signed gap of the slab's pairs
-[m], NaN for non-slab cells and unpaired slabs). Field data: ``time`` and
+[m], NaN for non-slab cells and unpaired slabs). With yielding storey springs,
+``ductility`` (the running peak |u| / u_y of the spring a cell draws, up to
+that instant) and ``ductility_peak`` (over the whole run), NaN on cells that
+draw no yielding spring (colour by them to see where the buildings yield), and
+``element`` (the cell's element index in its building, 0-based; -1 slabs). Field data: ``time`` and
 ``impact_instant`` (1 when the frame is an impact instant).
 
 Instants written: every ``every``-th output step, plus every impact instant at
@@ -227,6 +231,8 @@ class Drawing:
         0 slab, 1 line, 2 panel.
     cell_building, cell_storey : ndarray (nc,) int
     slab_cell : dict (building, storey 0-based) -> cell index
+    cell_element : ndarray (nc,) int
+        Index of the cell's element in its building's list (0-based), -1 for slabs.
     """
 
     points: np.ndarray
@@ -239,6 +245,7 @@ class Drawing:
     cell_building: np.ndarray
     cell_storey: np.ndarray
     slab_cell: dict
+    cell_element: np.ndarray | None = None
 
     @classmethod
     def build(cls, scene, names: Sequence[str] | None = None) -> "Drawing":
@@ -247,7 +254,7 @@ class Drawing:
         pts: list = []
         pbld: list = []
         index: dict = {}
-        cells, kinds, cb, cs = [], [], [], []
+        cells, kinds, cb, cs, ce = [], [], [], [], []
         slab_cell = {}
 
         def point(b: int, x: float, y: float, z: float) -> int:
@@ -270,7 +277,8 @@ class Drawing:
                 kinds.append(SLAB)
                 cb.append(b)
                 cs.append(f + 1)
-            for el in bld.elements:
+                ce.append(-1)
+            for e_idx, el in enumerate(bld.elements):
                 p0, d = np.asarray(el.point, float), np.asarray(el.direction, float)
                 out = el.outline()
 
@@ -283,11 +291,13 @@ class Drawing:
                     kinds.append(LINE)
                     cb.append(b)
                     cs.append(_storey_of(levels, max(z0, z1)))
+                    ce.append(e_idx)
                 for s0, s1, z0, z1 in out.get("panels", []):
                     cells.append((at(s0, z0), at(s1, z0), at(s1, z1), at(s0, z1)))
                     kinds.append(PANEL)
                     cb.append(b)
                     cs.append(_storey_of(levels, max(z0, z1)))
+                    ce.append(e_idx)
 
         points = np.array(pts, dtype=float).reshape(-1, 3)
         pb = np.array(pbld, dtype=np.int64)
@@ -296,7 +306,13 @@ class Drawing:
         w = np.empty(len(points))
         for j, (z, b) in enumerate(zip(points[:, 2], pb)):
             lo[j], hi[j], w[j] = _bracket(levels_of[b], z)
-        return cls(points, pb, lo, hi, w, cells, np.array(kinds, np.int64), np.array(cb, np.int64), np.array(cs, np.int64), slab_cell)
+        return cls(points, pb, lo, hi, w, cells, np.array(kinds, np.int64), np.array(cb, np.int64), np.array(cs, np.int64), slab_cell,
+                   np.array(ce, np.int64))
+
+    def ductility(self, result, names: Sequence[str]) -> "CellDuctility":
+        """The yielding storey springs' ductility demand on the cells that draw them
+        (:class:`CellDuctility`; ``result.springs`` as the run kept them, buildings in ``names`` order)."""
+        return CellDuctility.of(self, result, names)
 
     # ------------------------------------------------------------------ motion
     def displacement(self, slabs: Sequence, cm: Sequence[np.ndarray]) -> np.ndarray:
@@ -466,6 +482,63 @@ def frame_plan(result, *, every: int = 1, impact_times: Iterable[float] | None =
     return sorted(list(frames.values()) + extra, key=lambda f: f[0])
 
 
+@dataclass
+class CellDuctility:
+    """Ductility demand of the yielding storey springs, per drawn cell (NaN on cells without one).
+
+    The cells of a storey-spring element in storey s draw its spring of that storey; its ductility
+    is peak |u| / u_y (u the spring's deformation, the storey drift along the line; u_y = Fy / k0).
+
+    Attributes
+    ----------
+    spring : ndarray (nc,) int
+        Index of the cell's spring in the run's springs of every building, concatenated, -1: none.
+    running : ndarray (nt, ns)
+        Peak |u| / u_y up to every output row (the recorded rows).
+    peak : ndarray (ns,)
+        Peak |u| / u_y over every step of the run.
+    """
+
+    spring: np.ndarray
+    running: np.ndarray
+    peak: np.ndarray
+
+    @classmethod
+    def of(cls, drawing: "Drawing", result, names: Sequence[str]) -> "CellDuctility":
+        springs = getattr(result, "springs", None) or {}
+        nc = len(drawing.cells)
+        cell_spring = np.full(nc, -1, dtype=np.int64)
+        running, peak, start = [], [], 0
+        for b, name in enumerate(names):
+            sp = springs.get(name)
+            if not sp:
+                continue
+            uy = np.asarray(sp["yield_deformation"], dtype=float)
+            running.append(np.maximum.accumulate(np.abs(np.asarray(sp["deformation"], dtype=float)), axis=0) / uy)
+            peak.append(np.asarray(sp["peak"], dtype=float) / uy)
+            index = {(int(e), int(f)): start + j for j, (e, f) in enumerate(zip(sp["element"], sp["storey"]))}
+            for c in np.flatnonzero(drawing.cell_building == b):
+                cell_spring[c] = index.get((int(drawing.cell_element[c]), int(drawing.cell_storey[c])), -1)
+            start += len(uy)
+        nt = len(result.t)
+        return cls(cell_spring, np.concatenate(running, axis=1) if running else np.zeros((nt, 0)),
+                   np.concatenate(peak) if peak else np.zeros(0))
+
+    def at_row(self, row: int) -> np.ndarray:
+        """Running peak ductility (nc,) of every cell at output row ``row`` (NaN: no yielding spring)."""
+        return self._cells(self.running[row] if self.running.shape[1] else np.zeros(0))
+
+    def final(self) -> np.ndarray:
+        """Peak ductility (nc,) of every cell over the whole run (NaN: no yielding spring)."""
+        return self._cells(self.peak)
+
+    def _cells(self, values: np.ndarray) -> np.ndarray:
+        out = np.full(self.spring.shape[0], np.nan)
+        has = self.spring >= 0
+        out[has] = values[self.spring[has]]
+        return out
+
+
 def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1.0, impact_times: Iterable[float] | None = None, name: str = "pounding") -> Path:
     """Write a ParaView time series of the run: ``<name>.pvd`` + one ``<name>_NNNNNN.vtu`` per instant.
 
@@ -509,6 +582,12 @@ def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1
         a = numpy_to_vtk(arr.astype(np.int32), deep=True)
         a.SetName(nm)
         cd.AddArray(a)
+    duct = drawing.ductility(result, motion.names) if getattr(result, "springs", None) else None
+    if duct is not None:  # yielding storey springs: colour their cells by ductility demand
+        for nm, arr in (("element", drawing.cell_element.astype(np.int32)), ("ductility_peak", duct.final())):
+            a = numpy_to_vtk(arr, deep=True)
+            a.SetName(nm)
+            cd.AddArray(a)
 
     writer = vtkXMLUnstructuredGridWriter()
     writer.SetInputData(grid)
@@ -539,7 +618,11 @@ def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1
             a = numpy_to_vtk(np.ascontiguousarray(arr), deep=True)
             a.SetName(nm)
             pd.AddArray(a)
-        for nm, arr in (("in_contact", flag.astype(np.int32)), ("gap", gap)):
+        cell_arrays = [("in_contact", flag.astype(np.int32)), ("gap", gap)]
+        if duct is not None:  # running peak up to the frame (an off-grid instant: the output row before it)
+            row = k if k is not None else max(int(np.searchsorted(result.t, t, side="right")) - 1, 0)
+            cell_arrays.append(("ductility", duct.at_row(row)))
+        for nm, arr in cell_arrays:
             a = numpy_to_vtk(arr, deep=True)
             a.SetName(nm)
             cd.AddArray(a)
