@@ -229,6 +229,30 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
 
 
 @njit
+def _reach(rows, n_modes, radii, sa, ba, sb, bb, z0, z1, dt):
+    """A bound [m] on how far pair (sa, sb)'s points move towards each other within a step of dt [s]
+    from the modal states z0 to z1 (n, 3): twice what the larger end speeds and accelerations of
+    the two slabs (centre motion plus rotation at their radii) carry them, as kernel.advance's
+    crossing screen bounds it."""
+    w = np.empty(3)
+    speed = 0.0
+    acc = 0.0
+    for zz in (z0, z1):
+        sp = 0.0
+        ac = 0.0
+        for s, b in ((sa, ba), (sb, bb)):
+            i0, nm = n_modes[b, 0], n_modes[b, 1]
+            _slab_dofs(rows[s, :, :nm], zz[i0 : i0 + nm, 1], w)
+            om = w[2]
+            sp += np.hypot(w[0], w[1]) + radii[s] * abs(om)
+            _slab_dofs(rows[s, :, :nm], zz[i0 : i0 + nm, 2], w)
+            ac += np.hypot(w[0], w[1]) + radii[s] * (abs(w[2]) + om * om)
+        speed = max(speed, sp)
+        acc = max(acc, ac)
+    return 2.0 * (speed + 2.0 * acc * dt) * dt
+
+
+@njit
 def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes, S, kel, ntol, params, state, trial, f, g,
             peak, work, hist):
     """Grid steps k0 -> k1 of a scene with yielding springs, until a slab pair comes within the
@@ -265,7 +289,7 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
     A, B = tr.A, tr.B
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
-    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis = geo
+    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -367,7 +391,7 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
             if abs(trial[s, 0]) > peak[s]:
                 peak[s] = abs(trial[s, 0])
         if rec.every > 1:
-            update_peaks(rows, z[:, 0], n_modes, modes.slab_building, rec.peak)
+            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
         if (k + 1) % rec.every == 0:
             j = (k + 1) // rec.every
             for i in range(n):
