@@ -464,3 +464,32 @@ if __name__ == "__main__":
     from pounding.compiler import _main as _package_main
 
     raise SystemExit(_package_main())
+
+
+def generated_module(folder: str, stem: str, text: str):
+    """Import the generated source ``text`` as module ``_pounding_<stem>`` from ``folder/<stem>.py``.
+
+    The file is (re)written only when its text differs, through a temporary file and an atomic
+    rename, so that concurrent processes never read half a module; numba's cache then keys the
+    module's compiled functions on that file like on any other source. Raises OSError when the
+    folder cannot be written."""
+    import sys
+
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, stem + ".py")
+    try:
+        with open(path) as fh:
+            current = fh.read()
+    except OSError:
+        current = None
+    if current != text:
+        tmp = f"{path}.{os.getpid()}.tmp"
+        with open(tmp, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    name = "_pounding_" + stem
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
+    spec.loader.exec_module(module)
+    return module

@@ -431,7 +431,6 @@ def stepper(law: type):
     the generic :func:`stretch` is used (compiled per process).
     """
     import hashlib
-    import importlib.util
     import os
     import sys
 
@@ -456,25 +455,10 @@ def stepper(law: type):
         header = _STEPPER_HEADER.format(key=key, digest=digest.hexdigest(), module=law.__module__, cls=law.__qualname__)
         text = header + body
         base = numba.config.CACHE_DIR or os.path.join(os.path.expanduser("~"), ".cache", "pounding")
-        folder = os.path.join(base, "steppers")
-        os.makedirs(folder, exist_ok=True)
         stem = "stepper_" + "".join(c if c.isalnum() else "_" for c in key)
-        path = os.path.join(folder, stem + ".py")
-        try:
-            with open(path) as fh:
-                current = fh.read()
-        except OSError:
-            current = None
-        if current != text:
-            tmp = f"{path}.{os.getpid()}.tmp"
-            with open(tmp, "w") as fh:
-                fh.write(text)
-            os.replace(tmp, path)
-        name = "_pounding_" + stem
-        spec = importlib.util.spec_from_file_location(name, path)
-        module = importlib.util.module_from_spec(spec)
-        sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
-        spec.loader.exec_module(module)
+        from pounding.compiler import generated_module
+
+        module = generated_module(os.path.join(base, "steppers"), stem, text)
         fn = module.stretch
     except (ImportError, OSError):  # no numba, or nowhere to write: the generic kernel
         fn = None

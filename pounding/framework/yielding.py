@@ -253,7 +253,6 @@ def core(laws: tuple):
     cache folder cannot be written, a temporary folder is used (compiled per process).
     """
     import hashlib
-    import importlib.util
     import os
     import sys
     import tempfile
@@ -289,23 +288,9 @@ def core(laws: tuple):
     module = None
     for folder in candidates:
         try:
-            os.makedirs(folder, exist_ok=True)
-            path = os.path.join(folder, stem + ".py")
-            try:
-                with open(path) as fh:
-                    current = fh.read()
-            except OSError:
-                current = None
-            if current != text:
-                tmp = f"{path}.{os.getpid()}.tmp"
-                with open(tmp, "w") as fh:
-                    fh.write(text)
-                os.replace(tmp, path)
-            name = "_pounding_" + stem
-            spec = importlib.util.spec_from_file_location(name, path)
-            module = importlib.util.module_from_spec(spec)
-            sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
-            spec.loader.exec_module(module)
+            from pounding.compiler import generated_module
+
+            module = generated_module(folder, stem, text)
             break
         except OSError:
             module = None
