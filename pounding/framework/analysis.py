@@ -853,8 +853,6 @@ class Driver:
         bounded Brent minimisation, tell whether the gap dips below zero), and the integrator's own
         intra-step solution gmin then confirms and polishes the zero (regula falsi, Illinois).
         """
-        from scipy.optimize import minimize_scalar
-
         eps = self.eps
         guess = guess or gmin
         xtol = 1e-14 * max(self.dt, 1.0)
@@ -879,6 +877,8 @@ class Driver:
             vals = np.concatenate([[g0], gs, [gh]])
             j = int(np.argmin(vals))
             a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
+            from scipy.optimize import minimize_scalar  # here only: a run with no graze to search never imports it (0.1 s)
+
             res = minimize_scalar(guess, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
             if gmin(float(res.x)) >= -eps:  # the integrator's own solution decides
                 return None
