@@ -93,6 +93,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     db = np.empty(3)
     va = np.empty(3)
     vb = np.empty(3)
+    aa = np.empty(3)
+    ab = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
     for k in range(k0, k1):
@@ -119,16 +121,14 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
                 bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
                 _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 1], va)
                 _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 1], vb)
-                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 2], da)
-                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 2], db)
+                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 2], aa)
+                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 2], ab)
                 speed = (np.hypot(va[0], va[1]) + radii[sa] * abs(va[2]) + np.hypot(vb[0], vb[1]) + radii[sb] * abs(vb[2]))
-                acc = (np.hypot(da[0], da[1]) + radii[sa] * (abs(da[2]) + va[2] * va[2])
-                       + np.hypot(db[0], db[1]) + radii[sb] * (abs(db[2]) + vb[2] * vb[2]))
+                acc = (np.hypot(aa[0], aa[1]) + radii[sa] * (abs(aa[2]) + va[2] * va[2])
+                       + np.hypot(ab[0], ab[1]) + radii[sb] * (abs(ab[2]) + vb[2] * vb[2]))
                 reach = 2.0 * (speed + 2.0 * acc * dt) * dt
                 if bound > reach:
                     continue
-                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
-                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
                 if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
                                    verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
                     continue
