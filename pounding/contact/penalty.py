@@ -82,43 +82,23 @@ class Penalty(ContactLaw):
     def forces(self, gap, rate, S_q, S_v, W, stiffness=None):
         """End-of-step forces (see :meth:`ContactLaw.forces`); ``stiffness`` (m,) [N/m], when given,
         is every point's own spring (:class:`FacadePenalty`) instead of ``self.stiffness``."""
-        if stiffness is not None:
-            return self._forces_per_point(gap, rate, S_q, S_v, W, np.asarray(stiffness, dtype=float))
         m = len(gap)
-        kp = self.stiffness
+        if stiffness is None:
+            ks = np.full(m, self.stiffness)
+            dashpots = lambda Wi, ki: self.dashpots(Wi)  # noqa: E731 - one spring at every point
+        else:
+            ks = np.asarray(stiffness, dtype=float)
+            dashpots = self.dashpots_for  # every contact mode gets the ratio xi
         active = np.ones(m, dtype=bool)
         lam = np.zeros(m)
         for _ in range(m + 1):  # active set: drop points that would pull
             idx = np.flatnonzero(active)
             if idx.size == 0:
                 break
-            C = self.dashpots(W[np.ix_(idx, idx)])
-            K = np.eye(idx.size) + kp * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
-            rhs = -kp * gap[idx] - C @ rate[idx]
-            sol = np.linalg.solve(K, rhs)
-            lam[:] = 0.0
-            lam[idx] = sol
-            if np.all(sol >= 0):
-                break
-            active[idx[sol < 0]] = False
-        return np.maximum(lam, 0.0)
-
-
-    def _forces_per_point(self, gap, rate, S_q, S_v, W, kp):
-        """:meth:`forces` with a spring kp (m,) [N/m] of its own at every point: the same active-set
-        solve with K = diag(kp) and dashpots giving every contact mode the ratio xi
-        (:meth:`dashpots_for`)."""
-        m = len(gap)
-        active = np.ones(m, dtype=bool)
-        lam = np.zeros(m)
-        for _ in range(m + 1):
-            idx = np.flatnonzero(active)
-            if idx.size == 0:
-                break
-            ks = kp[idx]
-            C = self.dashpots_for(W[np.ix_(idx, idx)], ks)
-            K = np.eye(idx.size) + ks[:, None] * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
-            sol = np.linalg.solve(K, -ks * gap[idx] - C @ rate[idx])
+            ki = ks[idx]
+            C = dashpots(W[np.ix_(idx, idx)], ki)
+            K = np.eye(idx.size) + ki[:, None] * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
+            sol = np.linalg.solve(K, -ki * gap[idx] - C @ rate[idx])
             lam[:] = 0.0
             lam[idx] = sol
             if np.all(sol >= 0):
