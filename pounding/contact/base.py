@@ -144,6 +144,20 @@ def newton_impulses(W: np.ndarray, b: np.ndarray, k: float) -> np.ndarray:
 
 
 @njit
+def principal_solve(W, target, idx):
+    """Impulses (size,) of the active points idx (size,): the principal system
+    W[idx, idx] I = target[idx] of the Newton problem, by :func:`solve_small`."""
+    size = idx.shape[0]
+    sub = np.empty((size, size))
+    rhs = np.empty(size)
+    for r in range(size):
+        rhs[r] = target[idx[r]]
+        for s in range(size):
+            sub[r, s] = W[idx[r], idx[s]]
+    return solve_small(sub, rhs)
+
+
+@njit
 def newton_lcp(W, b, k):
     """Compiled core of :func:`newton_impulses` (same arguments, float64 arrays).
 
@@ -175,13 +189,7 @@ def newton_lcp(W, b, k):
                 if mask >> j & 1:
                     idx[c] = j
                     c += 1
-            sub = np.empty((size, size))
-            rhs = np.empty(size)
-            for r in range(size):
-                rhs[r] = target[idx[r]]
-                for s in range(size):
-                    sub[r, s] = W[idx[r], idx[s]]
-            I_act = solve_small(sub, rhs)
+            I_act = principal_solve(W, target, idx)
             if np.any(I_act < -1e-12 * np.abs(I_act).max()):
                 continue
             I = np.zeros(m)
@@ -276,13 +284,7 @@ def newton_pivot(W, b, k):
                 c += 1
         I[:] = 0.0
         if size > 0:
-            sub = np.empty((size, size))
-            rhs = np.empty(size)
-            for r in range(size):
-                rhs[r] = target[idx[r]]
-                for s in range(size):
-                    sub[r, s] = W[idx[r], idx[s]]
-            I_act = solve_small(sub, rhs)
+            I_act = principal_solve(W, target, idx)
             for r in range(size):
                 I[idx[r]] = I_act[r]
         top = 0.0
