@@ -340,6 +340,9 @@ class Driver:
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
             bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
         )
+        #: the compiled stretches' rules (kernel.advance): None with the crossing locator, else the paper's;
+        #: each compiles only its own branch
+        self.rules = None if self.crossing else np.True_
         self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
         self.timings = {"compile_s": 0.0, "load_s": 0.0}
         from pounding.framework.yielding import Yielding
@@ -587,7 +590,7 @@ class Driver:
         if self.kgeo.pa.shape[0] == 0:  # nothing to watch: no contact code
             return advance_free(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo)
         return advance(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo,
-                       self.settings, self.log)
+                       self.settings, self.log, self.rules)
 
     def drain_kernel_events(self) -> None:
         """Move the impacts and event states the compiled core logged into the run's lists."""
@@ -605,7 +608,7 @@ class Driver:
         mask[sorted(self.sustained)] = True
         self.fc = np.ascontiguousarray(self.fc, dtype=float)
         out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, self.fc, mask, int(k0), int(k1),
-                                self.rec, self.model.geo, self.settings)
+                                self.rec, self.model.geo, self.settings, self.rules)
         self.sustained = {int(p) for p in np.flatnonzero(mask)}
         return out
 

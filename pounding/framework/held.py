@@ -278,10 +278,11 @@ def stop_closing(z, W, v_min):
 
 
 @njit
-def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings):
+def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
-    Bundles as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
+    Bundles and ``rules`` (None: the crossing locator; True: the paper's rules, the other
+    branch pruned before compiling) as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
     current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
     Each step: :func:`stop_closing` (its kinetic-energy change booked as contact work),
     :func:`held_step`, then the same checks as the driver's Python step.
@@ -297,7 +298,6 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     dt, ag = ground.dt, ground.ag
     E = rec.E
     tol, overlap, v_min = settings.tol, settings.overlap, settings.v_min
-    instant = settings.instant
     n = z.shape[0]
     P = geo.pa.shape[0]
     g0 = np.empty(n)
@@ -321,8 +321,12 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         for p in range(P):
             if held_mask[p]:
                 continue
-            # the crossing locator (settings.instant) also searches a step the pair may graze
-            if suspect(z0, z1, p, dt, -overlap, tol, geo) if instant else pair_gap(z1[:, 0].copy(), p, tol, geo) < overlap:
+            # the crossing locator (rules None) also searches a step the pair may graze
+            if rules is None:
+                touches = suspect(z0, z1, p, dt, -overlap, tol, geo)
+            else:
+                touches = pair_gap(z1[:, 0].copy(), p, tol, geo) < overlap
+            if touches:
                 # back to the step's start as it was: the driver's Python step stops and books anew
                 for i in range(n):
                     z[i, 1] = v_before[i]
@@ -349,11 +353,13 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
                 else:
                     any_held = True
         # a free pair touching and closing at the step's end: the driver applies the impulses
-        for p in range(P):
-            if held_mask[p] or instant:  # crossing: a pair within the tolerance is struck where its gap is zero
-                continue
-            if pair_gap(q, p, tol, geo) <= tol and closing(q, z[:, 1].copy(), p, tol, v_min, n, geo):
-                return k + 1, Status.CONTACT, p
+        # (crossing: a pair within the tolerance is struck where its gap is zero, in a later step)
+        if rules is not None:
+            for p in range(P):
+                if held_mask[p]:
+                    continue
+                if pair_gap(q, p, tol, geo) <= tol and closing(q, z[:, 1].copy(), p, tol, v_min, n, geo):
+                    return k + 1, Status.CONTACT, p
         if not any_held:
             return k + 1, Status.RELEASED, -1
     return k1, Status.DONE, -1

@@ -42,7 +42,7 @@ def _slab_dofs(rows, q, out):
 
 
 @njit
-def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
+def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     """Advance z from grid index k0 towards k1 (exclusive of events).
 
     Parameters
@@ -70,6 +70,13 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     log : EventLog
         Impacts and event states the kernel appends; ``zeno`` is set for a pair whose
         rebound is too slow to open the tolerance in a step (the kernel stops: HELD).
+    rules : None or bool
+        None with the ``crossing`` locator (``settings.instant``: the driver strikes every
+        impact where the gap is zero; the kernel only screens); True with the paper's rules
+        (struck within the tolerance). numba prunes the branch of the other rules before
+        compiling (an argument typed None), so a run compiles and loads only its own: the
+        crossing run does not compile :func:`impulses_at` (~10 s of a cold start), the
+        paper's does not compile the graze screen (:func:`~pounding.framework.crossing.suspect`).
 
     A step ending with a pair within the tolerance stops the kernel only if a touching
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
@@ -86,7 +93,6 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
     dt, ag = ground.dt, ground.ag
     pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
-    instant = settings.instant
     n = z.shape[0]
     z0 = np.empty((n, 3))
     da = np.empty(3)
@@ -109,7 +115,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
             sb = off[pair_b[p, 0]] + pair_b[p, 1]
             ba = pair_a[p, 0]
             bb = pair_b[p, 0]
-            if instant:
+            if rules is None:
                 # the crossing locator: impacts only where the gap is zero, found by the driver. A cheap
                 # screen first (end positions, speeds and accelerations of the two slabs, no allocation):
                 # the gap cannot reach zero within the step when the clearance bound exceeds twice what
@@ -138,36 +144,37 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log):
                         z[i, 1] = z0[i, 1]
                         z[i, 2] = z0[i, 2]
                     return k, Status.OVERLAP, p
-                continue
-            _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
-            _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-            bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
-            if bound > tol:
-                continue
-            if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
-                               verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
-                continue
-            g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
-            if g < overlap:
-                for i in range(n):
-                    z[i, 0] = z0[i, 0]
-                    z[i, 1] = z0[i, 1]
-                    z[i, 2] = z0[i, 2]
-                return k, Status.OVERLAP, p
-            if g <= tol and status == Status.DONE and closing(z[:, 0].copy(), z[:, 1].copy(), p, tol, v_min, n, geo):
-                # keep checking the other pairs: one of them may overlap in this same step
-                status = Status.CONTACT
-                hit = p
+            else:
+                _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
+                _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
+                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+                if bound > tol:
+                    continue
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
+                    continue
+                g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
+                if g < overlap:
+                    for i in range(n):
+                        z[i, 0] = z0[i, 0]
+                        z[i, 1] = z0[i, 1]
+                        z[i, 2] = z0[i, 2]
+                    return k, Status.OVERLAP, p
+                if g <= tol and status == Status.DONE and closing(z[:, 0].copy(), z[:, 1].copy(), p, tol, v_min, n, geo):
+                    # keep checking the other pairs: one of them may overlap in this same step
+                    status = Status.CONTACT
+                    hit = p
         _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
         if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
             update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
         held = False
-        if status == Status.CONTACT:
-            P = pair_a.shape[0]
-            if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
-                _record(z, k + 1, rec)  # the driver applies the impulses and records again
-                return k + 1, Status.CONTACT, hit
-            _, held = impulses_at((k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
+        if rules is not None:  # (nested: numba prunes a branch on the None test alone)
+            if status == Status.CONTACT:
+                P = pair_a.shape[0]
+                if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
+                    _record(z, k + 1, rec)  # the driver applies the impulses and records again
+                    return k + 1, Status.CONTACT, hit
+                _, held = impulses_at((k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
         _record(z, k + 1, rec)
         if held:
             return k + 1, Status.HELD, -1
