@@ -222,16 +222,21 @@ def test_impulse_conserves_momentum_of_the_slabs(case):
 def test_impulses_of_a_pounding_run_conserve_momentum():
     """The same law on every impulse of a real run (the paper scene, 3 s, HHT): the slab velocities
     just before and after each impulse, taken from the driver, conserve linear and angular momentum
-    to 1e-12 of the size of the jumps (displaced, rotated slabs, corner and face contacts)."""
+    to 1e-12 of the size of the jumps (displaced, rotated slabs, corner and face contacts), plus the
+    rounding of the momenta themselves: each is a sum over slabs of products of physical velocities,
+    every velocity a sum of n modal terms, so it carries up to ~(n + 4) eps of its sum of term
+    magnitudes (x4 margin). A small re-strike in a chatter sequence moves the angular momentum
+    (1.5e6) by a few hundred: its jump is then below the last digits of the momentum."""
     d = RecordingDriver(load_scene(PAPER).with_analysis(duration=3.0))
     d.run()
     assert len(d.events) >= 5
+    digits = 4 * (d.model.n + 4) * np.finfo(float).eps
     for ev in d.events:
-        p0, L0, _, _ = momenta(d.model, ev["q"], ev["before"])
+        p0, L0, p0s, L0s = momenta(d.model, ev["q"], ev["before"])
         _, _, ps, Ls = momenta(d.model, ev["q"], ev["after"] - ev["before"])
-        p1, L1, _, _ = momenta(d.model, ev["q"], ev["after"])
-        assert np.all(np.abs(p1 - p0) <= RTOL * ps), ev["t"]
-        assert abs(L1 - L0) <= RTOL * Ls, ev["t"]
+        p1, L1, p1s, L1s = momenta(d.model, ev["q"], ev["after"])
+        assert np.all(np.abs(p1 - p0) <= RTOL * ps + digits * (p0s + p1s)), ev["t"]
+        assert abs(L1 - L0) <= RTOL * Ls + digits * (L0s + L1s), ev["t"]
 
 
 # ---------------------------------------------------------------------------
