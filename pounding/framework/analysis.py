@@ -809,17 +809,19 @@ class Driver:
 
         if self.crossing:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
-            q0, v0, q1, v1 = z0[:, 0], z0[:, 1], z1[:, 0], z1[:, 1]
+            memo: dict[float, float] = {}
 
-            def ghermite(hh):
-                # the cubic Hermite interpolant of the step's end displacements and velocities: a
-                # fourth-order guess of the integrator's intra-step solution, with no transition to build
-                s_ = hh / h
-                h00, h10, h01, h11 = (1 + 2 * s_) * (1 - s_) ** 2, s_ * (1 - s_) ** 2, s_ * s_ * (3 - 2 * s_), s_ * s_ * (s_ - 1)
-                q = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
-                return float(self.model.gaps(q, plist).min())
+            def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
+                g = memo.get(hh)
+                if g is None:
+                    g = memo[hh] = gmin(hh)
+                return g
 
-            return self.locate_crossing(gmin, h, ghermite)
+            # the step's cubic Hermite interpolant (q, q' at both ends): a fourth-order guess of the
+            # integrator's intra-step solution, with no transition to build (pounding.framework.crossing)
+            herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
+                    np.ascontiguousarray(z1[:, 1]), float(h))
+            return self.locate_crossing(gmin_once, h, herm, plist)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
@@ -841,56 +843,39 @@ class Driver:
                 break
         return hi if gmin(hi) >= -self.tol else lo
 
-    #: samples of a step searched for a graze (on the cheap interpolant) before the minimum is refined
-    GRAZE_SAMPLES = 16
+    def locate_crossing(self, gmin, h: float, herm: tuple, plist: np.ndarray) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) of the pairs ``plist`` on [0, h],
+        to the geometry's rounding, or None when the gap stays above -eps (a graze that did not touch).
 
-    def locate_crossing(self, gmin, h: float, guess=None) -> float | None:
-        """Step length to the first zero of the smallest gap gmin(hh) on [0, h], to the geometry's
-        rounding, or None when the gap stays above -eps (a graze that did not touch).
-
-        ``guess(hh)`` is a cheap approximation of gmin (the step's cubic Hermite interpolant): the
-        search runs on it (a step ending overlapping brackets a root at once; otherwise samples, then
-        bounded Brent minimisation, tell whether the gap dips below zero), and the integrator's own
-        intra-step solution gmin then confirms and polishes the zero (regula falsi, Illinois).
+        The search runs on the step's cubic Hermite interpolant ``herm`` = (q0, v0, q1, v1 (n,), h),
+        compiled (:mod:`pounding.framework.crossing`): a step ending overlapping brackets a root at
+        once; otherwise samples, then Brent's bounded minimisation, tell whether the gap dips below
+        zero. The integrator's own intra-step solution gmin then confirms and polishes the zero
+        (Newton with the interpolant's slope, then regula falsi with the Illinois rule).
         """
+        from pounding.framework.crossing import hermite_search, hermite_slope, hermite_zero
+
         eps = self.eps
-        guess = guess or gmin
         xtol = 1e-14 * max(self.dt, 1.0)
-        dh = 1e-7 * h
+        geo_ = self.model.geo
 
         def slope(x):  # of the interpolant's gap: the Newton slope of _polish
-            a, b = max(x - dh, 0.0), min(x + dh, h)
-            return (guess(b) - guess(a)) / (b - a)
+            return hermite_slope(*herm, float(x), plist, geo_)
 
         g0 = gmin(0.0)
         gh = gmin(h)
         if g0 > eps and gh < -eps:
-            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol, slope)
-        ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
-        gs = [guess(float(x)) for x in ts]
-        neg = [j for j, g in enumerate(gs) if g < -eps]
-        if neg:
-            j = neg[0]
-            lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
-        else:
-            grid = np.concatenate([[0.0], ts, [h]])
-            vals = np.concatenate([[g0], gs, [gh]])
-            j = int(np.argmin(vals))
-            a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
-            from scipy.optimize import minimize_scalar  # here only: a run with no graze to search never imports it (0.1 s)
-
-            res = minimize_scalar(guess, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
-            if gmin(float(res.x)) >= -eps:  # the integrator's own solution decides
-                return None
-            lo, hi = a, float(res.x)
+            return _polish(gmin, 0.0, h, hermite_zero(*herm, 0.0, float(h), eps, xtol, False, plist, geo_), eps, xtol, slope)
+        found, lo, hi = hermite_search(*herm, float(g0), float(gh), eps, plist, geo_)
+        if not found and gmin(hi) >= -eps:  # hi: the interpolant's minimum; the integrator's own solution decides
+            return None
         if gmin(hi) >= -eps:
             hi = h if gh < -eps else hi
         if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
             return lo
         if gmin(hi) >= -eps:
             return None
-        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol,
-                       slope)
+        return _polish(gmin, lo, hi, hermite_zero(*herm, float(lo), float(hi), eps, xtol, True, plist, geo_), eps, xtol, slope)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
