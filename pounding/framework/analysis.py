@@ -296,7 +296,12 @@ class Driver:
         self.integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
         self.tol = float(self.law.tolerance)
-        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta)
+        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
+        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
+        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        # the crossing locator's one-off step lengths take the integrator's partial maps (equal to
+        # rounding, cheaper); the paper's locators keep transition() to the bit
+        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta, grid_dt=self.dt, partial=self.crossing)
         self.t_grid = np.arange(self.nsteps + 1) * self.dt
         # (nsteps + 1, c): one column per ground-motion component
         self.ag = np.ascontiguousarray(np.asarray(gm.samples(self.t_grid), dtype=float).reshape(self.nsteps + 1, -1))
@@ -329,9 +334,6 @@ class Driver:
         # contact "none": no pair is watched
         self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
         compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
-        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
-        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
-        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
@@ -419,7 +421,8 @@ class Driver:
         out = self._quad.get(key)
         if out is None:
             n = self.model.n
-            maps = self.integrator.work_maps(self.model.omega, self.model.zeta, h) if np.all(self.model.omega > 0) else None
+            work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
+            maps = work(self.model.omega, self.model.zeta, h) if np.all(self.model.omega > 0) else None
             if maps is not None:
                 WA1, WA2, WM = maps
                 trs, gc, gw = [], np.zeros(0), np.zeros(0)
