@@ -692,10 +692,11 @@ class Driver:
     def crossing_pairs(self, st: Step, h: float) -> list[int]:
         """Free pairs that may touch inside the trial step ``st`` of h [s] (the crossing locator):
         ending it overlapping, or grazing by :func:`pounding.framework.crossing.suspect`'s bound."""
-        from pounding.framework.crossing import suspect
+        from pounding.framework.crossing import suspects
 
         z0, z1 = np.ascontiguousarray(st.z0), np.ascontiguousarray(st.z1)
-        return [int(p) for p in self.free_pairs() if suspect(z0, z1, int(p), float(h), self.eps, self.tol, self.model.geo)]
+        free = self.free_pairs()
+        return free[suspects(z0, z1, free, float(h), self.eps, self.tol, self.model.geo)].tolist()
 
     def touching_pairs(self) -> np.ndarray:
         """Free pairs whose gap is zero to rounding (the crossing locator strikes only these at a step's end)."""
@@ -799,6 +800,7 @@ class Driver:
         """Step length from t to the first contact of the culprit pairs (within the tolerance; with the
         crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
         plist = np.array(culprits, dtype=np.int64)
+        p0 = self.load(t) + self.fc  # the load at the start, the same for every trial
 
         def gmin(hh):
             if hh <= 0.0:
@@ -806,7 +808,7 @@ class Driver:
             if self.law.kind == "impulse" and not self.sustained and self.springs is None:
                 # no contact force in the step: only its end displacements are needed
                 tr = self.cache(hh)
-                return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, self.load(t) + self.fc,
+                return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, p0,
                                                 self.load(t + hh), plist, self.model.geo))
             return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
@@ -892,6 +894,9 @@ class Driver:
         """
         if self.law.kind != "impulse":
             return False
+        if pairs is not None and len(pairs) == 0:  # nothing to strike (the crossing locator's step ends, mostly)
+            self.drain_kernel_events()
+            return False
         m = self.model
         candidates = np.zeros(len(m.pairs), dtype=np.bool_)
         candidates[m.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
@@ -948,8 +953,6 @@ class Driver:
         results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
         (issue #12); a law only Python knows needs this path anyway.
         """
-        from pounding.framework.bundles import IMPACT_DTYPE
-
         m, log = self.model, self.log
         q = np.ascontiguousarray(self.z[:, 0])
         count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
@@ -989,13 +992,9 @@ class Driver:
         if self.law.after_impact == "equilibrium":
             rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
             self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
-        for j in np.flatnonzero(I_all > 0):
-            rec = np.zeros((), dtype=IMPACT_DTYPE)
-            rec["time"], rec["pair"], rec["striker"], rec["vertex"] = t, pair[j], who[j], vertex[j]
-            rec["impulse"], rec["nx"], rec["ny"] = I_all[j], N[j, 0], N[j, 1]
-            rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I_all[j] * (b[j] + after_all[j])
-            rec["px"], rec["py"] = Q[j, 0], Q[j, 1]
-            self.impacts.append(Impact.from_record(rec))
+        for j in np.flatnonzero(I_all > 0).tolist():  # the fields of an IMPACT_DTYPE record (Impact.from_record), directly
+            self.impacts.append(Impact(float(t), int(pair[j]), int(who[j]), int(vertex[j]), float(I_all[j]), N[j, :2].copy(),
+                                       float(b[j]), float(0.5 * I_all[j] * (b[j] + after_all[j])), Q[j, :2].copy()))
         for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
             sel = pair == p
             if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:

@@ -299,3 +299,12 @@ def hermite_search(q0, v0, q1, v1, h, g0, gh, eps, plist, geo):
     b = h if jmin >= m else h * (jmin + 1) / (m + 1)
     x, _ = bounded_minimum(q0, v0, q1, v1, h, a, b, 1e-7 * h, plist, geo)
     return False, a, x
+
+
+@njit
+def suspects(z0, z1, plist, h, eps, tol, geo):
+    """:func:`suspect` for every pair of ``plist`` (m,) int: a bool mask (m,), in one call."""
+    out = np.zeros(plist.shape[0], dtype=np.bool_)
+    for j in range(plist.shape[0]):
+        out[j] = suspect(z0, z1, plist[j], h, eps, tol, geo)
+    return out
