@@ -328,6 +328,7 @@ class Driver:
         self.events_in_step = 0
         self.n_located = 0
         self._quad: dict = {}
+        self._ag_memo: dict[float, np.ndarray] = {}
         # the bundles the compiled core takes (see pounding.framework.bundles)
         self.ground = Ground(self.dt, self.ag)
         self.rec = Recorder(int(self.every), self.Q, self.V, self.E, self.peak)
@@ -390,7 +391,16 @@ class Driver:
         kr = int(k + 0.5)
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
             return self.ag[kr]
-        return np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+        # an event's instant is asked for by its step, its energy, its impulses and the next step: the
+        # record is interpolated once per instant (read-only copies, like the grid rows above)
+        key = float(t)
+        ag = self._ag_memo.get(key)
+        if ag is None:
+            if len(self._ag_memo) > 64:
+                self._ag_memo.clear()
+            ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+            ag.flags.writeable = False
+        return ag
 
     def quadrature(self, h: float):
         """Energy quadrature for a step of h: (transitions to the points, points, weights)."""
