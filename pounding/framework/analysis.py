@@ -392,14 +392,14 @@ class Driver:
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
             return self.ag[kr]
         # an event's instant is asked for by its step, its energy, its impulses and the next step: the
-        # record is interpolated once per instant (read-only copies, like the grid rows above)
+        # record is interpolated once per instant (callers only read it, as the grid rows above)
         key = float(t)
         ag = self._ag_memo.get(key)
         if ag is None:
             if len(self._ag_memo) > 64:
                 self._ag_memo.clear()
+            # (writable, like the grid rows: a read-only array would be another type for the compiled core)
             ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
-            ag.flags.writeable = False
         return ag
 
     def quadrature(self, h: float):
