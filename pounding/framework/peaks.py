@@ -95,30 +95,56 @@ def cubic_abs_max(y0, y1, m0, m1):
 
 def hermite_extremes(y0, y1, m0, m1, signed: bool = False):
     """Vectorised :func:`cubic_abs_max`: (max |y| over each step, its fraction s in [0, 1]), arrays like
-    y0; with ``signed``, the largest value of y itself."""
+    y0; with ``signed``, the largest value of y itself. Compiled, element by element
+    (:func:`_hermite_extremes_flat`)."""
     y0, y1, m0, m1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (y0, y1, m0, m1)))
-    mag = (lambda x: x) if signed else np.abs
-    c2 = 3.0 * (y1 - y0) - 2.0 * m0 - m1
-    c3 = 2.0 * (y0 - y1) + m0 + m1
-    best = mag(y0)
-    where = np.zeros_like(y0)
-    end = mag(y1) > best
-    best = np.where(end, mag(y1), best)
-    where[end] = 1.0
-    a, b = 3.0 * c3, 2.0 * c2
-    disc = b * b - 4.0 * a * m0
-    ok = disc >= 0.0
-    r = np.sqrt(np.where(ok, disc, 0.0))
-    qq = -0.5 * np.where(b >= 0.0, b + r, b - r)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for s in (np.where(qq != 0.0, m0 / qq, np.nan), np.where((qq != 0.0) & (a != 0.0), qq / a, np.nan)):
-            inside = ok & (s > 0.0) & (s < 1.0)
-            ss = np.where(inside, s, 0.0)
-            val = mag(y0 + ss * (m0 + ss * (c2 + ss * c3)))
-            better = inside & (val > best)
-            best = np.where(better, val, best)
-            where = np.where(better, ss, where)
-    return best, where
+    shape = y0.shape
+    flat = [np.ascontiguousarray(a).reshape(-1) for a in (y0, y1, m0, m1)]
+    best, where = np.empty(flat[0].size), np.empty(flat[0].size)
+    if flat[0].size:
+        _hermite_extremes_flat(*flat, bool(signed), best, where)
+    return best.reshape(shape), where.reshape(shape)
+
+
+@njit
+def _hermite_extremes_flat(y0, y1, m0, m1, signed, best, where):
+    """best, where (m,) <- the extreme of |y| (with ``signed``: of y) of the cubic Hermite of every
+    element over s in [0, 1] and its fraction s: the step ends and the roots in (0, 1) of y'(s) = m0 +
+    2 c2 s + 3 c3 s^2 (stable quadratic formula), with the operations of the former numpy version
+    (same numbers), the first of equal candidates kept."""
+    for i in range(y0.shape[0]):
+        a0, a1, d0, d1 = y0[i], y1[i], m0[i], m1[i]
+        c2 = 3.0 * (a1 - a0) - 2.0 * d0 - d1
+        c3 = 2.0 * (a0 - a1) + d0 + d1
+        b_ = a0 if signed else abs(a0)
+        w = 0.0
+        e1 = a1 if signed else abs(a1)
+        if e1 > b_:
+            b_ = e1
+            w = 1.0
+        a = 3.0 * c3
+        b = 2.0 * c2
+        disc = b * b - 4.0 * a * d0
+        if disc >= 0.0:
+            r = np.sqrt(disc)
+            qq = -0.5 * (b + r if b >= 0.0 else b - r)
+            if qq != 0.0:
+                for root in range(2):
+                    if root == 0:
+                        s = d0 / qq
+                    elif a != 0.0:
+                        s = qq / a
+                    else:
+                        break
+                    if s > 0.0 and s < 1.0:
+                        val = a0 + s * (d0 + s * (c2 + s * c3))
+                        if not signed:
+                            val = abs(val)
+                        if val > b_:
+                            b_ = val
+                            w = s
+        best[i] = b_
+        where[i] = w
 
 
 def hermite_value(y0, y1, m0, m1, s):
