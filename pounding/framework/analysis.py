@@ -329,6 +329,7 @@ class Driver:
         self.n_located = 0
         self._quad: dict = {}
         self._ag_memo: dict[float, np.ndarray] = {}
+        self._load_memo: dict[float, np.ndarray] = {}
         # the bundles the compiled core takes (see pounding.framework.bundles)
         self.ground = Ground(self.dt, self.ag)
         self.rec = Recorder(int(self.every), self.Q, self.V, self.E, self.peak)
@@ -378,11 +379,21 @@ class Driver:
 
     def load(self, t: float) -> np.ndarray:
         """Modal ground-motion load p = -L ag(t) (n,) [N/kg^0.5], summed over the components
-        in the compiled core's order (:func:`pounding.framework.kernel.modal_load`)."""
+        in the compiled core's order (:func:`pounding.framework.kernel.modal_load`).
+
+        An event asks for the loads at a few instants a dozen times (its trials, steps, impulses and
+        energy): they are formed once per instant. Callers only read the array."""
+        key = float(t)
+        p = self._load_memo.get(key)
+        if p is not None:
+            return p
         L, ag = self.model.L, self.ag_at(t)
         p = L[:, 0] * -ag[0]
         for j in range(1, L.shape[1]):
             p += L[:, j] * -ag[j]
+        if len(self._load_memo) > 64:
+            self._load_memo.clear()
+        self._load_memo[key] = p
         return p
 
     def ag_at(self, t: float) -> np.ndarray:
