@@ -137,8 +137,13 @@ def hermite_gap(q0, v0, q1, v1, h, x, plist, geo):
     """Smallest gap [m] of the pairs ``plist`` at x [s] in a step of h [s], on the cubic Hermite of the
     step's end displacements q0, q1 and velocities v0, v1 (n,)."""
     s = x / h
-    h00 = (1 + 2 * s) * ((1 - s) * (1 - s))
-    h10 = s * ((1 - s) * (1 - s))
+    # (1 - s)^2 by the C library's pow, as the Python search computed it (``(1 - s) ** 2``): pow is not
+    # always the correctly rounded x * x, and a last bit here moves an accepted zero within the geometry's
+    # rounding. The exponent is not a literal so that the compiler keeps the call.
+    two = 2.0 + 0.0 * s
+    u2 = (1 - s) ** two
+    h00 = (1 + 2 * s) * u2
+    h10 = s * u2
     h01 = s * s * (3 - 2 * s)
     h11 = s * s * (s - 1)
     c10 = h10 * h
