@@ -153,8 +153,11 @@ class Exact(Integrator):
     def partial_transition(self, omega, zeta, dt):
         """:meth:`transition` compiled mode by mode (:func:`pounding.solvers.exact_partial.exact_transition`;
         equal to rounding), for the crossing locator's one-off step lengths."""
+        from pounding.compiler import Kernel
         from pounding.solvers.exact_partial import exact_transition
 
+        if not isinstance(exact_transition, Kernel):  # without numba the numpy form is the fast one
+            return self.transition(omega, zeta, dt)
         omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
         zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
         A, B = exact_transition(omega, zeta, float(dt))
@@ -163,11 +166,12 @@ class Exact(Integrator):
     def partial_work_maps(self, omega, zeta, dt):
         """:meth:`work_maps` compiled mode by mode in its regime (A) (:func:`pounding.solvers.exact_partial.work_maps_small`;
         equal to rounding), the other modes by :meth:`work_maps`."""
+        from pounding.compiler import Kernel
         from pounding.solvers.exact_partial import work_maps_small
 
         omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
         zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
-        if not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
+        if not isinstance(work_maps_small, Kernel) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
             return self.work_maps(omega, zeta, dt)
         n = omega.shape[0]
         a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))

@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from pounding.compiler import njit
+from pounding.compiler import Kernel, njit
 from pounding.errors import InputError
 from pounding.solvers.base import Integrator, Transition
 
@@ -143,6 +143,8 @@ def alpha_transition(omega, zeta, dt, beta, gamma, alpha_m, alpha_f):
 def alpha_family_transition(integrator, omega, zeta, dt, *, beta, gamma, alpha_m=0.0, alpha_f=0.0) -> Transition:
     """:meth:`Integrator.transition` of a scheme whose step is :func:`alpha_step` with these parameters,
     by :func:`alpha_transition` (compiled, the probes' numbers to the bit)."""
+    if not isinstance(alpha_transition, Kernel):  # without numba the probes through numpy are faster (same numbers)
+        return Integrator.transition(integrator, omega, zeta, dt)
     omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
     zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
     integrator.check_dt(omega, zeta, dt)
