@@ -72,8 +72,10 @@ for sc in scenes[:2] if quick else scenes:
 
 def _dump(code_root: Path, quick: bool, paper: bool = False) -> dict[str, str]:
     env = dict(os.environ, PYTHONPATH=str(code_root))
+    # cwd: ``python -c`` puts the working directory first on sys.path, before PYTHONPATH; run from this
+    # worktree it would import this worktree's code for the base commit too (and report it identical)
     out = subprocess.run([sys.executable, "-c", DUMP, str(ROOT), "1" if quick else "0", "1" if paper else "0"], env=env,
-                         capture_output=True, text=True, check=True).stdout
+                         cwd=str(code_root), capture_output=True, text=True, check=True).stdout
     return {line.split()[0]: " ".join(line.split()[1:]) for line in out.splitlines() if line.strip()}
 
 

@@ -296,7 +296,12 @@ class Driver:
         self.integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
         self.tol = float(self.law.tolerance)
-        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta)
+        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
+        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
+        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        # the crossing locator's one-off step lengths take the integrator's partial maps (equal to
+        # rounding, cheaper); the paper's locators keep transition() to the bit
+        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta, grid_dt=self.dt, partial=self.crossing)
         self.t_grid = np.arange(self.nsteps + 1) * self.dt
         # (nsteps + 1, c): one column per ground-motion component
         self.ag = np.ascontiguousarray(np.asarray(gm.samples(self.t_grid), dtype=float).reshape(self.nsteps + 1, -1))
@@ -323,15 +328,14 @@ class Driver:
         self.events_in_step = 0
         self.n_located = 0
         self._quad: dict = {}
+        self._ag_memo: dict[float, np.ndarray] = {}
+        self._load_memo: dict[float, np.ndarray] = {}
         # the bundles the compiled core takes (see pounding.framework.bundles)
         self.ground = Ground(self.dt, self.ag)
         self.rec = Recorder(int(self.every), self.Q, self.V, self.E, self.peak)
         # contact "none": no pair is watched
         self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
         compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
-        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
-        #: resting contact and chatter (see :mod:`pounding.framework.crossing`)
-        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
@@ -378,11 +382,21 @@ class Driver:
 
     def load(self, t: float) -> np.ndarray:
         """Modal ground-motion load p = -L ag(t) (n,) [N/kg^0.5], summed over the components
-        in the compiled core's order (:func:`pounding.framework.kernel.modal_load`)."""
+        in the compiled core's order (:func:`pounding.framework.kernel.modal_load`).
+
+        An event asks for the loads at a few instants a dozen times (its trials, steps, impulses and
+        energy): they are formed once per instant. Callers only read the array."""
+        key = float(t)
+        p = self._load_memo.get(key)
+        if p is not None:
+            return p
         L, ag = self.model.L, self.ag_at(t)
         p = L[:, 0] * -ag[0]
         for j in range(1, L.shape[1]):
             p += L[:, j] * -ag[j]
+        if len(self._load_memo) > 64:
+            self._load_memo.clear()
+        self._load_memo[key] = p
         return p
 
     def ag_at(self, t: float) -> np.ndarray:
@@ -391,7 +405,16 @@ class Driver:
         kr = int(k + 0.5)
         if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
             return self.ag[kr]
-        return np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+        # an event's instant is asked for by its step, its energy, its impulses and the next step: the
+        # record is interpolated once per instant (callers only read it, as the grid rows above)
+        key = float(t)
+        ag = self._ag_memo.get(key)
+        if ag is None:
+            if len(self._ag_memo) > 64:
+                self._ag_memo.clear()
+            # (writable, like the grid rows: a read-only array would be another type for the compiled core)
+            ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+        return ag
 
     def quadrature(self, h: float):
         """Energy quadrature for a step of h: (transitions to the points, points, weights)."""
@@ -422,7 +445,8 @@ class Driver:
         out = self._quad.get(key)
         if out is None:
             n = self.model.n
-            maps = self.integrator.work_maps(self.model.omega, self.model.zeta, h) if np.all(self.model.omega > 0) else None
+            work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
+            maps = work(self.model.omega, self.model.zeta, h) if np.all(self.model.omega > 0) else None
             if maps is not None:
                 WA1, WA2, WM = maps
                 trs, gc, gw = [], np.zeros(0), np.zeros(0)
@@ -692,10 +716,11 @@ class Driver:
     def crossing_pairs(self, st: Step, h: float) -> list[int]:
         """Free pairs that may touch inside the trial step ``st`` of h [s] (the crossing locator):
         ending it overlapping, or grazing by :func:`pounding.framework.crossing.suspect`'s bound."""
-        from pounding.framework.crossing import suspect
+        from pounding.framework.crossing import suspects
 
         z0, z1 = np.ascontiguousarray(st.z0), np.ascontiguousarray(st.z1)
-        return [int(p) for p in self.free_pairs() if suspect(z0, z1, int(p), float(h), self.eps, self.tol, self.model.geo)]
+        free = self.free_pairs()
+        return free[suspects(z0, z1, free, float(h), self.eps, self.tol, self.model.geo)].tolist()
 
     def touching_pairs(self) -> np.ndarray:
         """Free pairs whose gap is zero to rounding (the crossing locator strikes only these at a step's end)."""
@@ -799,6 +824,7 @@ class Driver:
         """Step length from t to the first contact of the culprit pairs (within the tolerance; with the
         crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
         plist = np.array(culprits, dtype=np.int64)
+        p0 = self.load(t) + self.fc  # the load at the start, the same for every trial
 
         def gmin(hh):
             if hh <= 0.0:
@@ -806,23 +832,25 @@ class Driver:
             if self.law.kind == "impulse" and not self.sustained and self.springs is None:
                 # no contact force in the step: only its end displacements are needed
                 tr = self.cache(hh)
-                return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, self.load(t) + self.fc,
+                return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, p0,
                                                 self.load(t + hh), plist, self.model.geo))
             return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
 
         if self.crossing:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
-            q0, v0, q1, v1 = z0[:, 0], z0[:, 1], z1[:, 0], z1[:, 1]
+            memo: dict[float, float] = {}
 
-            def ghermite(hh):
-                # the cubic Hermite interpolant of the step's end displacements and velocities: a
-                # fourth-order guess of the integrator's intra-step solution, with no transition to build
-                s_ = hh / h
-                h00, h10, h01, h11 = (1 + 2 * s_) * (1 - s_) ** 2, s_ * (1 - s_) ** 2, s_ * s_ * (3 - 2 * s_), s_ * s_ * (s_ - 1)
-                q = h00 * q0 + h10 * h * v0 + h01 * q1 + h11 * h * v1
-                return float(self.model.gaps(q, plist).min())
+            def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
+                g = memo.get(hh)
+                if g is None:
+                    g = memo[hh] = gmin(hh)
+                return g
 
-            return self.locate_crossing(gmin, h, ghermite)
+            # the step's cubic Hermite interpolant (q, q' at both ends): a fourth-order guess of the
+            # integrator's intra-step solution, with no transition to build (pounding.framework.crossing)
+            herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
+                    np.ascontiguousarray(z1[:, 1]), float(h))
+            return self.locate_crossing(gmin_once, h, herm, plist)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
@@ -844,56 +872,39 @@ class Driver:
                 break
         return hi if gmin(hi) >= -self.tol else lo
 
-    #: samples of a step searched for a graze (on the cheap interpolant) before the minimum is refined
-    GRAZE_SAMPLES = 16
+    def locate_crossing(self, gmin, h: float, herm: tuple, plist: np.ndarray) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) of the pairs ``plist`` on [0, h],
+        to the geometry's rounding, or None when the gap stays above -eps (a graze that did not touch).
 
-    def locate_crossing(self, gmin, h: float, guess=None) -> float | None:
-        """Step length to the first zero of the smallest gap gmin(hh) on [0, h], to the geometry's
-        rounding, or None when the gap stays above -eps (a graze that did not touch).
-
-        ``guess(hh)`` is a cheap approximation of gmin (the step's cubic Hermite interpolant): the
-        search runs on it (a step ending overlapping brackets a root at once; otherwise samples, then
-        bounded Brent minimisation, tell whether the gap dips below zero), and the integrator's own
-        intra-step solution gmin then confirms and polishes the zero (regula falsi, Illinois).
+        The search runs on the step's cubic Hermite interpolant ``herm`` = (q0, v0, q1, v1 (n,), h),
+        compiled (:mod:`pounding.framework.crossing`): a step ending overlapping brackets a root at
+        once; otherwise samples, then Brent's bounded minimisation, tell whether the gap dips below
+        zero. The integrator's own intra-step solution gmin then confirms and polishes the zero
+        (Newton with the interpolant's slope, then regula falsi with the Illinois rule).
         """
+        from pounding.framework.crossing import hermite_search, hermite_slope, hermite_zero
+
         eps = self.eps
-        guess = guess or gmin
         xtol = 1e-14 * max(self.dt, 1.0)
-        dh = 1e-7 * h
+        geo_ = self.model.geo
 
         def slope(x):  # of the interpolant's gap: the Newton slope of _polish
-            a, b = max(x - dh, 0.0), min(x + dh, h)
-            return (guess(b) - guess(a)) / (b - a)
+            return hermite_slope(*herm, float(x), plist, geo_)
 
         g0 = gmin(0.0)
         gh = gmin(h)
         if g0 > eps and gh < -eps:
-            return _polish(gmin, 0.0, h, _first_zero(guess, 0.0, h, eps, xtol), eps, xtol, slope)
-        ts = h * np.arange(1, self.GRAZE_SAMPLES + 1) / (self.GRAZE_SAMPLES + 1)
-        gs = [guess(float(x)) for x in ts]
-        neg = [j for j, g in enumerate(gs) if g < -eps]
-        if neg:
-            j = neg[0]
-            lo, hi = (0.0 if j == 0 else float(ts[j - 1])), float(ts[j])
-        else:
-            grid = np.concatenate([[0.0], ts, [h]])
-            vals = np.concatenate([[g0], gs, [gh]])
-            j = int(np.argmin(vals))
-            a, b = float(grid[max(j - 1, 0)]), float(grid[min(j + 1, len(grid) - 1)])
-            from scipy.optimize import minimize_scalar  # here only: a run with no graze to search never imports it (0.1 s)
-
-            res = minimize_scalar(guess, bounds=(a, b), method="bounded", options={"xatol": 1e-7 * h})
-            if gmin(float(res.x)) >= -eps:  # the integrator's own solution decides
-                return None
-            lo, hi = a, float(res.x)
+            return _polish(gmin, 0.0, h, hermite_zero(*herm, 0.0, float(h), eps, xtol, False, plist, geo_), eps, xtol, slope)
+        found, lo, hi = hermite_search(*herm, float(g0), float(gh), eps, plist, geo_)
+        if not found and gmin(hi) >= -eps:  # hi: the interpolant's minimum; the integrator's own solution decides
+            return None
         if gmin(hi) >= -eps:
             hi = h if gh < -eps else hi
         if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
             return lo
         if gmin(hi) >= -eps:
             return None
-        return _polish(gmin, lo, hi, _first_zero(guess, lo, hi, eps, xtol) if guess(hi) < 0 < guess(lo) else 0.5 * (lo + hi), eps, xtol,
-                       slope)
+        return _polish(gmin, lo, hi, hermite_zero(*herm, float(lo), float(hi), eps, xtol, True, plist, geo_), eps, xtol, slope)
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -906,6 +917,9 @@ class Driver:
         step (Zeno) is held from then on.
         """
         if self.law.kind != "impulse":
+            return False
+        if pairs is not None and len(pairs) == 0:  # nothing to strike (the crossing locator's step ends, mostly)
+            self.drain_kernel_events()
             return False
         m = self.model
         candidates = np.zeros(len(m.pairs), dtype=np.bool_)
@@ -963,8 +977,6 @@ class Driver:
         results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
         (issue #12); a law only Python knows needs this path anyway.
         """
-        from pounding.framework.bundles import IMPACT_DTYPE
-
         m, log = self.model, self.log
         q = np.ascontiguousarray(self.z[:, 0])
         count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
@@ -1004,13 +1016,9 @@ class Driver:
         if self.law.after_impact == "equilibrium":
             rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
             self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
-        for j in np.flatnonzero(I_all > 0):
-            rec = np.zeros((), dtype=IMPACT_DTYPE)
-            rec["time"], rec["pair"], rec["striker"], rec["vertex"] = t, pair[j], who[j], vertex[j]
-            rec["impulse"], rec["nx"], rec["ny"] = I_all[j], N[j, 0], N[j, 1]
-            rec["approach_velocity"], rec["energy_loss"] = b[j], 0.5 * I_all[j] * (b[j] + after_all[j])
-            rec["px"], rec["py"] = Q[j, 0], Q[j, 1]
-            self.impacts.append(Impact.from_record(rec))
+        for j in np.flatnonzero(I_all > 0).tolist():  # the fields of an IMPACT_DTYPE record (Impact.from_record), directly
+            self.impacts.append(Impact(float(t), int(pair[j]), int(who[j]), int(vertex[j]), float(I_all[j]), N[j, :2].copy(),
+                                       float(b[j]), float(0.5 * I_all[j] * (b[j] + after_all[j])), Q[j, :2].copy()))
         for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
             sel = pair == p
             if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:

@@ -118,3 +118,198 @@ def suspect(z0, z1, p, h, eps, tol, geo):
     if g0 < -eps:
         return False
     return graze_bound(g0, r0, g1, r1, A, h) < -eps
+
+
+# --------------------------------------------------------------------------- the search on the interpolant
+# The driver's impact search (:meth:`pounding.framework.analysis.Driver.locate_crossing`) runs on the
+# cubic Hermite interpolant of a step's end displacements and velocities (a fourth-order guess of the
+# integrator's own intra-step solution, with no transition to build) and then confirms and polishes the
+# zero on the integrator's solution. These functions do the interpolant's part in one compiled call each,
+# with the arithmetic of the Python code they replace (the same samples, the same Illinois iteration, and
+# Brent's bounded minimiser as scipy's ``minimize_scalar(method="bounded")`` runs it).
+
+#: samples of a step searched for a graze (on the interpolant) before the minimum is refined
+GRAZE_SAMPLES = 16
+
+
+@njit
+def hermite_gap(q0, v0, q1, v1, h, x, plist, geo):
+    """Smallest gap [m] of the pairs ``plist`` at x [s] in a step of h [s], on the cubic Hermite of the
+    step's end displacements q0, q1 and velocities v0, v1 (n,)."""
+    s = x / h
+    # (1 - s)^2 by the C library's pow, as the Python search computed it (``(1 - s) ** 2``): pow is not
+    # always the correctly rounded x * x, and a last bit here moves an accepted zero within the geometry's
+    # rounding. The exponent is not a literal so that the compiler keeps the call.
+    two = 2.0 + 0.0 * s
+    u2 = (1 - s) ** two
+    h00 = (1 + 2 * s) * u2
+    h10 = s * u2
+    h01 = s * s * (3 - 2 * s)
+    h11 = s * s * (s - 1)
+    c10 = h10 * h
+    c11 = h11 * h
+    n = q0.shape[0]
+    q = np.empty(n)
+    for i in range(n):
+        q[i] = h00 * q0[i] + c10 * v0[i] + h01 * q1[i] + c11 * v1[i]
+    g = np.inf
+    for j in range(plist.shape[0]):
+        g = min(g, pair_gap(q, plist[j], np.inf, geo))
+    return g
+
+
+@njit
+def hermite_slope(q0, v0, q1, v1, h, x, plist, geo):
+    """Slope [m/s] of :func:`hermite_gap` at x, by a central difference of 1e-7 h (one-sided at the
+    step's ends): the Newton slope of the driver's polish."""
+    dh = 1e-7 * h
+    a = max(x - dh, 0.0)
+    b = min(x + dh, h)
+    return (hermite_gap(q0, v0, q1, v1, h, b, plist, geo) - hermite_gap(q0, v0, q1, v1, h, a, plist, geo)) / (b - a)
+
+
+@njit
+def hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, checked, plist, geo):
+    """A zero [s] of :func:`hermite_gap` on [lo, hi] where the interpolant's gap is positive at lo and
+    negative at hi: the first point found where it is within eps [m] of zero, by regula falsi with the
+    Illinois rule (superlinear, bracketing), bisection down to xtol [s] where the gap is not smooth;
+    lo when the gap at lo is within eps already. With ``checked``, the midpoint when the interpolant
+    does not bracket a zero (without, the caller knows it does)."""
+    flo = hermite_gap(q0, v0, q1, v1, h, lo, plist, geo)
+    fhi = hermite_gap(q0, v0, q1, v1, h, hi, plist, geo)
+    if checked and not (fhi < 0.0 < flo):
+        return 0.5 * (lo + hi)
+    if flo <= eps:
+        return lo
+    side = 0
+    for _ in range(200):
+        if hi - lo <= xtol:
+            break
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        fx = hermite_gap(q0, v0, q1, v1, h, x, plist, geo)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    return lo
+
+
+@njit
+def bounded_minimum(q0, v0, q1, v1, h, a, b, xatol, plist, geo):
+    """(x [s], value [m]) of the smallest :func:`hermite_gap` on [a, b]: Brent's bounded minimiser
+    (golden sections and parabolic steps; Forsythe, Malcolm & Moler 1977, ``fmin``), in the form of
+    scipy's ``minimize_scalar(method="bounded")``, stopping when the bracket is within 2 (sqrt(eps) |x|
+    + xatol / 3) of x, or after 500 evaluations."""
+    sqrt_eps = np.sqrt(2.2e-16)
+    golden_mean = 0.5 * (3.0 - np.sqrt(5.0))
+    fulc = a + golden_mean * (b - a)
+    nfc, xf = fulc, fulc
+    rat = 0.0
+    e = 0.0
+    fx = hermite_gap(q0, v0, q1, v1, h, xf, plist, geo)
+    num = 1
+    ffulc = fx
+    fnfc = fx
+    xm = 0.5 * (a + b)
+    tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+    tol2 = 2.0 * tol1
+    while abs(xf - xm) > (tol2 - 0.5 * (b - a)):
+        golden = True
+        if abs(e) > tol1:  # a parabola through the three best points
+            golden = False
+            r = (xf - nfc) * (fx - ffulc)
+            q = (xf - fulc) * (fx - fnfc)
+            p = (xf - fulc) * q - (xf - nfc) * r
+            q = 2.0 * (q - r)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            r = e
+            e = rat
+            if abs(p) < abs(0.5 * q * r) and p > q * (a - xf) and p < q * (b - xf):
+                rat = (p + 0.0) / q
+                x = xf + rat
+                if (x - a) < tol2 or (b - x) < tol2:
+                    d = xm - xf
+                    rat = tol1 * ((1.0 if d > 0 else -1.0 if d < 0 else 0.0) + (1.0 if d == 0 else 0.0))
+            else:
+                golden = True
+        if golden:
+            e = (a - xf) if xf >= xm else (b - xf)
+            rat = golden_mean * e
+        si = (1.0 if rat > 0 else -1.0 if rat < 0 else 0.0) + (1.0 if rat == 0 else 0.0)
+        x = xf + si * max(abs(rat), tol1)
+        fu = hermite_gap(q0, v0, q1, v1, h, x, plist, geo)
+        num += 1
+        if fu <= fx:
+            if x >= xf:
+                a = xf
+            else:
+                b = xf
+            fulc, ffulc = nfc, fnfc
+            nfc, fnfc = xf, fx
+            xf, fx = x, fu
+        else:
+            if x < xf:
+                a = x
+            else:
+                b = x
+            if fu <= fnfc or nfc == xf:
+                fulc, ffulc = nfc, fnfc
+                nfc, fnfc = x, fu
+            elif fu <= ffulc or fulc == xf or fulc == nfc:
+                fulc, ffulc = x, fu
+        xm = 0.5 * (a + b)
+        tol1 = sqrt_eps * abs(xf) + xatol / 3.0
+        tol2 = 2.0 * tol1
+        if num >= 500:
+            break
+    return xf, fx
+
+
+@njit
+def hermite_search(q0, v0, q1, v1, h, g0, gh, eps, plist, geo):
+    """Where the interpolant's gap of a step of h [s] that does not end overlapping first goes below -eps
+    [m]: samples at h j / (GRAZE_SAMPLES + 1); the first negative one and its left neighbour (or 0)
+    bracket it. With none negative, the smallest of them and of the end gaps g0, gh (the integrator's own
+    [m]) gives the interval around the minimum, refined by :func:`bounded_minimum` (xatol 1e-7 h).
+
+    Returns (found, lo, hi): found = True with the bracket [lo, hi] [s] of a negative sample; else
+    False with the minimiser's interval start ``lo`` and its minimum ``hi`` [s]."""
+    m = GRAZE_SAMPLES
+    prev = 0.0
+    jmin = 0
+    vmin = g0
+    for j in range(1, m + 1):
+        x = h * j / (m + 1)
+        g = hermite_gap(q0, v0, q1, v1, h, x, plist, geo)
+        if g < -eps:
+            return True, prev, x
+        if g < vmin:  # the first smallest, as numpy's argmin over [g0, samples..., gh]
+            jmin, vmin = j, g
+        prev = x
+    if gh < vmin:
+        jmin = m + 1
+    a = 0.0 if jmin <= 1 else h * (jmin - 1) / (m + 1)
+    b = h if jmin >= m else h * (jmin + 1) / (m + 1)
+    x, _ = bounded_minimum(q0, v0, q1, v1, h, a, b, 1e-7 * h, plist, geo)
+    return False, a, x
+
+
+@njit
+def suspects(z0, z1, plist, h, eps, tol, geo):
+    """:func:`suspect` for every pair of ``plist`` (m,) int: a bool mask (m,), in one call."""
+    out = np.zeros(plist.shape[0], dtype=np.bool_)
+    for j in range(plist.shape[0]):
+        out[j] = suspect(z0, z1, plist[j], h, eps, tol, geo)
+    return out

@@ -58,7 +58,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pounding.compiler import njit
+from pounding.compiler import Kernel, njit
 
 __all__ = ["cubic_abs_max", "hermite_extremes", "Segments", "segments", "abs_peaks", "norm_peaks",
            "ExactIntraStep", "refine_max"]
@@ -95,8 +95,63 @@ def cubic_abs_max(y0, y1, m0, m1):
 
 def hermite_extremes(y0, y1, m0, m1, signed: bool = False):
     """Vectorised :func:`cubic_abs_max`: (max |y| over each step, its fraction s in [0, 1]), arrays like
-    y0; with ``signed``, the largest value of y itself."""
+    y0; with ``signed``, the largest value of y itself. Compiled, element by element
+    (:func:`_hermite_extremes_flat`)."""
     y0, y1, m0, m1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (y0, y1, m0, m1)))
+    if not isinstance(_hermite_extremes_flat, Kernel):  # without numba: numpy's vectorised form, the same numbers
+        return _hermite_extremes_numpy(y0, y1, m0, m1, signed)
+    shape = y0.shape
+    flat = [np.ascontiguousarray(a).reshape(-1) for a in (y0, y1, m0, m1)]
+    best, where = np.empty(flat[0].size), np.empty(flat[0].size)
+    if flat[0].size:
+        _hermite_extremes_flat(*flat, bool(signed), best, where)
+    return best.reshape(shape), where.reshape(shape)
+
+
+@njit
+def _hermite_extremes_flat(y0, y1, m0, m1, signed, best, where):
+    """best, where (m,) <- the extreme of |y| (with ``signed``: of y) of the cubic Hermite of every
+    element over s in [0, 1] and its fraction s: the step ends and the roots in (0, 1) of y'(s) = m0 +
+    2 c2 s + 3 c3 s^2 (stable quadratic formula), with the operations of the former numpy version
+    (same numbers), the first of equal candidates kept."""
+    for i in range(y0.shape[0]):
+        a0, a1, d0, d1 = y0[i], y1[i], m0[i], m1[i]
+        c2 = 3.0 * (a1 - a0) - 2.0 * d0 - d1
+        c3 = 2.0 * (a0 - a1) + d0 + d1
+        b_ = a0 if signed else abs(a0)
+        w = 0.0
+        e1 = a1 if signed else abs(a1)
+        if e1 > b_:
+            b_ = e1
+            w = 1.0
+        a = 3.0 * c3
+        b = 2.0 * c2
+        disc = b * b - 4.0 * a * d0
+        if disc >= 0.0:
+            r = np.sqrt(disc)
+            qq = -0.5 * (b + r if b >= 0.0 else b - r)
+            if qq != 0.0:
+                for root in range(2):
+                    if root == 0:
+                        s = d0 / qq
+                    elif a != 0.0:
+                        s = qq / a
+                    else:
+                        break
+                    if s > 0.0 and s < 1.0:
+                        val = a0 + s * (d0 + s * (c2 + s * c3))
+                        if not signed:
+                            val = abs(val)
+                        if val > b_:
+                            b_ = val
+                            w = s
+        best[i] = b_
+        where[i] = w
+
+
+def _hermite_extremes_numpy(y0, y1, m0, m1, signed):
+    """:func:`hermite_extremes` vectorised with numpy (the same operations, array by array), for
+    runs without numba, where the element loop would run interpreted."""
     mag = (lambda x: x) if signed else np.abs
     c2 = 3.0 * (y1 - y0) - 2.0 * m0 - m1
     c3 = 2.0 * (y0 - y1) + m0 + m1

@@ -36,7 +36,10 @@ Contract for an implementer
 5. Optionally override :meth:`transition` with a closed form; the default
    probes :meth:`step` with unit inputs (exact, because the step is linear).
    Optionally set ``energy_nodes`` or override :meth:`work_maps` for the energy audit.
-6. Register the class under the entry-point group ``pounding.integrators``.
+6. Optionally override :meth:`partial_transition` and :meth:`partial_work_maps`: the same maps
+   for the crossing locator's one-off step lengths (its trials, the parts of a step split at an
+   impact), cheaper and equal to rounding (not necessarily to the bit).
+7. Register the class under the entry-point group ``pounding.integrators``.
 """
 
 from __future__ import annotations
@@ -134,6 +137,16 @@ class Integrator(ABC):
         out = np.stack([q1, qd1, qdd1], axis=1)  # (n, 3, 5)
         return Transition(A=np.ascontiguousarray(out[:, :, :3]), B=np.ascontiguousarray(out[:, :, 3:]), dt=float(dt))
 
+    def partial_transition(self, omega: np.ndarray, zeta: np.ndarray, dt: float) -> Transition:
+        """:meth:`transition` for a one-off step length of a contact event (crossing locator). The
+        default is :meth:`transition` itself; an override must equal it to rounding."""
+        return self.transition(omega, zeta, dt)
+
+    def partial_work_maps(self, omega: np.ndarray, zeta: np.ndarray, dt: float):
+        """:meth:`work_maps` for a one-off step length of a contact event (crossing locator); the
+        default is :meth:`work_maps` itself; an override must equal it to rounding."""
+        return self.work_maps(omega, zeta, dt)
+
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""
         params = {k: v for k, v in vars(self).items() if not k.startswith("_")}
@@ -145,19 +158,27 @@ class TransitionCache:
 
     Step sizes are keyed by their float value: the driver only asks for dt,
     dt/2**k, and the remainders of a located step, so the set stays small.
+    With ``partial`` (the crossing locator), every step length but ``grid_dt`` is built by
+    :meth:`Integrator.partial_transition`.
     """
 
-    def __init__(self, integrator: Integrator, omega: np.ndarray, zeta: np.ndarray):
+    def __init__(self, integrator: Integrator, omega: np.ndarray, zeta: np.ndarray, *, grid_dt: float | None = None,
+                 partial: bool = False):
         self.integrator = integrator
-        self.omega = np.asarray(omega, dtype=float)
-        self.zeta = np.asarray(zeta, dtype=float)
+        self.omega = np.ascontiguousarray(omega, dtype=float)
+        self.zeta = np.ascontiguousarray(zeta, dtype=float)
+        self.grid_dt = grid_dt
+        self.partial = partial
         self._cache: dict[float, Transition] = {}
 
     def __call__(self, dt: float) -> Transition:
         dt = float(dt)
         tr = self._cache.get(dt)
         if tr is None:
-            tr = self.integrator.transition(self.omega, self.zeta, dt)
+            if self.partial and dt != self.grid_dt:
+                tr = self.integrator.partial_transition(self.omega, self.zeta, dt)
+            else:
+                tr = self.integrator.transition(self.omega, self.zeta, dt)
             if len(self._cache) > 256:  # a root finder's trials are used once; keep memory bounded
                 self._cache.clear()
             self._cache[dt] = tr

@@ -150,6 +150,38 @@ class Exact(Integrator):
 
         return work_maps(np.asarray(omega, dtype=float), np.asarray(zeta, dtype=float), float(dt))
 
+    def partial_transition(self, omega, zeta, dt):
+        """:meth:`transition` compiled mode by mode (:func:`pounding.solvers.exact_partial.exact_transition`;
+        equal to rounding), for the crossing locator's one-off step lengths."""
+        from pounding.compiler import Kernel
+        from pounding.solvers.exact_partial import exact_transition
+
+        if not isinstance(exact_transition, Kernel):  # without numba the numpy form is the fast one
+            return self.transition(omega, zeta, dt)
+        omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
+        zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+        A, B = exact_transition(omega, zeta, float(dt))
+        return Transition(A=A, B=B, dt=float(dt))
+
+    def partial_work_maps(self, omega, zeta, dt):
+        """:meth:`work_maps` compiled mode by mode in its regime (A) (:func:`pounding.solvers.exact_partial.work_maps_small`;
+        equal to rounding), the other modes by :meth:`work_maps`."""
+        from pounding.compiler import Kernel
+        from pounding.solvers.exact_partial import work_maps_small
+
+        omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
+        zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+        if not isinstance(work_maps_small, Kernel) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
+            return self.work_maps(omega, zeta, dt)
+        n = omega.shape[0]
+        a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
+        done = np.zeros(n, dtype=np.bool_)
+        work_maps_small(omega, zeta, float(dt), a1, a2, M, done)
+        if not done.all():
+            rest = ~done
+            a1[rest], a2[rest], M[rest] = self.work_maps(omega[rest], zeta[rest], dt)
+        return a1, a2, M
+
     def transition(self, omega, zeta, dt):
         omega = np.asarray(omega, dtype=float).reshape(-1)
         zeta = np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pounding.errors import InputError
 from pounding.solvers.base import Integrator
-from pounding.solvers.newmark import alpha_step, real_param
+from pounding.solvers.newmark import alpha_family_transition, alpha_step, real_param
 
 
 class GeneralizedAlpha(Integrator):
@@ -69,3 +69,9 @@ class GeneralizedAlpha(Integrator):
             q, qd, qdd, p0, p1, omega, zeta, dt,
             beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m, alpha_f=self.alpha_f,
         )
+
+    def transition(self, omega, zeta, dt):
+        if type(self).step is not GeneralizedAlpha.step:  # a subclass with its own step: probe it
+            return super().transition(omega, zeta, dt)
+        return alpha_family_transition(self, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m,
+                                       alpha_f=self.alpha_f)
