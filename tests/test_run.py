@@ -144,9 +144,12 @@ def test_ctrl_c_leaves_no_half_written_folder(tmp_path):
     import time
 
     out = tmp_path / "res"
+    # Ctrl-C as a terminal sends it: Python turns SIGINT into KeyboardInterrupt only when the process
+    # starts with the default action, which a test runner started in the background may have set to
+    # "ignore" for its children
     proc = subprocess.Popen(
         [sys.executable, "-m", "pounding", "run", str(PAPER / "pair_gap_0.03.toml"), "--out", str(out), "--vtk", "--quiet"],
-        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL),
     )
     deadline = time.monotonic() + 120
     while time.monotonic() < deadline and proc.poll() is None:

@@ -25,6 +25,7 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import secrets
 import shutil
 import tempfile
 from pathlib import Path
@@ -117,8 +118,14 @@ def staging(target: str | Path):
     """Yield a temporary folder beside ``target`` (created); removed afterwards, whatever happens (Ctrl-C included)."""
     target = Path(target).resolve()
     target.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{target.name}.tmp-", dir=target.parent))
+    # the name is chosen first and the folder made inside the try: a Ctrl-C that lands just after
+    # the folder exists is cleaned up too (mkdtemp before the try left it behind)
+    while True:
+        tmp = target.parent / f".{target.name}.tmp-{secrets.token_hex(4)}"
+        if not tmp.exists():
+            break
     try:
+        tmp.mkdir(mode=0o700)
         yield tmp
     finally:
         shutil.rmtree(tmp, ignore_errors=True)  # gone already when published
