@@ -27,7 +27,6 @@ import json
 import os
 import secrets
 import shutil
-import tempfile
 from pathlib import Path
 
 from pounding.errors import InputError
