@@ -1,5 +1,3 @@
-import sys
+from pounding.cli import console
 
-from pounding.cli import main
-
-sys.exit(main())
+console()

@@ -109,6 +109,30 @@ def command(fn):
     return fn
 
 
+def console() -> None:
+    """The ``pounding`` command (and ``python -m pounding``): :func:`main`, then the process ends
+    without the interpreter's teardown.
+
+    Everything the command writes is closed by then (results are published by a rename); what is
+    left is releasing the loaded machine code of the compiled core and every module, which took
+    0.21-0.25 s of a 1.2 s warm ``pounding run`` (measured with the file-writing work done).
+    Standard streams and logging are flushed first; atexit handlers are run.
+    """
+    import atexit
+    import logging
+    import os
+
+    code = main()
+    atexit._run_exitfuncs()
+    logging.shutdown()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe or stream: nothing more can reach it
+            pass
+    os._exit(code)
+
+
 def main(argv: list[str] | None = None) -> int:
     import os
     import warnings
