@@ -1029,7 +1029,11 @@ class Driver:
 def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
     """A zero of f on [lo, hi] with f(lo) > 0 > f(hi): the first point found where |f| <= eps (the
     geometry's zero), by regula falsi with the Illinois rule (superlinear, bracketing); bisection
-    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already."""
+    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already.
+
+    The iteration of :func:`pounding.framework.crossing.hermite_zero`, which runs it compiled on the
+    cubic interpolant; here f is any Python callable (the integrator's own solution, which compiled
+    code cannot call)."""
     flo = f(lo)
     if flo <= eps:
         return lo
