@@ -123,6 +123,8 @@ def console() -> None:
     import os
 
     code = main()
+    # os._exit skips atexit: run its handlers here (worker pools a sweep started, logging); CPython's
+    # own entry to them, stable since Python 3.0
     atexit._run_exitfuncs()
     logging.shutdown()
     for stream in (sys.stdout, sys.stderr):
