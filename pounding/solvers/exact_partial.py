@@ -44,6 +44,18 @@ def _matmul4(X, Y, out):
 
 
 @njit
+def _congruence4(W, X, tmp, out):
+    """out = X^T W X (4, 4), with tmp = W X: the energy form W carried through the map X."""
+    _matmul4(W, X, tmp)
+    for r in range(4):
+        for c in range(4):
+            acc = 0.0
+            for m in range(4):
+                acc += X[m, r] * tmp[m, c]
+            out[r, c] = acc
+
+
+@njit
 def _times_f(P, X, out):
     """out = P X for X with the pattern of the augmented oscillator matrix [[0, x01, 0, 0], [x10, x11,
     x12, 0], [0, 0, 0, x23], [0, 0, 0, 0]] (its other entries are zero): 5 products a row, not 16."""
@@ -259,13 +271,7 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
             for r in range(4):
                 for c in range(4):
                     J0[r, c] += t2[r, c]
-            _matmul4(W, Phi, t1)
-            for r in range(4):
-                for c in range(4):
-                    acc = 0.0
-                    for m in range(4):
-                        acc += Phi[m, r] * t1[m, c]
-                    t2[r, c] = acc
+            _congruence4(W, Phi, t1, t2)
             for r in range(4):
                 for c in range(4):
                     tmp[r, c] = W[r, c] + 0.5 * (t2[r, c] + t2[c, r])
@@ -289,13 +295,7 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
                 s2 += J1[1, m] * G[m, c]
             a1[i, c] = s1
             a2[i, c] = T * s2
-        _matmul4(W, G, t1)
+        _congruence4(W, G, t1, t2)
         for r in range(4):
             for c in range(4):
-                acc = 0.0
-                for m in range(4):
-                    acc += G[m, r] * t1[m, c]
-                t2[r, c] = acc / T
-        for r in range(4):
-            for c in range(4):
-                Mq[i, r, c] = 0.5 * (t2[r, c] + t2[c, r])
+                Mq[i, r, c] = 0.5 * (t2[r, c] / T + t2[c, r] / T)
