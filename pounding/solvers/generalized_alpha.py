@@ -71,7 +71,5 @@ class GeneralizedAlpha(Integrator):
         )
 
     def transition(self, omega, zeta, dt):
-        if type(self).step is not GeneralizedAlpha.step:  # a subclass with its own step: probe it
-            return super().transition(omega, zeta, dt)
-        return alpha_family_transition(self, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m,
+        return alpha_family_transition(self, GeneralizedAlpha, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m,
                                        alpha_f=self.alpha_f)

@@ -73,6 +73,4 @@ class HHT(Integrator):
         )
 
     def transition(self, omega, zeta, dt):
-        if type(self).step is not HHT.step:  # a subclass with its own step: probe it
-            return super().transition(omega, zeta, dt)
-        return alpha_family_transition(self, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=0.0, alpha_f=-self.alpha)
+        return alpha_family_transition(self, HHT, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=0.0, alpha_f=-self.alpha)

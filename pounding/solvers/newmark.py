@@ -140,10 +140,12 @@ def alpha_transition(omega, zeta, dt, beta, gamma, alpha_m, alpha_f):
     return A, B
 
 
-def alpha_family_transition(integrator, omega, zeta, dt, *, beta, gamma, alpha_m=0.0, alpha_f=0.0) -> Transition:
-    """:meth:`Integrator.transition` of a scheme whose step is :func:`alpha_step` with these parameters,
-    by :func:`alpha_transition` (compiled, the probes' numbers to the bit)."""
-    if not isinstance(alpha_transition, Kernel):  # without numba the probes through numpy are faster (same numbers)
+def alpha_family_transition(integrator, owner, omega, zeta, dt, *, beta, gamma, alpha_m=0.0, alpha_f=0.0) -> Transition:
+    """:meth:`Integrator.transition` of a scheme whose step is :func:`alpha_step` with these parameters
+    (the class ``owner``'s ``step``), by :func:`alpha_transition` (compiled, the probes' numbers to the
+    bit). A subclass with a step of its own is probed, as any integrator."""
+    if type(integrator).step is not owner.step or not isinstance(alpha_transition, Kernel):
+        # its own step; or without numba, where the probes through numpy are faster (same numbers)
         return Integrator.transition(integrator, omega, zeta, dt)
     omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
     zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
@@ -229,6 +231,4 @@ class Newmark(Integrator):
         return alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, beta=self.beta, gamma=self.gamma)
 
     def transition(self, omega, zeta, dt):
-        if type(self).step is not Newmark.step:  # a subclass with its own step: probe it
-            return super().transition(omega, zeta, dt)
-        return alpha_family_transition(self, omega, zeta, dt, beta=self.beta, gamma=self.gamma)
+        return alpha_family_transition(self, Newmark, omega, zeta, dt, beta=self.beta, gamma=self.gamma)
