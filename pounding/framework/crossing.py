@@ -29,6 +29,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
+from pounding.contact.geometry import EPS_REL, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.pairs import pair_features, pair_gap, slab_dofs
 
 
@@ -68,7 +69,13 @@ def motion_bounds(z0, z1, p, geo):
 @njit
 def nearest_rate(q, v, p, tol, n, geo):
     """(gap [m], gap rate [m/s]) of the nearest feature of pair p for modal q, v (n,)."""
-    g = pair_gap(q, p, np.inf, geo)
+    return rate_at_gap(q, v, p, pair_gap(q, p, np.inf, geo), tol, n, geo)
+
+
+@njit
+def rate_at_gap(q, v, p, g, tol, n, geo):
+    """:func:`nearest_rate` given the pair's exact signed gap g [m] at q (``pair_gap`` with no cutoff,
+    or with a cutoff it does not exceed)."""
     # contact_points reports nothing beyond its tolerance: widen it to reach the nearest feature
     count, Q, N, gap, who, idx, face, W = pair_features(q, p, max(g, 0.0) + tol, n, geo)
     if count == 0:
@@ -103,18 +110,72 @@ def suspect(z0, z1, p, h, eps, tol, geo):
     (gap < -eps [m]) or its gap may have dipped below -eps inside the step (a graze), by the
     bound of the module docstring. A pair that starts the step overlapping is not a new contact
     (it is pressed or held: the caller's other checks see it)."""
+    return suspect_step(z0, z1, p, h, eps, tol, geo, -1, np.empty((0, 3)), np.empty((0, 7)))
+
+
+@njit
+def moved_bound(ref, da, db, Ra, Rb):
+    """Lower bound [m] on the signed gap of a pair whose gap was ref[0] >= 0 [m] with its slabs at
+    (u, v, phi) = ref[1:4], ref[4:7], now at da, db (3,): :func:`~pounding.contact.geometry.clearance_bound`
+    with that state for the rest state (the same proof: every point of a slab moves from one state
+    to the other by its centre's translation plus at most R |phi change|)."""
+    return clearance_bound(ref[0], da[0] - ref[1], da[1] - ref[2], da[2] - ref[3], Ra,
+                           db[0] - ref[4], db[1] - ref[5], db[2] - ref[6], Rb)
+
+
+@njit
+def suspect_step(z0, z1, p, h, eps, tol, geo, k, rates, gaps):
+    """:func:`suspect` for the step k -> k + 1 of a stretch of consecutive steps (each step's start
+    state the last one's end state, unchanged), with two memories (k < 0: none; the same answers):
+
+    * ``gaps`` (pairs, 7): the last exact gap the screen computed, with its slabs' (u, v, phi)
+      (gap NaN: none). Near contact the rest-state bounds of :func:`pair_gap` rarely decide (an
+      L-shaped slab's axis separation is far below its gap) and each step would form the polygons;
+      the gap bounded from that state (:func:`moved_bound`, less a rounding margin far above the
+      geometry's, 1e3 ``EPS_REL`` of the coordinates) decides instead while the slabs have moved
+      less than the clearance left.
+    * ``rates`` (pairs, 3): the nearest feature's (gap, rate) at a step's end as (k + 1, gap, rate),
+      the next step's start values: one feature search fewer per searched step.
+    """
+    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
     q1 = z1[:, 0].copy()
     V, A = motion_bounds(z0, z1, p, geo)
     reach = (V + A * h) * h + eps  # the most the gap can fall over the step, from its end backwards
-    # the end gap (a cheap lower bound where it exceeds the reach: pair_gap's cutoff)
-    g_end = pair_gap(q1, p, reach, geo)
+    # the end gap (a cheap lower bound where it exceeds the reach: pair_gap's cascade, then the memory)
+    da = np.empty(3)
+    db = np.empty(3)
+    slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q1, da)
+    slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q1, db)
+    sa = off[pa[p, 0]] + pa[p, 1]
+    sb = off[pb[p, 0]] + pb[p, 1]
+    if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > reach:
+        return False
+    if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                       verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
+        return False
+    if k >= 0 and gaps[p, 0] >= 0.0:  # (False for NaN: no memory)
+        scale = max(1.0, abs(centres[sa, 0]) + abs(centres[sa, 1]) + radii[sa] + abs(centres[sb, 0]) + abs(centres[sb, 1]) + radii[sb])
+        if moved_bound(gaps[p], da, db, radii[sa], radii[sb]) - 1e3 * EPS_REL * scale > reach:
+            return False
+    g_end = signed_gap(displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2]),
+                       displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2]))
+    if k >= 0:
+        gaps[p, 0] = g_end
+        for i in range(3):
+            gaps[p, 1 + i] = da[i]
+            gaps[p, 4 + i] = db[i]
     if g_end > reach:
         return False
     if g_end < -eps:
         return True
     n = z0.shape[0]
-    g1, r1 = nearest_rate(q1, z1[:, 1].copy(), p, tol, n, geo)
-    g0, r0 = nearest_rate(z0[:, 0].copy(), z0[:, 1].copy(), p, tol, n, geo)
+    g1, r1 = rate_at_gap(q1, z1[:, 1].copy(), p, g_end, tol, n, geo)
+    if k >= 0 and rates[p, 0] == k:
+        g0, r0 = rates[p, 1], rates[p, 2]
+    else:
+        g0, r0 = nearest_rate(z0[:, 0].copy(), z0[:, 1].copy(), p, tol, n, geo)
+    if k >= 0:
+        rates[p, 0], rates[p, 1], rates[p, 2] = k + 1, g1, r1
     if g0 < -eps:
         return False
     return graze_bound(g0, r0, g1, r1, A, h) < -eps

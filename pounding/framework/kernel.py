@@ -26,7 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
-from pounding.framework.crossing import suspect
+from pounding.framework.crossing import suspect_step
 from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 from pounding.framework.peaks import cubic_abs_max
 
@@ -76,7 +76,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
         (struck within the tolerance). numba prunes the branch of the other rules before
         compiling (an argument typed None), so a run compiles and loads only its own: the
         crossing run does not compile :func:`impulses_at` (~10 s of a cold start), the
-        paper's does not compile the graze screen (:func:`~pounding.framework.crossing.suspect`).
+        paper's does not compile the graze screen (:func:`~pounding.framework.crossing.suspect_step`).
 
     A step ending with a pair within the tolerance stops the kernel only if a touching
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
@@ -103,6 +103,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     ab = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
+    rates = np.full((pair_a.shape[0], 3), -1.0)  # the graze screen's memories (suspect_step)
+    gaps = np.full((pair_a.shape[0], 7), np.nan)
     for k in range(k0, k1):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
         # contact check on the pairs that could touch; a rejected step books no energy.
@@ -138,7 +140,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
                                    verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
                     continue
-                if suspect(z0, z, p, dt, -overlap, tol, geo):
+                if suspect_step(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps):
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
                         z[i, 1] = z0[i, 1]
