@@ -305,7 +305,8 @@ def _warm_task(name: str) -> None:
     then the gap of a slab pair and a whole run of the paper pair with pounding. ``shared``: the
     Newton impulses (no geometry), then, once the geometry is cached, what that run needs later,
     called from Python with the argument types the compiled code passes: the touching features
-    of a pair and of several pairs, and the held stretch (a call over no steps). ``free``: the
+    of a pair and of several pairs, the held stretch (a call over no steps) and the one-off maps
+    of ``exact`` (the default integrator of elastic scenes). ``free``: the
     contact-free stretch (the same scene with contact ``none``). Measured in
     ``benchmarks/bench_compile.py``."""
     import warnings
@@ -344,6 +345,12 @@ def _warm_task(name: str) -> None:
         model.features(q, 0, driver.tol)
         model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
         driver.advance_held(0, 0)
+        # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
+        # crossing locator builds at every located impact (the packaged paper scene names HHT)
+        from pounding.solvers.exact import Exact
+
+        Exact().partial_transition(model.omega, model.zeta, 1e-3)
+        Exact().partial_work_maps(model.omega, model.zeta, 1e-3)
     elif name == "free":
         run(scene.with_analysis(contact="none"))
     else:

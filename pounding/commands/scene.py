@@ -112,15 +112,18 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
+    from pounding.framework.integrator_choice import chosen_integrator
     from pounding.framework.timestep import default_dt
 
+    integrator = chosen_integrator(scene)
+    int_src = "" if an.integrator else " (chosen for the scene)"
     if an.dt:
         dt, dt_src = an.dt, ""
     else:  # as the driver chooses (pounding.framework.timestep)
         from pounding.framework.analysis import Model
 
         m = Model(scene)
-        dt, dt_src = default_dt(m.systems, m.directions, gm.dt, an.integrator), " (chosen for accuracy from the significant modes)"
+        dt, dt_src = default_dt(m.systems, m.directions, gm.dt, integrator), " (chosen for accuracy from the significant modes)"
     duration = an.duration or gm.duration
     dur_src = "" if an.duration else " (the record's)"
     steps = int(np.ceil(duration / dt - 1e-9))
@@ -136,7 +139,7 @@ def describe(scene, path: Path | None = None) -> str:
         text = [f"{k} = {v!r}" + (f" {units[k]}" if units.get(k) not in ("", "-", None) else "") for k, v in p.items()]
         return f" ({', '.join(text)})" if text else ""
 
-    lines.append(f"analysis: integrator {an.integrator}{params(INTEGRATORS, an.integrator, an.integrator_params)}, dt {dt:g} s{dt_src}, "
+    lines.append(f"analysis: integrator {integrator}{int_src}{params(INTEGRATORS, integrator, an.integrator_params)}, dt {dt:g} s{dt_src}, "
                  f"duration {duration:g} s{dur_src} -> {plural(steps, 'step')}; contact {an.contact}"
                  f"{params(CONTACT_LAWS, an.contact, an.contact_params)}; output every "
                  f"{'step' if an.output_every == 1 else plural(an.output_every, 'step')}; energy tolerance {100 * an.energy_tolerance:g} %"

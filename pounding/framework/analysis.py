@@ -284,16 +284,18 @@ class Driver:
         self.model = model or Model(scene)
         gm = scene.ground_motion
         self.gm = gm
+        from pounding.framework.integrator_choice import chosen_integrator
         from pounding.framework.timestep import default_dt
 
+        integrator = chosen_integrator(scene)
         # without a dt the step is chosen for accuracy from the significant modes (pounding.framework.timestep)
-        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, an.integrator))
+        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, integrator))
         duration = float(an.duration or gm.duration)
         # cover the whole requested duration: a duration that is not a multiple of dt ends on
         # the first grid point at or after it (summary.json reports the duration covered)
         self.nsteps = max(1, int(np.ceil(duration / self.dt - 1e-9)))
         self.every = an.output_every
-        self.integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
+        self.integrator = INTEGRATORS.get(integrator)(**an.integrator_params)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
         self.tol = float(self.law.tolerance)
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for

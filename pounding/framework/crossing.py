@@ -110,7 +110,7 @@ def suspect(z0, z1, p, h, eps, tol, geo):
     (gap < -eps [m]) or its gap may have dipped below -eps inside the step (a graze), by the
     bound of the module docstring. A pair that starts the step overlapping is not a new contact
     (it is pressed or held: the caller's other checks see it)."""
-    return suspect_step(z0, z1, p, h, eps, tol, geo, -1, np.empty((0, 3)), np.empty((0, 7)))
+    return suspect_step(z0, z1, p, h, eps, tol, geo, np.int64(-1), np.empty((0, 3)), np.empty((0, 7)))  # (an int64, not a literal: one specialization)
 
 
 @njit

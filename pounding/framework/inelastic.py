@@ -582,7 +582,10 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
     duration = float(an.duration or gm.duration)
     nsteps = max(1, int(np.ceil(duration / dt - 1e-9)))
     every = an.output_every
-    integrator = INTEGRATORS.get(an.integrator)(**an.integrator_params)
+    from pounding.framework.integrator_choice import OTHERWISE
+
+    # yielding buildings: Newmark unless named (pounding.framework.integrator_choice)
+    integrator = INTEGRATORS.get(an.integrator or OTHERWISE)(**an.integrator_params)
     t_grid = np.arange(nsteps + 1) * dt
     # (nsteps + 1, c): one column per ground-motion component, as the driver takes them
     ag = np.ascontiguousarray(np.asarray(gm.samples(t_grid), dtype=float).reshape(nsteps + 1, -1))

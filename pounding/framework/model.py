@@ -105,7 +105,8 @@ class Building:
 class Analysis:
     """Time-history options ([analysis] table)."""
 
-    integrator: str = "newmark"
+    #: registered integrator name; None: chosen for the scene (:mod:`pounding.framework.integrator_choice`)
+    integrator: str | None = None
     integrator_params: dict[str, Any] = field(default_factory=dict)
     dt: float | None = None
     duration: float | None = None

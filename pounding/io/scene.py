@@ -294,7 +294,7 @@ def _check_params(cls, params: dict, field: str) -> None:
 def _analysis(table: Mapping) -> Analysis:
     from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
 
-    integrator, iparams = _plugin(table.get("integrator", "newmark"), INTEGRATORS, "analysis.integrator")
+    integrator, iparams = (None, {}) if "integrator" not in table else _plugin(table["integrator"], INTEGRATORS, "analysis.integrator")
     contact, cparams = _plugin(table.get("contact", "impulse"), CONTACT_LAWS, "analysis.contact")
     if "restitution" in table:
         cparams.setdefault("restitution", float(table["restitution"]))

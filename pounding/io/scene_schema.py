@@ -210,8 +210,10 @@ ANALYSIS = {
     "description": "Time integration, contact and output options.",
     "properties": {
         "integrator": {
-            **NAMED_PLUGIN, "default": "newmark",
-            "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*).",
+            **NAMED_PLUGIN,
+            "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*). "
+                           "Default: `exact` when every building is elastic and contact is by impulses (or none), else "
+                           "`newmark` (average acceleration); see README, *Accuracy and defaults*.",
             "examples": [{"name": "hht", "alpha": -0.05}],
         },
         "dt": positive("Time step (default: chosen for accuracy, the largest divisor of the record's sample interval "
