@@ -3,7 +3,10 @@
 #   make test   - creates .venv, installs pounding with its test extra, runs pytest
 # Both then compile the numerical core once, in two processes (python -m pounding.compiler
 # --warm; skipped when this version of the compiled modules is already in the cache), so
-# that the first run loads machine code instead of compiling it.
+# that the first run loads machine code instead of compiling it, and build it as an extension
+# module where a C compiler is present (python -m pounding.aot; runs then need neither numba
+# nor its cache: a run of the paper pair takes 0.4 s instead of 0.85 s). Without a compiler
+# that step says so and the runs use numba's cache.
 PYTHON ?= python3
 VENV   ?= .venv
 PY     := $(VENV)/bin/python
@@ -25,6 +28,7 @@ $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-base
 
 warm: $(VENV)/.stamp-base
 	$(PY) -m pounding.compiler --warm --if-needed
+	$(PY) -m pounding.aot --if-needed
 
 demo: $(VENV)/.stamp-base warm
 	$(VENV)/bin/pounding demo --out $(DEMO_OUT)

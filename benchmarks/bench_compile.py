@@ -6,9 +6,15 @@ Whole processes, median of N (default 5), in one run beside the baseline
 * cold ``pounding run`` of the paper pair with pounding: an empty numba cache
   (``NUMBA_CACHE_DIR`` a fresh temporary folder for every process); target < 10 s;
 * warm ``pounding run`` of it (the cache filled by a first run); target < 0.8 s and
-  < 2x the baseline;
+  < 2x the baseline: with the extension module built at install (:mod:`pounding.aot`, as
+  ``make`` builds it; ``warm_run``) and with numba's cache alone (``POUNDING_AOT=0``,
+  ``warm_run_numba``);
+* the user's first-ever run after the install (``cold_run_after_install``: numba's cache empty,
+  the extension module built) and with nothing built (``cold_run``: numba's cache empty,
+  ``POUNDING_AOT=0``);
 * ``pounding info`` of it; target < 1.5x the baseline;
-* warm in-process solver time (``Result.runtime_s``, median of 7) of the paper pair and
+* warm in-process solver time (``Result.runtime_s``, median of 7; numba's dispatch, what a
+  program importing pounding gets, and ``solver_aot`` with the extension module forced on) of the paper pair and
   of two 60-storey buildings with pounding, with today's defaults and with the contact rules
   they had when the target was set (``*_rules``: halving, keep, 1e-4 m); target: no worse than before;
 * where a cold run's time goes: every compiled function and its compile time
@@ -138,25 +144,33 @@ def main(argv=None) -> dict:
 
     res["baseline_numpy_scipy"] = median_of([py, "-c", "import numpy, scipy.linalg"], env, root, args.reps)
     log(f"baseline import numpy, scipy.linalg: {res['baseline_numpy_scipy']['median_s']:.3f} s")
+    numba_only = dict(env, POUNDING_AOT="0")
     with tempfile.TemporaryDirectory() as tmp:
-        timed([exe, "run", paper, "--out", f"{tmp}/warmup", "--quiet"], env, root)  # fill the cache
+        timed([exe, "run", paper, "--out", f"{tmp}/warmup", "--quiet"], numba_only, root)  # fill the cache
+        # the extension module (pounding.aot), as make builds it after the warm-up
+        res["aot_build"] = timed_cpu([py, "-m", "pounding.aot", "--quiet", "--if-needed"], env, root)
+        res["aot_build"]["manifest"] = _aot_manifest(py, root, env)
+        log(f"extension module: {res['aot_build']}")
         res["info"] = median_of([exe, "info", paper], env, root, args.reps)
         log(f"pounding info: {res['info']['median_s']:.3f} s")
         res["warm_run"] = median_of([exe, "run", paper, "--out", f"{tmp}/w", "--quiet"], env, root, args.reps)
-        log(f"warm pounding run: {res['warm_run']['median_s']:.3f} s")
-        cold = []
-        for i in range(args.cold_reps):
-            with tempfile.TemporaryDirectory() as cache:
-                cold.append(timed_cpu([exe, "run", paper, "--out", f"{tmp}/c{i}", "--quiet"], dict(env, NUMBA_CACHE_DIR=cache), root))
-            log(f"cold pounding run {i + 1}: {cold[-1]}")
-        walls = [c["wall_s"] for c in cold]
-        res["cold_run"] = {"median_s": statistics.median(walls), "min_s": min(walls), "runs": len(cold), "each": cold}
+        log(f"warm pounding run (extension module): {res['warm_run']['median_s']:.3f} s")
+        res["warm_run_numba"] = median_of([exe, "run", paper, "--out", f"{tmp}/wn", "--quiet"], numba_only, root, args.reps)
+        log(f"warm pounding run (numba's cache): {res['warm_run_numba']['median_s']:.3f} s")
+        for key, base_env in (("cold_run", numba_only), ("cold_run_after_install", env)):
+            cold = []
+            for i in range(args.cold_reps):
+                with tempfile.TemporaryDirectory() as cache:
+                    cold.append(timed_cpu([exe, "run", paper, "--out", f"{tmp}/c{key}{i}", "--quiet"], dict(base_env, NUMBA_CACHE_DIR=cache), root))
+                log(f"{key} {i + 1}: {cold[-1]}")
+            walls = [c["wall_s"] for c in cold]
+            res[key] = {"median_s": statistics.median(walls), "min_s": min(walls), "runs": len(cold), "each": cold}
         res["warm_up"] = {}
         for jobs in (2, 1):
             reps = []
             for i in range(args.warm_reps):
                 with tempfile.TemporaryDirectory() as cache:
-                    cenv = dict(env, NUMBA_CACHE_DIR=cache)
+                    cenv = dict(numba_only, NUMBA_CACHE_DIR=cache)
                     w = timed_cpu([py, "-m", "pounding.compiler", "--warm", "--jobs", str(jobs), "--quiet"], cenv, root)
                     if jobs == 2:  # the user's first run after the install-time warm-up
                         w["first_run_after_s"] = timed([exe, "run", paper, "--out", f"{tmp}/a{i}", "--quiet"], cenv, root)
@@ -165,20 +179,32 @@ def main(argv=None) -> dict:
             res["warm_up"][f"jobs_{jobs}"] = {"median_wall_s": statistics.median(r["wall_s"] for r in reps),
                                               "median_cpu_s": statistics.median(r["cpu_s"] for r in reps), "each": reps}
         with tempfile.TemporaryDirectory() as cache:
-            p = subprocess.run([py, "-c", BREAKDOWN.format(paper=paper)], env=dict(env, NUMBA_CACHE_DIR=cache), cwd=root,
+            p = subprocess.run([py, "-c", BREAKDOWN.format(paper=paper)], env=dict(numba_only, NUMBA_CACHE_DIR=cache), cwd=root,
                                capture_output=True, text=True)
         res["cold_breakdown"] = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else {"failed": p.stderr[-400:]}
-    p = subprocess.run([py, "-c", SOLVER.format(paper=paper, bench=str(HERE), reps=7)], env=env, cwd=root, capture_output=True, text=True)
-    res["solver"] = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else {"failed": p.stderr[-400:]}
-    log(f"warm solver: {res['solver']}")
+    # in-process, as a program that imports pounding runs (numba's dispatch), and with the module forced on
+    for key, senv in (("solver", dict(env, POUNDING_AOT="0")), ("solver_aot", dict(env, POUNDING_AOT="1"))):
+        p = subprocess.run([py, "-c", SOLVER.format(paper=paper, bench=str(HERE), reps=7)], env=senv, cwd=root, capture_output=True, text=True)
+        res[key] = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else {"failed": p.stderr[-400:]}
+        log(f"warm {key}: {res[key]}")
     base = res["baseline_numpy_scipy"]["median_s"]
-    res["ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_s"] / base, "info": res["info"]["median_s"] / base}
+    res["ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_s"] / base, "warm_run_numba": res["warm_run_numba"]["median_s"] / base,
+                                 "info": res["info"]["median_s"] / base}
     base_cpu = res["baseline_numpy_scipy"]["median_cpu_s"]
     res["cpu_ratios_to_baseline"] = {"warm_run": res["warm_run"]["median_cpu_s"] / base_cpu, "info": res["info"]["median_cpu_s"] / base_cpu}
     if args.out:
         Path(args.out).write_text(json.dumps(res, indent=1) + "\n")
     print(json.dumps(res, indent=1))
     return res
+
+
+def _aot_manifest(py, root, env) -> dict:
+    """Entry points and build time of the extension module (pounding.aot), or why there is none."""
+    code = ("import json; from pounding import aot; w = aot.folder(); m = w / 'manifest.json' if w else None; "
+            "print(json.dumps(json.loads(m.read_text()) if m and m.exists() else None))")
+    p = subprocess.run([py, "-c", code], env=env, cwd=root, capture_output=True, text=True)
+    m = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else None
+    return {"built": False} if not m else {"built": True, "entry_points": len(m["exports"]), "seconds": m.get("seconds")}
 
 
 def run(quick: bool = False) -> dict:

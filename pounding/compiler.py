@@ -14,6 +14,10 @@ Without numba, or with ``NUMBA_DISABLE_JIT=1``, :func:`njit` returns the
 function itself (``func.py_func is func``): the same arithmetic runs as plain
 Python over numpy arrays.
 
+A function's first call first looks for it in the extension module built at install
+(:mod:`pounding.aot`): where the module has it for the call's argument types, calls run the
+module's machine code, and numba is not imported at all; any other call goes to numba.
+
 The cache
 ---------
 numba keys a cached function on its own source file only: a change in a function
@@ -73,6 +77,7 @@ class Kernel:
     def __init__(self, func):
         self.py_func = func
         self._dispatcher = None
+        self._call = None  # what a call runs: the numba dispatcher, or the built extension's entry (pounding.aot)
         self.__name__ = func.__name__
         self.__qualname__ = func.__qualname__
         self.__doc__ = func.__doc__
@@ -99,14 +104,31 @@ class Kernel:
         # the driver calls compiled functions hundreds of times a run: keep this path short
         if _interpreted[0]:
             return self.py_func(*args)
-        d = self._dispatcher
-        if d is None:
-            d = self._first_call(args)
-        return d(*args)
+        c = self._call
+        if c is None:
+            c = self._first_call(args)
+        return c(*args)
 
     def _first_call(self, args):
-        """Compile, or load from the cache, the machine code for these arguments' types before the
-        first call runs it, timed apart (:func:`load_seconds`)."""
+        """What calls run from now on: the extension built at install when it has this function
+        (:mod:`pounding.aot`; its entry checks each call's argument types), else numba's dispatcher,
+        compiled or loaded from the cache for these arguments' types before the first call runs it.
+        Timed apart (:func:`load_seconds`)."""
+        import time
+
+        t0 = time.perf_counter()
+        from pounding import aot
+
+        exports = aot.lookup(self)
+        _load_time[0] += time.perf_counter() - t0
+        if exports:
+            self._call = _Prebuilt(self, exports)
+            return self._call
+        self._call = self._jit(args)
+        return self._call
+
+    def _jit(self, args):
+        """numba's dispatcher, with the machine code for these arguments' types compiled or loaded."""
         import time
 
         t0 = time.perf_counter()
@@ -126,6 +148,26 @@ class Kernel:
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
+
+
+class _Prebuilt:
+    """A compiled function's entries in the extension built at install (:mod:`pounding.aot`): a call
+    whose argument fingerprint the extension was built for runs its entry; any other goes to numba."""
+
+    __slots__ = ("kernel", "exports", "fallback", "call_print")
+
+    def __init__(self, kernel, exports):
+        from pounding.aot import call_print
+
+        self.kernel, self.exports, self.fallback, self.call_print = kernel, exports, None, call_print
+
+    def __call__(self, *args):
+        f = self.exports.get(self.call_print(args))
+        if f is not None:
+            return f(*args)
+        if self.fallback is None:
+            self.fallback = self.kernel._jit(args)
+        return self.fallback(*args)
 
 
 def njit(func):

@@ -2,11 +2,17 @@
 
 from __future__ import annotations
 
+import os
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+
+# The suite tests numba's path (its dispatchers, signatures and timings are asserted on), in this
+# process and the ones it starts; the extension built at install (pounding.aot) is tested on its
+# own, with a module each test builds (tests/test_aot.py).
+os.environ["POUNDING_AOT"] = "0"
 EXAMPLES = ROOT / "examples"
 
 

@@ -1,0 +1,315 @@
+"""The compiled core as an extension module built at install: no compiler, no numba, at run time.
+
+numba's cache makes a second process skip compilation, but not numba itself: importing it and
+loading each cached function's machine code costs a warm ``pounding run`` of the paper pair
+~0.5 s over its work (each function carries its own copy of the polygon geometry it calls;
+benchmarks/README.md). Built ahead of time (numba's ``pycc``) the same functions are one shared
+library with the geometry once, 1.8 MB, and load with the process like any extension: the
+whole ``pounding run`` takes 0.38 s against 0.85 s (``benchmarks/bench_compile.py``), with the
+same numbers bit for bit (``tests/test_aot.py``).
+
+How
+---
+:func:`build` runs the warm-up tasks in this process (:func:`pounding.compiler._warm_task`; they load
+from numba's cache after the install-time warm-up) and records, for every compiled function called
+from Python, the *fingerprint* of its arguments (:func:`fingerprint`: array dtype, dimensions,
+layout and writability, scalar kinds, the structure of the bundles) with the numba signature it
+was compiled for. Each (function, fingerprint) becomes one export of the module ``pounding_core``,
+written with a manifest into ``aot-<key>`` beside numba's cache folder, ``<key>`` the digest of
+the compiled modules' source (:func:`pounding.compiler.cache_key`): an edited source never runs an
+old module.
+
+At run time a compiled function's first call looks for its export (:func:`lookup`). A call whose
+arguments have a fingerprint the module was built for runs the export; any other call (another
+scene's types, a function the warm-up did not call) goes to numba as before. The fingerprint check
+is what makes this safe: the module's argument conversion checks only an array's item size, so a
+call with the wrong layout would read wrong memory.
+
+Who uses it: ``POUNDING_AOT=1`` turns it on, ``0`` off. The ``pounding`` commands that run one scene
+(``run``, ``gap``, ``check``, ``demo``, ...) set 1 when it is unset: their process is short and its
+start is what the user waits for. Unset, a program that imports pounding, and ``pounding sweep`` /
+``pounding fragility``, keep numba's dispatch (see :func:`enabled`).
+
+Building needs a C compiler (``pycc`` compiles a small C wrapper); without one :func:`build` says
+so in one line and the runs use numba's cache as before.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+#: name of the extension module
+MODULE = "pounding_core"
+_MANIFEST = "manifest.json"
+_state: dict = {}  # "module": the imported module or None, "exports": {kernel: {fingerprint: export name}}
+_bundles: dict = {}  # id -> (bundle, its key)
+_tokens: dict = {}  # a bundle's full print -> its number
+
+
+# --------------------------------------------------------------------------- fingerprints
+def _array_print(a: np.ndarray) -> tuple:
+    # numba's array type: dtype, ndim, layout (C before F, as numba.typeof), mutability
+    fl = a.flags
+    return ("a", a.dtype.num, a.ndim, "C" if fl.c_contiguous else "F" if fl.f_contiguous else "A", fl.writeable)
+
+
+def fingerprint(x) -> tuple | str | None:
+    """A hashable description of an argument's numba type, computed without numba; None for a kind
+    the module does not take (such a call goes to numba)."""
+    if isinstance(x, np.ndarray):
+        return _array_print(x)
+    if isinstance(x, bool | np.bool_):
+        return "b"
+    if isinstance(x, int | np.integer):
+        return "i" if isinstance(x, int) else ("n", np.dtype(type(x)).str)
+    if isinstance(x, float | np.floating):
+        return "f" if isinstance(x, float) else ("n", np.dtype(type(x)).str)
+    if x is None:
+        return "none"
+    if isinstance(x, tuple) and hasattr(x, "_fields"):  # a named bundle (pounding.framework.bundles)
+        parts = tuple(fingerprint(v) for v in x)
+        return None if any(p is None for p in parts) else (type(x).__module__ + "." + type(x).__qualname__, parts)
+    if isinstance(x, tuple):
+        parts = tuple(fingerprint(v) for v in x)
+        return None if any(p is None for p in parts) else ("t", parts)
+    return None
+
+
+def _scalar(kind):
+    return lambda x: kind
+
+
+# the kinds passed most often, by exact type (a call checks every argument: keep it short)
+_FAST = {np.ndarray: _array_print, float: _scalar("f"), int: _scalar("i"), bool: _scalar("b"), np.bool_: _scalar("b"),
+         type(None): _scalar("none")}
+
+
+def _is_bundle_print(p) -> bool:
+    return isinstance(p, tuple) and len(p) == 2 and isinstance(p[0], str) and "." in p[0]
+
+
+def _token(p):
+    """A bundle's print as a short key: ("B", n), n numbering the distinct prints of this process.
+    (Hashing the whole print, some dozen arrays' worth, at every call cost more than the check.)"""
+    return ("B", _tokens.setdefault(p, len(_tokens)))
+
+
+def _bundle(x):
+    # a bundle is built once and passed to hundreds of calls: its key is kept with it (by identity,
+    # the bundle held so that its id is not reused)
+    hit = _bundles.get(id(x))
+    if hit is not None and hit[0] is x:
+        return hit[1]
+    p = fingerprint(x)
+    key = None if p is None else _token(p)
+    if len(_bundles) > 256:
+        _bundles.clear()
+    _bundles[id(x)] = (x, key)
+    return key
+
+
+def _one(x):
+    f = _FAST.get(type(x))
+    if f is not None:
+        return f(x)
+    if isinstance(x, tuple) and hasattr(x, "_fields"):
+        return _bundle(x)
+    return fingerprint(x)
+
+
+def call_print(args: tuple) -> tuple | None:
+    """The key of a call's arguments: their :func:`fingerprint`, each named bundle's as a short
+    token (:func:`call_key` of the recorded prints gives the same); None if any argument is of a
+    kind the module does not take."""
+    out = tuple(map(_one, args))
+    return None if None in out else out
+
+
+def call_key(prints: tuple) -> tuple:
+    """:func:`call_print`'s key for the arguments' full fingerprints (as recorded at build)."""
+    return tuple(_token(p) if _is_bundle_print(p) else p for p in prints)
+
+
+def _to_json(p):
+    return [_to_json(v) for v in p] if isinstance(p, tuple) else p
+
+
+def _from_json(p):
+    return tuple(_from_json(v) for v in p) if isinstance(p, list) else p
+
+
+# --------------------------------------------------------------------------- where
+def folder() -> Path | None:
+    """The module's folder for this version of the compiled modules (None: no writable cache);
+    ``POUNDING_AOT_DIR`` names another (tests, benchmarks)."""
+    from pounding.compiler import cache_dir, cache_key
+
+    if os.environ.get("POUNDING_AOT_DIR"):
+        return Path(os.environ["POUNDING_AOT_DIR"])
+    base = cache_dir()
+    if base is None:
+        return None
+    return Path(base).parent / ("aot-" + cache_key())
+
+
+def enabled() -> bool:
+    """Whether runs use the module: ``POUNDING_AOT=1`` (the ``pounding`` commands of one scene set it
+    unless it is set), and compiled code is on. Unset, a program that imports pounding keeps numba's
+    dispatch: a long process of many runs loads numba's cache once, and numba's checks of a call's
+    argument types, in C, cost ~1 us less a call than :func:`call_print` (5-17 % of an in-process
+    solve of the paper pair, benchmarks/results/compile.json)."""
+    from pounding.compiler import enabled as jit_enabled
+
+    return os.environ.get("POUNDING_AOT", "0") not in ("0", "") and jit_enabled()
+
+
+def _load():
+    """Import the module and its manifest once per process (None when absent or turned off)."""
+    if "module" in _state:
+        return _state["module"]
+    _state["module"], _state["exports"] = None, {}
+    where = folder() if enabled() else None
+    if where is None or not (where / _MANIFEST).exists():
+        return None
+    try:
+        manifest = json.loads((where / _MANIFEST).read_text())
+        import importlib.util
+
+        files = list(where.glob(MODULE + ".*"))
+        spec = importlib.util.spec_from_file_location(MODULE, str(files[0])) if files else None
+        if spec is None:
+            return None
+        module = importlib.util.module_from_spec(spec)
+        spec.loader.exec_module(module)
+    except (OSError, ImportError, ValueError, IndexError):  # a broken build: numba as before
+        return None
+    exports: dict = {}
+    for row in manifest["exports"]:
+        exports.setdefault(row["kernel"], {})[call_key(_from_json(row["fingerprint"]))] = getattr(module, row["export"])
+    _state["module"], _state["exports"] = module, exports
+    return module
+
+
+def lookup(kernel) -> dict | None:
+    """The exports of a compiled function, {argument fingerprint: function}, or None."""
+    if _load() is None:
+        return None
+    return _state["exports"].get(f"{kernel.__module__}.{kernel.__qualname__}")
+
+
+# --------------------------------------------------------------------------- build
+def build(*, quiet: bool = False, out: Path | None = None, job=None) -> Path | None:
+    """Build the module for the warm-up's calls into :func:`folder` (or ``out``); None (and one line
+    on stderr) when it cannot be built here. Runs the warm-up tasks in this process first (or
+    ``job()``, whose calls are then the module's)."""
+    import shutil
+    import tempfile
+    import time
+    import warnings
+
+    from pounding import compiler
+
+    say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    target = out or folder()
+    if target is None or not compiler.enabled():
+        return None
+    t0 = time.perf_counter()
+    _state.update(module=None, exports={})  # record numba's own signatures, whatever is built already
+    calls = record(job or (lambda: [compiler._warm_task(name) for name in compiler.WARM_TASKS]))
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            from numba.pycc import CC
+    except ImportError as exc:  # pragma: no cover - a numba without pycc
+        say(f"pounding: no extension built ({exc}); runs use numba's cache")
+        return None
+    tmp = Path(tempfile.mkdtemp(prefix="pounding-aot-"))
+    try:
+        cc = CC(MODULE)
+        cc.output_dir = str(tmp)
+        # for this machine's processor, as numba's JIT compiles (built here at install, used here)
+        from llvmlite import binding as llvm
+
+        cc.target_cpu = llvm.get_host_cpu_name()
+        rows = []
+        for i, (kernel, fp, sig) in enumerate(calls):
+            name = f"k{i}_{kernel.__name__}"
+            cc.export(name, sig)(kernel.py_func)
+            rows.append({"kernel": f"{kernel.__module__}.{kernel.__qualname__}", "export": name,
+                         "fingerprint": _to_json(fp), "signature": str(sig)})
+        say(f"pounding: building the compiled core as an extension ({len(rows)} entry points) ...")
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore")
+                cc.compile()
+        except Exception as exc:  # noqa: BLE001 - no C compiler, no setuptools: numba's cache serves
+            say(f"pounding: no extension built ({type(exc).__name__}: {str(exc).strip().splitlines()[-1][:200] if str(exc).strip() else ''}); "
+                "runs use numba's cache")
+            return None
+        (tmp / _MANIFEST).write_text(json.dumps({"exports": rows, "seconds": time.perf_counter() - t0}, indent=1) + "\n")
+        staged = target.with_name(target.name + f".{os.getpid()}.tmp")
+        if staged.exists():
+            shutil.rmtree(staged)
+        shutil.copytree(tmp, staged)
+        os.chmod(staged, 0o755)  # (mkdtemp's folder is private)
+        if target.exists():
+            shutil.rmtree(target)  # an older build of this same key (ours)
+        os.replace(staged, target)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    _state.clear()
+    say(f"pounding: extension built in {time.perf_counter() - t0:.1f} s")
+    return target
+
+
+def record(job) -> list:
+    """Run ``job()`` with every call of a compiled function from Python recorded: the list of
+    (kernel, argument fingerprint, numba signature), one row per distinct fingerprint."""
+    from pounding import compiler
+
+    seen: dict = {}
+    original = compiler.Kernel.__call__
+
+    def recording(self, *args):
+        out = original(self, *args)
+        fp = tuple(fingerprint(a) for a in args)
+        if None not in fp and (self, fp) not in seen and self._dispatcher is not None:
+            from numba import typeof
+
+            types = tuple(typeof(a) for a in args)
+            sig = next((s for s in self._dispatcher.signatures if tuple(s) == types), None)
+            if sig is not None:
+                seen[(self, fp)] = self._dispatcher.overloads[sig].signature
+        return out
+
+    compiler.Kernel.__call__ = recording
+    try:
+        job()
+    finally:
+        compiler.Kernel.__call__ = original
+    return [(k, fp, sig) for (k, fp), sig in seen.items()]
+
+
+def _main(argv=None) -> int:
+    import argparse
+
+    ap = argparse.ArgumentParser(prog="python -m pounding.aot", description="Build the compiled core as an extension (after the warm-up).")
+    ap.add_argument("--if-needed", action="store_true", help="do nothing when this version is built")
+    ap.add_argument("--quiet", action="store_true")
+    args = ap.parse_args(argv)
+    where = folder()
+    if args.if_needed and where is not None and (where / _MANIFEST).exists():
+        return 0
+    build(quiet=args.quiet)
+    return 0  # not building is not an error: the runs use numba's cache
+
+
+if __name__ == "__main__":
+    from pounding.aot import _main as _package_main
+
+    raise SystemExit(_package_main())

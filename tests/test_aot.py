@@ -1,0 +1,137 @@
+"""The compiled core built ahead of time (pounding.aot): the same numbers without numba at run time.
+
+A module is built once for these tests from a small job (the paper pair without contact, 2 s:
+its free stretch, HHT's transitions and the true peaks), into a folder of its own. What is asserted:
+a run served by it gives the recorded states bit for bit as numba's code does and never imports
+numba; a call whose argument types the module was not built for goes to numba and gives numba's
+answer; a module is found only for the version of the source it was built from.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
+
+JOB = (
+    "from pounding.io.scene import load_scene\n"
+    "from pounding.framework.analysis import run\n"
+    f"SCENE = load_scene({str(PAPER)!r}).with_analysis(contact='none', contact_params={{}}, duration=2.0)\n"
+)
+
+
+def _python(code: str, **env) -> str:
+    full = dict(os.environ, **env)
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=full, cwd=str(ROOT), timeout=600)
+    assert p.returncode == 0, p.stderr[-2000:]
+    return p.stdout.strip().splitlines()[-1]
+
+
+@pytest.fixture(scope="module")
+def module(tmp_path_factory):
+    where = tmp_path_factory.mktemp("aot") / "built"
+    code = JOB + (
+        "from pounding import aot\n"
+        f"out = aot.build(quiet=True, out=__import__('pathlib').Path({str(where)!r}), job=lambda: run(SCENE))\n"
+        "print(out)\n"
+    )
+    out = _python(code, POUNDING_AOT="0")
+    if out == "None":
+        pytest.skip("no C compiler here: the extension cannot be built (runs use numba's cache)")
+    return where
+
+
+RUN = JOB + (
+    "import hashlib, json, sys\n"
+    "r = run(SCENE)\n"
+    "h = hashlib.sha256(r.q.tobytes() + r.qd.tobytes() + __import__('numpy').asarray(r.slab_peaks).tobytes()).hexdigest()\n"
+    "print(json.dumps({'digest': h, 'numba': 'numba' in sys.modules}))\n"
+)
+
+
+def test_a_run_served_by_the_module_is_numbas_to_the_bit_and_imports_no_numba(module):
+    served = json.loads(_python(RUN, POUNDING_AOT="1", POUNDING_AOT_DIR=str(module)))
+    jit = json.loads(_python(RUN, POUNDING_AOT="0"))
+    assert served["digest"] == jit["digest"]
+    assert served["numba"] is False and jit["numba"] is True
+
+
+def test_a_call_of_other_argument_types_goes_to_numba(module):
+    """HHT's transition with a strided omega (layout 'A', the module has 'C'): numba compiles it and
+    gives the transition of the same modes passed contiguous."""
+    code = (
+        "import json, sys\n"
+        "import numpy as np\n"
+        "from pounding.solvers.newmark import alpha_transition\n"
+        "omega = np.linspace(1.0, 60.0, 24)\n"
+        "zeta = np.ascontiguousarray(np.broadcast_to(np.full(24, 0.05), (24,)))\n"  # as newmark.alpha_family_transition passes it
+        "args = (0.005, 0.2756, 0.55, 0.0, -0.05)\n"
+        "A1, B1 = alpha_transition(omega, zeta, *args)\n"  # the module's types
+        "before = 'numba' in sys.modules\n"
+        "wide = np.zeros(48); wide[::2] = omega\n"
+        "A2, B2 = alpha_transition(wide[::2], zeta, *args)\n"
+        "print(json.dumps({'before': before, 'after': 'numba' in sys.modules, 'same': bool(np.array_equal(A1, A2) and np.array_equal(B1, B2))}))\n"
+    )
+    out = json.loads(_python(code, POUNDING_AOT="1", POUNDING_AOT_DIR=str(module)))
+    assert out == {"before": False, "after": True, "same": True}
+
+
+def test_the_module_folder_is_keyed_on_the_compiled_source():
+    """Without POUNDING_AOT_DIR the folder is aot-<cache key>: an edit of a compiled module changes
+    the key (pounding.compiler.cache_key), so an old module is never loaded for new source."""
+    from pounding import aot
+    from pounding.compiler import cache_key
+
+    env = os.environ.pop("POUNDING_AOT_DIR", None)
+    try:
+        where = aot.folder()
+    finally:
+        if env is not None:
+            os.environ["POUNDING_AOT_DIR"] = env
+    assert where is None or where.name == "aot-" + cache_key()
+
+
+def test_fingerprints_tell_apart_what_numba_types_apart():
+    """dtype, dimensions, layout and writability of arrays; Python and numpy scalars; bundles by type."""
+    from pounding.aot import call_print, fingerprint
+
+    a = np.zeros((3, 4))
+    ro = a.copy()
+    ro.flags.writeable = False
+    prints = {fingerprint(x) for x in (a, a.T, a[:, ::2], a.astype(np.int64), a[0], ro)}
+    assert len(prints) == 6
+    assert fingerprint(1.0) != fingerprint(1) != fingerprint(True)
+    assert fingerprint(np.float32(1.0)) != fingerprint(1.0)
+    assert call_print((object(),)) is None  # a kind the module does not take: numba decides
+
+
+def test_the_run_command_uses_the_module_unless_told_not_to(module, tmp_path):
+    """`pounding run` of a scene the module was built for (the job's), POUNDING_AOT unset: no numba in
+    the process, and the recorded states of a run with POUNDING_AOT=0 (numba) to the bit."""
+    text = PAPER.read_text().replace('contact = "impulse"', 'contact = "none"').replace("restitution = 0.5", "duration = 2.0")
+    scene = tmp_path / "free.toml"
+    scene.write_text(text)
+    code = (
+        "import json, sys\n"
+        "from pounding.cli import main\n"
+        f"code = main(['run', {str(scene)!r}, '--out', sys.argv[1], '--quiet'])\n"
+        "print(json.dumps({'code': code, 'numba': 'numba' in sys.modules}))\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "POUNDING_AOT"}
+    out = {}
+    for label, extra in (("module", {"POUNDING_AOT_DIR": str(module)}), ("numba", {"POUNDING_AOT": "0"})):
+        p = subprocess.run([sys.executable, "-c", code, str(tmp_path / label)], capture_output=True, text=True,
+                           env=dict(env, **extra), cwd=str(ROOT), timeout=600)
+        assert p.returncode == 0, p.stderr[-2000:]
+        out[label] = json.loads(p.stdout.strip().splitlines()[-1])
+    assert out == {"module": {"code": 0, "numba": False}, "numba": {"code": 0, "numba": True}}
+    a, b = np.load(tmp_path / "module" / "modal.npz"), np.load(tmp_path / "numba" / "modal.npz")
+    assert sorted(a.files) == sorted(b.files) and all(np.array_equal(a[k], b[k]) for k in a.files)
