@@ -53,9 +53,10 @@ _tokens: dict = {}  # a bundle's full print -> its number
 
 # --------------------------------------------------------------------------- fingerprints
 def _array_print(a: np.ndarray) -> tuple:
-    # numba's array type: dtype, ndim, layout (C before F, as numba.typeof), mutability
+    # numba's array type: dtype (byte order included), ndim, layout (C before F, as numba.typeof),
+    # mutability, alignment
     fl = a.flags
-    return ("a", a.dtype.num, a.ndim, "C" if fl.c_contiguous else "F" if fl.f_contiguous else "A", fl.writeable)
+    return ("a", a.dtype, a.ndim, "C" if fl.c_contiguous else "F" if fl.f_contiguous else "A", fl.writeable, fl.aligned)
 
 
 def fingerprint(x) -> tuple | str | None:
@@ -66,9 +67,9 @@ def fingerprint(x) -> tuple | str | None:
     if isinstance(x, bool | np.bool_):
         return "b"
     if isinstance(x, int | np.integer):
-        return "i" if isinstance(x, int) else ("n", np.dtype(type(x)).str)
+        return "i" if isinstance(x, int) else ("n", np.dtype(type(x)))
     if isinstance(x, float | np.floating):
-        return "f" if isinstance(x, float) else ("n", np.dtype(type(x)).str)
+        return "f" if isinstance(x, float) else ("n", np.dtype(type(x)))
     if x is None:
         return "none"
     if isinstance(x, tuple) and hasattr(x, "_fields"):  # a named bundle (pounding.framework.bundles)
@@ -136,10 +137,21 @@ def call_key(prints: tuple) -> tuple:
 
 
 def _to_json(p):
+    if isinstance(p, np.dtype):  # record dtypes too (the impact log): their fields, not '|V88'
+        return {"dtype": np.lib.format.dtype_to_descr(p)}
     return [_to_json(v) for v in p] if isinstance(p, tuple) else p
 
 
+def _descr(d):
+    # JSON made the fields' tuples (name, format[, shape]) lists; numpy reads a field only as a tuple
+    if isinstance(d, list):
+        return [(f[0], _descr(f[1]), *(tuple(r) for r in f[2:])) for f in d]
+    return d
+
+
 def _from_json(p):
+    if isinstance(p, dict):
+        return np.lib.format.descr_to_dtype(_descr(p["dtype"]))
     return tuple(_from_json(v) for v in p) if isinstance(p, list) else p
 
 

@@ -1,7 +1,8 @@
 """The compiled core built ahead of time (pounding.aot): the same numbers without numba at run time.
 
-A module is built once for these tests from a small job (the paper pair without contact, 2 s:
-its free stretch, HHT's transitions and the true peaks), into a folder of its own. What is asserted:
+A module is built once for these tests from a small job (the paper pair's first 3 s with pounding:
+its stretches, the impacts located and struck from 1.9 s on, chatter held, HHT's transitions and
+the true peaks), into a folder of its own. What is asserted:
 a run served by it gives the recorded states bit for bit as numba's code does and never imports
 numba; a call whose argument types the module was not built for goes to numba and gives numba's
 answer; a module is found only for the version of the source it was built from.
@@ -24,7 +25,7 @@ PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
 JOB = (
     "from pounding.io.scene import load_scene\n"
     "from pounding.framework.analysis import run\n"
-    f"SCENE = load_scene({str(PAPER)!r}).with_analysis(contact='none', contact_params={{}}, duration=2.0)\n"
+    f"SCENE = load_scene({str(PAPER)!r}).with_analysis(duration=3.0)\n"
 )
 
 
@@ -52,15 +53,16 @@ def module(tmp_path_factory):
 RUN = JOB + (
     "import hashlib, json, sys\n"
     "r = run(SCENE)\n"
-    "h = hashlib.sha256(r.q.tobytes() + r.qd.tobytes() + __import__('numpy').asarray(r.slab_peaks).tobytes()).hexdigest()\n"
-    "print(json.dumps({'digest': h, 'numba': 'numba' in sys.modules}))\n"
+    "h = hashlib.sha256(r.q.tobytes() + r.qd.tobytes() + __import__('numpy').asarray(r.slab_peaks).tobytes()\n"
+    "                   + repr([(i.time, i.pair, i.impulse) for i in r.impacts]).encode()).hexdigest()\n"
+    "print(json.dumps({'digest': h, 'impacts': len(r.impacts), 'numba': 'numba' in sys.modules}))\n"
 )
 
 
 def test_a_run_served_by_the_module_is_numbas_to_the_bit_and_imports_no_numba(module):
     served = json.loads(_python(RUN, POUNDING_AOT="1", POUNDING_AOT_DIR=str(module)))
     jit = json.loads(_python(RUN, POUNDING_AOT="0"))
-    assert served["digest"] == jit["digest"]
+    assert served["digest"] == jit["digest"] and served["impacts"] == jit["impacts"] > 0
     assert served["numba"] is False and jit["numba"] is True
 
 
@@ -100,14 +102,17 @@ def test_the_module_folder_is_keyed_on_the_compiled_source():
 
 
 def test_fingerprints_tell_apart_what_numba_types_apart():
-    """dtype, dimensions, layout and writability of arrays; Python and numpy scalars; bundles by type."""
+    """dtype (byte order too), dimensions, layout, writability and alignment of arrays; Python and numpy
+    scalars; bundles by type."""
     from pounding.aot import call_print, fingerprint
 
     a = np.zeros((3, 4))
     ro = a.copy()
     ro.flags.writeable = False
-    prints = {fingerprint(x) for x in (a, a.T, a[:, ::2], a.astype(np.int64), a[0], ro)}
-    assert len(prints) == 6
+    unaligned = np.frombuffer(bytearray(8 * 12 + 1), dtype=np.uint8)[1:].view(np.float64).reshape(3, 4)
+    kinds = (a, a.T, a[:, ::2], a.astype(np.int64), a.astype(">f8"), a[0], ro, unaligned)
+    assert not unaligned.flags.aligned
+    assert len({fingerprint(x) for x in kinds}) == len(kinds)
     assert fingerprint(1.0) != fingerprint(1) != fingerprint(True)
     assert fingerprint(np.float32(1.0)) != fingerprint(1.0)
     assert call_print((object(),)) is None  # a kind the module does not take: numba decides
@@ -116,8 +121,8 @@ def test_fingerprints_tell_apart_what_numba_types_apart():
 def test_the_run_command_uses_the_module_unless_told_not_to(module, tmp_path):
     """`pounding run` of a scene the module was built for (the job's), POUNDING_AOT unset: no numba in
     the process, and the recorded states of a run with POUNDING_AOT=0 (numba) to the bit."""
-    text = PAPER.read_text().replace('contact = "impulse"', 'contact = "none"').replace("restitution = 0.5", "duration = 2.0")
-    scene = tmp_path / "free.toml"
+    text = PAPER.read_text().replace("restitution = 0.5", "restitution = 0.5\nduration = 3.0")
+    scene = tmp_path / "first_3_s.toml"
     scene.write_text(text)
     code = (
         "import json, sys\n"
@@ -135,3 +140,13 @@ def test_the_run_command_uses_the_module_unless_told_not_to(module, tmp_path):
     assert out == {"module": {"code": 0, "numba": False}, "numba": {"code": 0, "numba": True}}
     a, b = np.load(tmp_path / "module" / "modal.npz"), np.load(tmp_path / "numba" / "modal.npz")
     assert sorted(a.files) == sorted(b.files) and all(np.array_equal(a[k], b[k]) for k in a.files)
+
+
+def test_a_manifest_gives_back_the_dtypes_it_was_written_with():
+    """Record dtypes (the impact log's), sub-arrays and nested records survive the manifest's JSON."""
+    from pounding.aot import _from_json, _to_json
+
+    kinds = (np.dtype("<f8"), np.dtype("bool"), np.dtype(">i4"), np.dtype([("time", "<f8"), ("pair", "<i8")]),
+             np.dtype([("a", "<f8", (2,)), ("b", [("c", "<i4")])]))
+    for d in kinds:
+        assert _from_json(json.loads(json.dumps(_to_json(("a", d, 1))))) == ("a", d, 1)
