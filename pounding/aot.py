@@ -16,8 +16,10 @@ from Python, the *fingerprint* of its arguments (:func:`fingerprint`: array dtyp
 layout and writability, scalar kinds, the structure of the bundles) with the numba signature it
 was compiled for. Each (function, fingerprint) becomes one export of the module ``pounding_core``,
 written with a manifest into ``aot-<key>`` beside numba's cache folder, ``<key>`` the digest of
-the compiled modules' source (:func:`pounding.compiler.cache_key`): an edited source never runs an
-old module.
+the compiled modules' source (:func:`pounding.compiler.cache_key`). The manifest names what the
+module is valid for (:func:`environment`: that key, the Python ABI, the numpy, numba and llvmlite
+versions, the processor) and the build it belongs to; a module is loaded only where all of them
+match, so an edited source, an upgraded library or another machine never runs an old module.
 
 At run time a compiled function's first call looks for its export (:func:`lookup`). A call whose
 arguments have a fingerprint the module was built for runs the export; any other call (another
@@ -25,9 +27,9 @@ scene's types, a function the warm-up did not call) goes to numba as before. The
 is what makes this safe: the module's argument conversion checks only an array's item size, so a
 call with the wrong layout would read wrong memory.
 
-Who uses it: ``POUNDING_AOT=1`` turns it on, ``0`` off. The ``pounding`` commands that run one scene
-(``run``, ``gap``, ``check``, ``demo``, ...) set 1 when it is unset: their process is short and its
-start is what the user waits for. Unset, a program that imports pounding, and ``pounding sweep`` /
+Who uses it: ``POUNDING_AOT=1`` turns it on, ``0`` off. Unset, the ``pounding`` commands that run
+one scene (``run``, ``gap``, ``check``, ``demo``, ...) use it (:func:`prefer`): their process is short
+and its start is what the user waits for. Unset, a program that imports pounding, and ``pounding sweep`` /
 ``pounding fragility``, keep numba's dispatch (see :func:`enabled`).
 
 Building needs a C compiler (``pycc`` compiles a small C wrapper); without one :func:`build` says
@@ -45,6 +47,8 @@ import numpy as np
 
 #: name of the extension module
 MODULE = "pounding_core"
+#: the manifest's format (a build of another format is not loaded)
+FORMAT = 2
 _MANIFEST = "manifest.json"
 _state: dict = {}  # "module": the imported module or None, "exports": {kernel: {fingerprint: export name}}
 _bundles: dict = {}  # id -> (bundle, its key)
@@ -61,24 +65,34 @@ def _array_print(a: np.ndarray) -> tuple:
 
 def fingerprint(x) -> tuple | str | None:
     """A hashable description of an argument's numba type, computed without numba; None for a kind
-    the module does not take (such a call goes to numba)."""
-    if isinstance(x, np.ndarray):
+    the module does not take (such a call goes to numba). Types are matched exactly: a subclass
+    (a masked array, an IntEnum) is left to numba, which types it apart."""
+    t = type(x)
+    if t is np.ndarray:
         return _array_print(x)
-    if isinstance(x, bool | np.bool_):
+    if t is bool or t is np.bool_:
         return "b"
-    if isinstance(x, int | np.integer):
-        return "i" if isinstance(x, int) else ("n", np.dtype(type(x)))
-    if isinstance(x, float | np.floating):
-        return "f" if isinstance(x, float) else ("n", np.dtype(type(x)))
+    if t is int:
+        return _int_print(x)
+    if t is float:
+        return "f"
+    if isinstance(x, np.generic) and t in (np.int8, np.int16, np.int32, np.int64, np.uint8, np.uint16, np.uint32, np.uint64,
+                                           np.float32, np.float64):
+        return ("n", np.dtype(t))
     if x is None:
         return "none"
-    if isinstance(x, tuple) and hasattr(x, "_fields"):  # a named bundle (pounding.framework.bundles)
+    if isinstance(x, tuple) and hasattr(t, "_fields"):  # a named bundle (pounding.framework.bundles)
         parts = tuple(fingerprint(v) for v in x)
-        return None if any(p is None for p in parts) else (type(x).__module__ + "." + type(x).__qualname__, parts)
-    if isinstance(x, tuple):
+        return None if any(p is None for p in parts) else (t.__module__ + "." + t.__qualname__ + str(tuple(t._fields)), parts)
+    if t is tuple:
         parts = tuple(fingerprint(v) for v in x)
         return None if any(p is None for p in parts) else ("t", parts)
     return None
+
+
+def _int_print(x):
+    # numba types a Python int as int64 (uint64 beyond): the module takes int64 only
+    return "i" if -(2**63) <= x < 2**63 else None
 
 
 def _scalar(kind):
@@ -86,12 +100,12 @@ def _scalar(kind):
 
 
 # the kinds passed most often, by exact type (a call checks every argument: keep it short)
-_FAST = {np.ndarray: _array_print, float: _scalar("f"), int: _scalar("i"), bool: _scalar("b"), np.bool_: _scalar("b"),
+_FAST = {np.ndarray: _array_print, float: _scalar("f"), int: _int_print, bool: _scalar("b"), np.bool_: _scalar("b"),
          type(None): _scalar("none")}
 
 
 def _is_bundle_print(p) -> bool:
-    return isinstance(p, tuple) and len(p) == 2 and isinstance(p[0], str) and "." in p[0]
+    return isinstance(p, tuple) and len(p) == 2 and isinstance(p[0], str) and "." in p[0] and p[0] != "n"
 
 
 def _token(p):
@@ -102,7 +116,9 @@ def _token(p):
 
 def _bundle(x):
     # a bundle is built once and passed to hundreds of calls: its key is kept with it (by identity,
-    # the bundle held so that its id is not reused)
+    # the bundle held so that its id is not reused). This relies on the package's rule for bundles
+    # (pounding.framework.bundles): their arrays are filled in place, never reshaped, re-typed or
+    # re-flagged; a bundle with other arrays is a new bundle.
     hit = _bundles.get(id(x))
     if hit is not None and hit[0] is x:
         return hit[1]
@@ -118,7 +134,7 @@ def _one(x):
     f = _FAST.get(type(x))
     if f is not None:
         return f(x)
-    if isinstance(x, tuple) and hasattr(x, "_fields"):
+    if isinstance(x, tuple) and hasattr(type(x), "_fields"):
         return _bundle(x)
     return fingerprint(x)
 
@@ -169,40 +185,102 @@ def folder() -> Path | None:
     return Path(base).parent / ("aot-" + cache_key())
 
 
+_prefer = [False]  # the default when POUNDING_AOT is unset (prefer(): the pounding commands of one scene)
+
+
+def prefer(on: bool) -> None:
+    """Use the module by default in this process (``POUNDING_AOT``, when set, wins). The ``pounding``
+    commands that run one scene call it: their process is short and its start is what the user
+    waits for."""
+    _prefer[0] = bool(on)
+
+
 def enabled() -> bool:
-    """Whether runs use the module: ``POUNDING_AOT=1`` (the ``pounding`` commands of one scene set it
-    unless it is set), and compiled code is on. Unset, a program that imports pounding keeps numba's
-    dispatch: a long process of many runs loads numba's cache once, and numba's checks of a call's
-    argument types, in C, cost ~1 us less a call than :func:`call_print` (5-17 % of an in-process
-    solve of the paper pair, benchmarks/results/compile.json)."""
+    """Whether runs use the module: ``POUNDING_AOT=1`` or ``0`` when set, else :func:`prefer`'s choice,
+    and compiled code is on. By default a program that imports pounding keeps numba's dispatch: a
+    long process of many runs loads numba's cache once, and numba's checks of a call's argument
+    types, in C, cost ~1 us less a call than :func:`call_print` (5-17 % of an in-process solve of the
+    paper pair, benchmarks/results/compile.json)."""
     from pounding.compiler import enabled as jit_enabled
 
-    return os.environ.get("POUNDING_AOT", "0") not in ("0", "") and jit_enabled()
+    env = os.environ.get("POUNDING_AOT")
+    on = _prefer[0] if env is None else env not in ("0", "")
+    return on and jit_enabled()
+
+
+def environment() -> dict:
+    """What a module is valid for: the compiled source (its key), the manifest's format, the Python
+    ABI, the numpy, numba and llvmlite it was built with (numba's code, numpy's C API) and the
+    processor (it is compiled for this one). Read without importing numba or llvmlite."""
+    import importlib.metadata as md
+    import platform
+
+    from pounding.compiler import cache_key
+
+    versions = {}
+    for name in ("numpy", "numba", "llvmlite"):
+        try:
+            versions[name] = md.version(name)
+        except md.PackageNotFoundError:  # pragma: no cover - an install without metadata
+            versions[name] = None
+    return {"format": FORMAT, "key": cache_key(), "python": sys.implementation.cache_tag, **versions,
+            "machine": platform.machine(), "cpu": _cpu()}
+
+
+def _cpu() -> str:
+    """The processor's model and feature flags (Linux: /proc/cpuinfo's first entry), else platform's."""
+    import hashlib
+    import platform
+
+    try:
+        with open("/proc/cpuinfo") as fh:
+            first = fh.read().split("\n\n", 1)[0]
+        keep = [ln for ln in first.splitlines() if ln.split(":")[0].strip() in ("vendor_id", "model name", "flags", "Features", "CPU part")]
+        return hashlib.sha1("\n".join(keep).encode()).hexdigest()[:16]
+    except OSError:
+        return platform.processor() or platform.machine()
+
+
+def _module_file(where: Path) -> Path:
+    import importlib.machinery
+
+    return where / (MODULE + importlib.machinery.EXTENSION_SUFFIXES[0])
+
+
+def _manifest(where: Path) -> dict | None:
+    """The folder's manifest when it is valid for this process (:func:`environment`), else None."""
+    try:
+        m = json.loads((where / _MANIFEST).read_text())
+    except (OSError, ValueError):
+        return None
+    return m if isinstance(m, dict) and m.get("environment") == environment() and _module_file(where).exists() else None
 
 
 def _load():
-    """Import the module and its manifest once per process (None when absent or turned off)."""
+    """Import the module and its manifest once per process (None when absent, invalid here, broken,
+    or turned off: the runs then use numba)."""
     if "module" in _state:
         return _state["module"]
     _state["module"], _state["exports"] = None, {}
     where = folder() if enabled() else None
-    if where is None or not (where / _MANIFEST).exists():
+    if where is None:
         return None
     try:
-        manifest = json.loads((where / _MANIFEST).read_text())
+        manifest = _manifest(where)
+        if manifest is None:
+            return None
         import importlib.util
 
-        files = list(where.glob(MODULE + ".*"))
-        spec = importlib.util.spec_from_file_location(MODULE, str(files[0])) if files else None
-        if spec is None:
-            return None
+        spec = importlib.util.spec_from_file_location(MODULE, str(_module_file(where)))
         module = importlib.util.module_from_spec(spec)
         spec.loader.exec_module(module)
-    except (OSError, ImportError, ValueError, IndexError):  # a broken build: numba as before
+        if getattr(module, "build_id", lambda: None)() != manifest["build"]:  # a manifest of another build
+            return None
+        exports: dict = {}
+        for row in manifest["exports"]:
+            exports.setdefault(row["kernel"], {})[call_key(_from_json(row["fingerprint"]))] = getattr(module, row["export"])
+    except Exception:  # noqa: BLE001 - any broken build (a half-written manifest, a foreign file): numba as before
         return None
-    exports: dict = {}
-    for row in manifest["exports"]:
-        exports.setdefault(row["kernel"], {})[call_key(_from_json(row["fingerprint"]))] = getattr(module, row["export"])
     _state["module"], _state["exports"] = module, exports
     return module
 
@@ -215,14 +293,33 @@ def lookup(kernel) -> dict | None:
 
 
 # --------------------------------------------------------------------------- build
+def _ours(where: Path) -> bool:
+    """Whether a folder holds only what a build writes (it may then be replaced)."""
+    return all(f.name == _MANIFEST or f.name.startswith(MODULE + ".") for f in where.iterdir())
+
+
+def _export_name(kernel, fp) -> str:
+    # named by what it is, not by build order: a manifest and a module of two builds cannot pair
+    # one function's fingerprint with another's entry
+    import hashlib
+
+    text = f"{kernel.__module__}.{kernel.__qualname__}|" + json.dumps(_to_json(fp))
+    return f"{kernel.__name__}_{hashlib.sha1(text.encode()).hexdigest()[:16]}"
+
+
+def _no_module(say, why: str) -> None:
+    say(f"pounding: no extension module built ({why}); runs use numba's cache")
+
+
 def build(*, quiet: bool = False, out: Path | None = None, job=None) -> Path | None:
-    """Build the module for the warm-up's calls into :func:`folder` (or ``out``); None (and one line
-    on stderr) when it cannot be built here. Runs the warm-up tasks in this process first (or
-    ``job()``, whose calls are then the module's)."""
+    """Build the module for the warm-up's calls into :func:`folder` (or ``out``): the folder, or None
+    with one line on stderr when it cannot be built here (no C compiler, a folder holding other
+    files, any failure); nothing is left behind then. Runs the warm-up tasks in this process first
+    (or ``job()``, whose calls are then the module's)."""
     import shutil
     import tempfile
     import time
-    import warnings
+    import uuid
 
     from pounding import compiler
 
@@ -230,52 +327,67 @@ def build(*, quiet: bool = False, out: Path | None = None, job=None) -> Path | N
     target = out or folder()
     if target is None or not compiler.enabled():
         return None
+    target = Path(target)
+    if target.exists() and (not target.is_dir() or not _ours(target)):
+        _no_module(say, f"{target} holds other files; it is left as it is")
+        return None
     t0 = time.perf_counter()
-    _state.update(module=None, exports={})  # record numba's own signatures, whatever is built already
-    calls = record(job or (lambda: [compiler._warm_task(name) for name in compiler.WARM_TASKS]))
+    tmp = Path(tempfile.mkdtemp(prefix="pounding-aot-"))
+    staged = None
     try:
+        import warnings
+
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             from numba.pycc import CC
-    except ImportError as exc:  # pragma: no cover - a numba without pycc
-        say(f"pounding: no extension built ({exc}); runs use numba's cache")
-        return None
-    tmp = Path(tempfile.mkdtemp(prefix="pounding-aot-"))
-    try:
-        cc = CC(MODULE)
-        cc.output_dir = str(tmp)
-        # for this machine's processor, as numba's JIT compiles (built here at install, used here)
-        from llvmlite import binding as llvm
+            from numba.pycc.platform import external_compiler_works
 
-        cc.target_cpu = llvm.get_host_cpu_name()
-        rows = []
-        for i, (kernel, fp, sig) in enumerate(calls):
-            name = f"k{i}_{kernel.__name__}"
-            cc.export(name, sig)(kernel.py_func)
-            rows.append({"kernel": f"{kernel.__module__}.{kernel.__qualname__}", "export": name,
-                         "fingerprint": _to_json(fp), "signature": str(sig)})
-        say(f"pounding: building the compiled core as an extension ({len(rows)} entry points) ...")
-        try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")
-                cc.compile()
-        except Exception as exc:  # noqa: BLE001 - no C compiler, no setuptools: numba's cache serves
-            say(f"pounding: no extension built ({type(exc).__name__}: {str(exc).strip().splitlines()[-1][:200] if str(exc).strip() else ''}); "
-                "runs use numba's cache")
-            return None
-        (tmp / _MANIFEST).write_text(json.dumps({"exports": rows, "seconds": time.perf_counter() - t0}, indent=1) + "\n")
-        staged = target.with_name(target.name + f".{os.getpid()}.tmp")
-        if staged.exists():
-            shutil.rmtree(staged)
+            if not external_compiler_works():
+                _no_module(say, "no working C compiler, which numba's pycc needs")
+                return None
+            _state.update(module=None, exports={})  # record numba's own signatures, whatever is built already
+            calls = record(job or (lambda: [compiler._warm_task(name) for name in compiler.WARM_TASKS]))
+            cc = CC(MODULE)
+            cc.output_dir = str(tmp)
+            # for this machine's processor, as numba's JIT compiles (built here at install, used here:
+            # the manifest's environment names the processor)
+            from llvmlite import binding as llvm
+
+            cc.target_cpu = llvm.get_host_cpu_name()
+            build_id = uuid.uuid4().hex
+            exec(f"def build_id():\n    return {build_id!r}\n", ns := {})  # noqa: S102 - a constant, written here
+            cc.export("build_id", "unicode_type()")(ns["build_id"])
+            rows = []
+            for kernel, fp, sig in calls:
+                name = _export_name(kernel, fp)
+                cc.export(name, sig)(kernel.py_func)
+                rows.append({"kernel": f"{kernel.__module__}.{kernel.__qualname__}", "export": name,
+                             "fingerprint": _to_json(fp), "signature": str(sig)})
+            say(f"pounding: building the compiled core as an extension module ({len(rows)} entry points) ...")
+            cc.compile()
+        manifest = {"environment": environment(), "build": build_id, "exports": rows, "seconds": time.perf_counter() - t0}
+        (tmp / _MANIFEST).write_text(json.dumps(manifest, indent=1) + "\n")
+        staged = target.with_name(f"{target.name}.{os.getpid()}.tmp")
         shutil.copytree(tmp, staged)
         os.chmod(staged, 0o755)  # (mkdtemp's folder is private)
-        if target.exists():
-            shutil.rmtree(target)  # an older build of this same key (ours)
-        os.replace(staged, target)
+        if target.exists():  # an earlier build (only our files, checked above): replaced whole
+            old = target.with_name(f"{target.name}.{os.getpid()}.old")
+            os.replace(target, old)
+            os.replace(staged, target)
+            shutil.rmtree(old, ignore_errors=True)
+        else:
+            os.replace(staged, target)
+        staged = None
+    except Exception as exc:  # noqa: BLE001 - a build that fails leaves numba's cache to serve the runs
+        text = str(exc).strip().splitlines()
+        _no_module(say, f"{type(exc).__name__}: {text[-1][:200] if text else ''}")
+        return None
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
+        if staged is not None:
+            shutil.rmtree(staged, ignore_errors=True)
     _state.clear()
-    say(f"pounding: extension built in {time.perf_counter() - t0:.1f} s")
+    say(f"pounding: extension module built in {time.perf_counter() - t0:.1f} s")
     return target
 
 
@@ -315,7 +427,7 @@ def _main(argv=None) -> int:
     ap.add_argument("--quiet", action="store_true")
     args = ap.parse_args(argv)
     where = folder()
-    if args.if_needed and where is not None and (where / _MANIFEST).exists():
+    if args.if_needed and where is not None and _manifest(where) is not None:
         return 0
     build(quiet=args.quiet)
     return 0  # not building is not an error: the runs use numba's cache

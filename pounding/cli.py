@@ -162,7 +162,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command not in MANY_RUNS:
         # a command of one scene is a short process: the extension module built at install serves it
         # without numba (pounding.aot); a user's own POUNDING_AOT wins
-        os.environ.setdefault("POUNDING_AOT", "1")
+        from pounding import aot
+
+        aot.prefer(True)
     try:
         return int(args.func(args) or 0)
     except InputError as exc:

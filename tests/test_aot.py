@@ -36,17 +36,27 @@ def _python(code: str, **env) -> str:
     return p.stdout.strip().splitlines()[-1]
 
 
+def _compiler_works() -> bool:
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        from numba.pycc.platform import external_compiler_works
+
+        return external_compiler_works()
+
+
 @pytest.fixture(scope="module")
 def module(tmp_path_factory):
+    if not _compiler_works():
+        pytest.skip("no working C compiler here: the module cannot be built (the runs use numba's cache)")
     where = tmp_path_factory.mktemp("aot") / "built"
     code = JOB + (
         "from pounding import aot\n"
         f"out = aot.build(quiet=True, out=__import__('pathlib').Path({str(where)!r}), job=lambda: run(SCENE))\n"
         "print(out)\n"
     )
-    out = _python(code, POUNDING_AOT="0")
-    if out == "None":
-        pytest.skip("no C compiler here: the extension cannot be built (runs use numba's cache)")
+    assert _python(code, POUNDING_AOT="0") == str(where)
     return where
 
 
@@ -86,41 +96,96 @@ def test_a_call_of_other_argument_types_goes_to_numba(module):
     assert out == {"before": False, "after": True, "same": True}
 
 
-def test_the_module_folder_is_keyed_on_the_compiled_source():
-    """Without POUNDING_AOT_DIR the folder is aot-<cache key>: an edit of a compiled module changes
-    the key (pounding.compiler.cache_key), so an old module is never loaded for new source."""
-    from pounding import aot
-    from pounding.compiler import cache_key
+@pytest.mark.parametrize("field", ["key", "numba", "cpu"])
+def test_a_module_built_for_another_source_library_or_processor_is_not_used(module, tmp_path, field):
+    """The manifest names what the module is valid for (the compiled source's key, numba's version,
+    the processor, ...): a mismatch in any leaves the run to numba, with numba's numbers."""
+    import shutil
 
-    env = os.environ.pop("POUNDING_AOT_DIR", None)
-    try:
-        where = aot.folder()
-    finally:
-        if env is not None:
-            os.environ["POUNDING_AOT_DIR"] = env
-    assert where is None or where.name == "aot-" + cache_key()
+    copy = tmp_path / "other"
+    shutil.copytree(module, copy)
+    m = json.loads((copy / "manifest.json").read_text())
+    m["environment"][field] = "something else"
+    (copy / "manifest.json").write_text(json.dumps(m))
+    served = json.loads(_python(RUN, POUNDING_AOT="1", POUNDING_AOT_DIR=str(copy)))
+    jit = json.loads(_python(RUN, POUNDING_AOT="0"))
+    assert served == jit and served["numba"] is True
 
 
-def test_fingerprints_tell_apart_what_numba_types_apart():
-    """dtype (byte order too), dimensions, layout, writability and alignment of arrays; Python and numpy
-    scalars; bundles by type."""
-    from pounding.aot import call_print, fingerprint
+def test_a_broken_manifest_leaves_the_run_to_numba(module, tmp_path):
+    import shutil
+
+    copy = tmp_path / "broken"
+    shutil.copytree(module, copy)
+    text = (copy / "manifest.json").read_text()
+    (copy / "manifest.json").write_text(text[: len(text) // 2])
+    served = json.loads(_python(RUN, POUNDING_AOT="1", POUNDING_AOT_DIR=str(copy)))
+    assert served["numba"] is True and served["impacts"] > 0
+
+
+def _build_cli(where, **env):
+    full = dict(os.environ, POUNDING_AOT_DIR=str(where), **env)
+    return subprocess.run([sys.executable, "-m", "pounding.aot"], capture_output=True, text=True, env=full, cwd=str(ROOT), timeout=600)
+
+
+def test_without_a_c_compiler_the_build_says_so_in_one_line_and_succeeds(tmp_path):
+    p = _build_cli(tmp_path / "none", CC="/nonexistent/cc")
+    assert p.returncode == 0
+    assert p.stderr.strip().splitlines() == ["pounding: no extension module built (no working C compiler, which numba's pycc "
+                                             "needs); runs use numba's cache"]
+    assert not (tmp_path / "none").exists()
+
+
+def test_a_folder_holding_other_files_is_left_as_it_is(tmp_path):
+    where = tmp_path / "mine"
+    where.mkdir()
+    (where / "precious.txt").write_text("a user's file")
+    p = _build_cli(where)
+    assert p.returncode == 0 and len(p.stderr.strip().splitlines()) == 1 and "holds other files" in p.stderr
+    assert [f.name for f in where.iterdir()] == ["precious.txt"]
+
+
+def test_equal_fingerprints_mean_equal_numba_types():
+    """The property the check rests on, over arrays (dtypes with byte order and fields, dimensions,
+    layouts, writability, alignment), scalars and bundles: wherever two fingerprints are equal,
+    numba types the values alike; kinds numba types apart from their base (a masked array, an
+    IntEnum, an int beyond int64) have no fingerprint (numba decides)."""
+    import enum
+    from collections import namedtuple
+
+    from numba import typeof
+
+    from pounding.aot import fingerprint
 
     a = np.zeros((3, 4))
     ro = a.copy()
     ro.flags.writeable = False
     unaligned = np.frombuffer(bytearray(8 * 12 + 1), dtype=np.uint8)[1:].view(np.float64).reshape(3, 4)
-    kinds = (a, a.T, a[:, ::2], a.astype(np.int64), a.astype(">f8"), a[0], ro, unaligned)
-    assert not unaligned.flags.aligned
-    assert len({fingerprint(x) for x in kinds}) == len(kinds)
-    assert fingerprint(1.0) != fingerprint(1) != fingerprint(True)
-    assert fingerprint(np.float32(1.0)) != fingerprint(1.0)
-    assert call_print((object(),)) is None  # a kind the module does not take: numba decides
+    rec = np.zeros(3, dtype=[("t", "<f8"), ("p", "<i8")])
+    P1 = namedtuple("P1", "x y")
+    P2 = namedtuple("P2", "x z")
+    values = [a, a.T, a[:, ::2], a.astype(np.int64), a[0], ro, unaligned, rec, rec.copy(),
+              1.0, 2.5, 1, 7, True, np.True_, np.float64(1.0), np.int64(3), np.float32(1.0), None,
+              P1(a, 1.0), P1(a.copy(), 2.0), P2(a, 1.0), P1(ro, 1.0), (a, 1), (a, 1.0)]
+    prints = [fingerprint(v) for v in values]
+    assert all(p is not None for p in prints)
+    for v, p in zip(values, prints):
+        for w, q in zip(values, prints):
+            if p == q:
+                assert typeof(v) == typeof(w), (v, w)
+
+    class Kind(enum.IntEnum):
+        A = 1
+
+    for other in (np.ma.masked_array(a), Kind.A, 2**63, object()):
+        assert fingerprint(other) is None
+    assert fingerprint(a.astype(">f8")) != fingerprint(a)  # (numba takes only native byte order: it refuses this one)
 
 
 def test_the_run_command_uses_the_module_unless_told_not_to(module, tmp_path):
     """`pounding run` of a scene the module was built for (the job's), POUNDING_AOT unset: no numba in
     the process, and the recorded states of a run with POUNDING_AOT=0 (numba) to the bit."""
+    assert "restitution = 0.5" in PAPER.read_text()
     text = PAPER.read_text().replace("restitution = 0.5", "restitution = 0.5\nduration = 3.0")
     scene = tmp_path / "first_3_s.toml"
     scene.write_text(text)

@@ -10,7 +10,10 @@ They answer with a :class:`Status` and log impacts as records of
 
 Every call site builds a bundle with the same field types (float64 arrays,
 C-contiguous; int64 index arrays; Python floats and bools for scalars), so each
-compiled function has one specialization per run.
+compiled function has one specialization per run. A bundle's arrays are filled in
+place, never reshaped, re-typed or re-flagged: a bundle with other arrays is a new
+bundle (the extension module built at install checks a bundle's types once,
+:mod:`pounding.aot`).
 
 Shapes: n stacked modes, c ground-motion components, S slabs, P slab pairs,
 nmax the most modes of one building, kmax the most vertices of one slab.
