@@ -207,9 +207,7 @@ def compiled_modules() -> list[Path]:
     modules (``inelastic.py`` and the laws), so the key still changes when their source does."""
     pattern = re.compile(rb"^@njit\b", re.MULTILINE)
     out = []
-    for path in sorted(PACKAGE_ROOT.rglob("*.py")):
-        if "__pycache__" in path.relative_to(PACKAGE_ROOT).parts:  # generated modules live in the cache itself: keying on them would move it
-            continue
+    for path in _sources():  # (not under __pycache__: generated modules live in the cache itself, keying on them would move it)
         try:
             if pattern.search(path.read_bytes()):
                 out.append(path)
@@ -219,12 +217,37 @@ def compiled_modules() -> list[Path]:
 
 
 def cache_key() -> str:
-    """Digest of the source of every compiled module (:func:`compiled_modules`)."""
+    """Digest of the source of every compiled module (:func:`compiled_modules`). Kept while no source
+    file of the package changes (size and modification time): scanning and reading them all costs
+    ~20 ms, and a process asks several times (numba's folder, the extension module's)."""
+    stamp = _source_stamp()
+    hit = _key.get(PACKAGE_ROOT)
+    if hit is not None and hit[0] == stamp:
+        return hit[1]
     digest = hashlib.sha1()
     for path in compiled_modules():
         digest.update(str(path.relative_to(PACKAGE_ROOT)).encode())
         digest.update(path.read_bytes())
-    return digest.hexdigest()[:12]
+    key = digest.hexdigest()[:12]
+    _key[PACKAGE_ROOT] = (stamp, key)
+    return key
+
+
+_key: dict = {}  # package root -> (source stamp, key)
+
+
+def _sources() -> list[Path]:
+    """The package's Python files, sorted, not descending into ``__pycache__`` (numba's cache
+    folders hold thousands of files)."""
+    out = []
+    for folder, dirs, files in os.walk(PACKAGE_ROOT):
+        dirs[:] = sorted(d for d in dirs if d != "__pycache__")
+        out.extend(Path(folder) / f for f in files if f.endswith(".py"))
+    return sorted(out)
+
+
+def _source_stamp() -> tuple:
+    return tuple((str(p), st.st_size, st.st_mtime_ns) for p in _sources() for st in (p.stat(),))
 
 
 def cache_dir() -> str | None:
