@@ -5,7 +5,7 @@
 # --warm; skipped when this version of the compiled modules is already in the cache), so
 # that the first run loads machine code instead of compiling it, and build it as an extension
 # module where a C compiler is present (python -m pounding.aot; runs then need neither numba
-# nor its cache: a run of the paper pair takes 0.4 s instead of 0.85 s). Without a compiler
+# nor its cache: a run of the paper pair takes 0.40 s instead of 0.86 s). Without a compiler
 # that step says so and the runs use numba's cache.
 PYTHON ?= python3
 VENV   ?= .venv

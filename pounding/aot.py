@@ -4,8 +4,8 @@ numba's cache makes a second process skip compilation, but not numba itself: imp
 loading each cached function's machine code costs a warm ``pounding run`` of the paper pair
 ~0.5 s over its work (each function carries its own copy of the polygon geometry it calls;
 benchmarks/README.md). Built ahead of time (numba's ``pycc``) the same functions are one shared
-library with the geometry once, 1.8 MB, and load with the process like any extension: the
-whole ``pounding run`` takes 0.38 s against 0.85 s (``benchmarks/bench_compile.py``), with the
+library with the geometry once, 1.9 MB, and load with the process like any extension: the
+whole ``pounding run`` takes 0.40 s against 0.86 s (``benchmarks/bench_compile.py``), with the
 same numbers bit for bit (``tests/test_aot.py``).
 
 How
@@ -199,7 +199,7 @@ def enabled() -> bool:
     """Whether runs use the module: ``POUNDING_AOT=1`` or ``0`` when set, else :func:`prefer`'s choice,
     and compiled code is on. By default a program that imports pounding keeps numba's dispatch: a
     long process of many runs loads numba's cache once, and numba's checks of a call's argument
-    types, in C, cost ~1 us less a call than :func:`call_print` (5-17 % of an in-process solve of the
+    types, in C, cost ~1 us less a call than :func:`call_print` (5-10 % of an in-process solve of the
     paper pair, benchmarks/results/compile.json)."""
     from pounding.compiler import enabled as jit_enabled
 
