@@ -253,7 +253,8 @@ def _source_stamp() -> tuple:
 def cache_dir() -> str | None:
     """numba's cache folder for this exact version of the compiled modules (None: numba's default).
 
-    Folders of earlier versions stay behind (a few MB each); delete ``pounding/__pycache__/numba-*``
+    Folders of earlier versions stay behind (a few MB each, and the extension modules' ``aot-*``
+    beside them); delete ``pounding/__pycache__/numba-*`` and ``aot-*``
     to reclaim them."""
     try:
         key = cache_key()
