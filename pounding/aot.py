@@ -13,7 +13,7 @@ How
 :func:`build` runs the warm-up tasks in this process (:func:`pounding.compiler._warm_task`; they load
 from numba's cache after the install-time warm-up) and records, for every compiled function called
 from Python, the *fingerprint* of its arguments (:func:`fingerprint`: array dtype, dimensions,
-layout and writability, scalar kinds, the structure of the bundles) with the numba signature it
+layout, writability and alignment, scalar kinds, the structure of the bundles) with the numba signature it
 was compiled for. Each (function, fingerprint) becomes one export of the module ``pounding_core``,
 written with a manifest into ``aot-<key>`` beside numba's cache folder, ``<key>`` the digest of
 the compiled modules' source (:func:`pounding.compiler.cache_key`). The manifest names what the
