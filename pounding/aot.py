@@ -307,6 +307,14 @@ def _export_name(kernel, fp) -> str:
     return f"{kernel.__name__}_{hashlib.sha1(text.encode()).hexdigest()[:16]}"
 
 
+def _constant(value: str):
+    """A function returning ``value`` (numba compiles a closure's variable as a constant)."""
+    def build_id():
+        return value
+
+    return build_id
+
+
 def _no_module(say, why: str) -> None:
     say(f"pounding: no extension module built ({why}); runs use numba's cache")
 
@@ -355,8 +363,7 @@ def build(*, quiet: bool = False, out: Path | None = None, job=None) -> Path | N
 
             cc.target_cpu = llvm.get_host_cpu_name()
             build_id = uuid.uuid4().hex
-            exec(f"def build_id():\n    return {build_id!r}\n", ns := {})  # noqa: S102 - a constant, written here
-            cc.export("build_id", "unicode_type()")(ns["build_id"])
+            cc.export("build_id", "unicode_type()")(_constant(build_id))
             rows = []
             for kernel, fp, sig in calls:
                 name = _export_name(kernel, fp)

@@ -29,8 +29,8 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.geometry import EPS_REL, axis_separation, clearance_bound, displaced, signed_gap
-from pounding.framework.pairs import pair_features, pair_gap, slab_dofs
+from pounding.contact.geometry import EPS_REL, clearance_bound
+from pounding.framework.pairs import dofs_gap, pair_features, pair_gap, slab_dofs
 
 
 @njit
@@ -129,36 +129,33 @@ def suspect_step(z0, z1, p, h, eps, tol, geo, k, rates, gaps):
     state the last one's end state, unchanged), with two memories (k < 0: none; the same answers):
 
     * ``gaps`` (pairs, 7): the last exact gap the screen computed, with its slabs' (u, v, phi)
-      (gap NaN: none). Near contact the rest-state bounds of :func:`pair_gap` rarely decide (an
-      L-shaped slab's axis separation is far below its gap) and each step would form the polygons;
-      the gap bounded from that state (:func:`moved_bound`, less a rounding margin far above the
-      geometry's, 1e3 ``EPS_REL`` of the coordinates) decides instead while the slabs have moved
-      less than the clearance left.
+      (gap NaN: none). Near contact the rest-state bounds of :func:`~pounding.framework.pairs.dofs_gap`
+      rarely decide (an L-shaped slab's axis separation is far below its gap) and each step would
+      form the polygons; the gap bounded from that state (:func:`moved_bound`, less a rounding margin
+      far above the geometry's, 1e3 ``EPS_REL`` of the coordinates) decides instead while the slabs
+      have moved less than the clearance left.
     * ``rates`` (pairs, 3): the nearest feature's (gap, rate) at a step's end as (k + 1, gap, rate),
       the next step's start values: one feature search fewer per searched step.
     """
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
+    pa, pb, rows, off, n_modes, centres, radii = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes, geo.centres, geo.radii
     q1 = z1[:, 0].copy()
     V, A = motion_bounds(z0, z1, p, geo)
     reach = (V + A * h) * h + eps  # the most the gap can fall over the step, from its end backwards
-    # the end gap (a cheap lower bound where it exceeds the reach: pair_gap's cascade, then the memory)
+    # the end gap: the bound from the remembered state, then pair_gap's cascade (lower bounds all: a
+    # bound above the reach decides, whichever it is)
     da = np.empty(3)
     db = np.empty(3)
     slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q1, da)
     slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q1, db)
-    sa = off[pa[p, 0]] + pa[p, 1]
-    sb = off[pb[p, 0]] + pb[p, 1]
-    if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > reach:
-        return False
-    if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
-                       verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
-        return False
     if k >= 0 and gaps[p, 0] >= 0.0:  # (False for NaN: no memory)
+        sa = off[pa[p, 0]] + pa[p, 1]
+        sb = off[pb[p, 0]] + pb[p, 1]
         scale = max(1.0, abs(centres[sa, 0]) + abs(centres[sa, 1]) + radii[sa] + abs(centres[sb, 0]) + abs(centres[sb, 1]) + radii[sb])
         if moved_bound(gaps[p], da, db, radii[sa], radii[sb]) - 1e3 * EPS_REL * scale > reach:
             return False
-    g_end = signed_gap(displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2]),
-                       displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2]))
+    g_end, exact = dofs_gap(da, db, p, reach, geo)
+    if not exact:  # a cheap bound above the reach
+        return False
     if k >= 0:
         gaps[p, 0] = g_end
         for i in range(3):

@@ -69,21 +69,30 @@ def pair_gap(q, p, cutoff, geo):
 @njit
 def pair_gap_into(q, p, cutoff, da, db, geo):
     """:func:`pair_gap` with scratch arrays da, db (3,) for the slabs' (u, v, phi), for hot loops."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
     slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q, da)
     slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q, db)
+    return dofs_gap(da, db, p, cutoff, geo)[0]
+
+
+@njit
+def dofs_gap(da, db, p, cutoff, geo):
+    """(gap [m], exact) of pair p with its slabs at (u, v, phi) = da, db (3,): :func:`pair_gap`'s cascade
+    (the rest-gap bound, the rest-axis separation, then the polygons' signed gap), ``exact`` False when
+    a bound above ``cutoff`` decided."""
+    pa, pb, off, verts, nvert, centres, radii, rest, axis = geo.pa, geo.pb, geo.off, geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
     sa = off[pa[p, 0]] + pa[p, 1]
     sb = off[pb[p, 0]] + pb[p, 1]
     bound = clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
     if bound > cutoff:
-        return bound
+        return bound, False
     sep = axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
                           verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1])
     if sep > cutoff:
-        return sep
+        return sep, False
     A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
     B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
-    return signed_gap(A, B)
+    return signed_gap(A, B), True
 
 
 @njit
