@@ -332,3 +332,42 @@ def test_numba_and_python_agree(pure_python):
     A, c = rect(0, 0, 3, 2), np.array([1.5, 1.0])
     args = (A, c, 0.01, 0.02, 0.003)
     np.testing.assert_array_equal(pure_python.displaced(*args), COMPILED["displaced"](*args))
+
+
+def _table_gap(A, B):
+    """The smallest gap of the full feature table (:func:`_candidates`): what signed_gap returned
+    before it had a path for polygons that are apart."""
+    c, F, _ = geo._candidates(A, B, geo._tolerance(A, B))
+    return min(F[:c, geo._F_GAP])
+
+
+def test_apart_path_gives_the_feature_tables_gap():
+    """signed_gap takes a short path when the polygons are apart (every vertex outside the other by
+    more than eps, no edges crossing); it must return the full feature table's number to the bit,
+    and decline (-inf) whenever the polygons touch or overlap. Cases: the L, U and rectangles of the
+    module at random small motions around contact (seed 1), collinear facades, and the plus sign,
+    whose boundaries cross with every vertex far outside."""
+    rng = np.random.default_rng(1)
+    A = rect(0, 0, 12, 8)
+    shapes = [rect(12.05, 1.0, 10, 6), L_SHAPE * 3 + [12.05, 0.0], rect(12.05, 0.0, 10, 8), U_SHAPE * 2 + [12.05, 0.0]]
+    taken = declined = 0
+    for case in range(2000):
+        B = shapes[case % len(shapes)]
+        cA, cB = geo.polygon_properties(A)[1], geo.polygon_properties(B)[1]
+        u1, v1, u2, v2 = rng.normal(scale=0.03, size=4)
+        p1, p2 = rng.normal(scale=2e-3, size=2)
+        Ad, Bd = geo.displaced(A, cA, u1, v1, p1), geo.displaced(B, cB, u2, v2, p2)
+        fast = geo._apart_gap(Ad, Bd, geo._tolerance(Ad, Bd))
+        full = _table_gap(Ad, Bd)
+        assert geo.signed_gap(Ad, Bd) == full
+        if fast > -np.inf:
+            taken += 1
+            assert fast == full and full > 0
+        else:
+            declined += 1
+    assert taken > 1000 and declined > 100  # both paths are exercised (1679 and 321 with this seed)
+    plus_a, plus_b = rect(-5, -0.5, 10, 1), rect(-0.5, -5, 1, 10)
+    assert geo._apart_gap(plus_a, plus_b, geo._tolerance(plus_a, plus_b)) == -np.inf
+    assert geo.signed_gap(plus_a, plus_b) == _table_gap(plus_a, plus_b) < 0
+    side_a, side_b = rect(0, 0, 10, 10), rect(10.05, 0, 10, 10)  # collinear top and bottom edges, 0.05 apart
+    assert geo._apart_gap(side_a, side_b, geo._tolerance(side_a, side_b)) == pytest.approx(0.05, abs=1e-12)
