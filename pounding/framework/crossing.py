@@ -34,36 +34,63 @@ from pounding.framework.pairs import dofs_gap, pair_features, pair_gap, slab_dof
 
 
 @njit
-def _point_bounds(rows, off, n_modes, building, storey, z, R, d, w):
-    """(speed, acceleration) bounds of any point of one slab from the modal state z (n, 3):
-    |(u', v')| + R |phi'| [m/s] and |(u'', v'')| + R |phi''| + R phi'^2 [m/s^2]; also
-    returns |phi'| [rad/s]. d, w (3,) are work arrays."""
-    slab_dofs(rows, off, n_modes, building, storey, z[:, 1].copy(), d)
-    slab_dofs(rows, off, n_modes, building, storey, z[:, 2].copy(), w)
-    speed = np.hypot(d[0], d[1]) + R * abs(d[2])
-    acc = np.hypot(w[0], w[1]) + R * abs(w[2]) + R * d[2] * d[2]
-    return speed, acc, abs(d[2])
+def slab_kinematics(rows, off, n_modes, building, storey, z, out):
+    """out[:3], out[3:] <- one slab's (u', v', phi') and (u'', v'', phi'') from the modal state z (n, 3)."""
+    s = off[building] + storey
+    i0 = n_modes[building, 0]
+    nb = n_modes[building, 1]
+    for r in range(3):
+        v = 0.0
+        a = 0.0
+        for i in range(nb):
+            v += rows[s, r, i] * z[i0 + i, 1]
+            a += rows[s, r, i] * z[i0 + i, 2]
+        out[r] = v
+        out[3 + r] = a
+
+
+@njit
+def _point_bounds(k, R):
+    """(speed, acceleration) bounds of any point of a slab with (u', v', phi', u'', v'', phi'') = k (6,):
+    |(u', v')| + R |phi'| [m/s] and |(u'', v'')| + R |phi''| + R phi'^2 [m/s^2]; also |phi'| [rad/s]."""
+    speed = np.hypot(k[0], k[1]) + R * abs(k[2])
+    acc = np.hypot(k[3], k[4]) + R * abs(k[5]) + R * k[2] * k[2]
+    return speed, acc, abs(k[2])
+
+
+@njit
+def pair_kinematics(z, p, geo, out):
+    """out (12,) <- :func:`slab_kinematics` of pair p's slab a (out[:6]) and slab b (out[6:]) at z (n, 3)."""
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    slab_kinematics(rows, off, n_modes, pa[p, 0], pa[p, 1], z, out[:6])
+    slab_kinematics(rows, off, n_modes, pb[p, 0], pb[p, 1], z, out[6:])
+
+
+@njit
+def motion_from(k0, k1, Ra, Rb):
+    """:func:`motion_bounds` from the pair's kinematics (12,) at the step's ends (:func:`pair_kinematics`)."""
+    V = 0.0
+    A = 0.0
+    om = 0.0
+    for k in (k0, k1):
+        sa, aa, wa = _point_bounds(k[:6], Ra)
+        sb, ab, wb = _point_bounds(k[6:], Rb)
+        V = max(V, sa + sb)
+        A = max(A, aa + ab)
+        om = max(om, wa + wb)
+    return V, 2.0 * A + 2.0 * om * V
 
 
 @njit
 def motion_bounds(z0, z1, p, geo):
     """Bounds (V [m/s], A [m/s^2]) on the relative speed and acceleration of pair p's points
     over a step from z0 to z1 (n, 3) (see the module docstring)."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
-    d = np.empty(3)
-    w = np.empty(3)
-    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
-    Ra, Rb = radii[off[a] + fa], radii[off[b] + fb]
-    V = 0.0
-    A = 0.0
-    om = 0.0
-    for z in (z0, z1):
-        sa, aa, wa = _point_bounds(rows, off, n_modes, a, fa, z, Ra, d, w)
-        sb, ab, wb = _point_bounds(rows, off, n_modes, b, fb, z, Rb, d, w)
-        V = max(V, sa + sb)
-        A = max(A, aa + ab)
-        om = max(om, wa + wb)
-    return V, 2.0 * A + 2.0 * om * V
+    pa, pb, off, radii = geo.pa, geo.pb, geo.off, geo.radii
+    k0 = np.empty(12)
+    k1 = np.empty(12)
+    pair_kinematics(z0, p, geo, k0)
+    pair_kinematics(z1, p, geo, k1)
+    return motion_from(k0, k1, radii[off[pa[p, 0]] + pa[p, 1]], radii[off[pb[p, 0]] + pb[p, 1]])
 
 
 @njit
@@ -137,16 +164,24 @@ def suspect_step(z0, z1, p, h, eps, tol, geo, k, rates, gaps):
     * ``rates`` (pairs, 3): the nearest feature's (gap, rate) at a step's end as (k + 1, gap, rate),
       the next step's start values: one feature search fewer per searched step.
     """
-    pa, pb, rows, off, n_modes, centres, radii = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes, geo.centres, geo.radii
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    da = np.empty(3)
+    db = np.empty(3)
     q1 = z1[:, 0].copy()
+    slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q1, da)
+    slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q1, db)
     V, A = motion_bounds(z0, z1, p, geo)
+    return suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, da, db, V, A)
+
+
+@njit
+def suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, da, db, V, A):
+    """:func:`suspect_step` given the slabs' end (u, v, phi) da, db (3,) and the motion bounds V, A
+    (:func:`motion_bounds`): for the compiled stretch, which has formed them already."""
+    pa, pb, off, centres, radii = geo.pa, geo.pb, geo.off, geo.centres, geo.radii
     reach = (V + A * h) * h + eps  # the most the gap can fall over the step, from its end backwards
     # the end gap: the bound from the remembered state, then pair_gap's cascade (lower bounds all: a
     # bound above the reach decides, whichever it is)
-    da = np.empty(3)
-    db = np.empty(3)
-    slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q1, da)
-    slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q1, db)
     if k >= 0 and gaps[p, 0] >= 0.0:  # (False for NaN: no memory)
         sa = off[pa[p, 0]] + pa[p, 1]
         sb = off[pb[p, 0]] + pb[p, 1]
@@ -166,7 +201,7 @@ def suspect_step(z0, z1, p, h, eps, tol, geo, k, rates, gaps):
     if g_end < -eps:
         return True
     n = z0.shape[0]
-    g1, r1 = rate_at_gap(q1, z1[:, 1].copy(), p, g_end, tol, n, geo)
+    g1, r1 = rate_at_gap(z1[:, 0].copy(), z1[:, 1].copy(), p, g_end, tol, n, geo)
     if k >= 0 and rates[p, 0] == k:
         g0, r0 = rates[p, 1], rates[p, 2]
     else:

@@ -26,7 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
-from pounding.framework.crossing import suspect_step
+from pounding.framework.crossing import motion_from, pair_kinematics, suspect_given
 from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 from pounding.framework.peaks import cubic_abs_max
 
@@ -76,7 +76,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
         (struck within the tolerance). numba prunes the branch of the other rules before
         compiling (an argument typed None), so a run compiles and loads only its own: the
         crossing run does not compile :func:`impulses_at` (~10 s of a cold start), the
-        paper's does not compile the graze screen (:func:`~pounding.framework.crossing.suspect_step`).
+        paper's does not compile the graze screen (:func:`~pounding.framework.crossing.suspect_given`).
 
     A step ending with a pair within the tolerance stops the kernel only if a touching
     point approaches (the velocity condition, eq. 7 of the paper): the same decision
@@ -97,14 +97,12 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     z0 = np.empty((n, 3))
     da = np.empty(3)
     db = np.empty(3)
-    va = np.empty(3)
-    vb = np.empty(3)
-    aa = np.empty(3)
-    ab = np.empty(3)
     no_force = np.zeros(n)  # no contact force acts in a free stretch
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
-    rates = np.full((pair_a.shape[0], 3), -1.0)  # the graze screen's memories (suspect_step)
+    rates = np.full((pair_a.shape[0], 3), -1.0)  # the graze screen's memories (crossing.suspect_step)
     gaps = np.full((pair_a.shape[0], 7), np.nan)
+    kin = np.empty((pair_a.shape[0], 2, 12))  # pair_kinematics at the last two step ends, by k % 2
+    kin_at = np.full((pair_a.shape[0], 2), -1, dtype=np.int64)  # the grid index each slot describes
     for k in range(k0, k1):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
         # contact check on the pairs that could touch; a rejected step books no energy.
@@ -127,20 +125,26 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
                 _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
                 bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
-                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 1], va)
-                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 1], vb)
-                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 2], aa)
-                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 2], ab)
-                speed = (np.hypot(va[0], va[1]) + radii[sa] * abs(va[2]) + np.hypot(vb[0], vb[1]) + radii[sb] * abs(vb[2]))
-                acc = (np.hypot(aa[0], aa[1]) + radii[sa] * (abs(aa[2]) + va[2] * va[2])
-                       + np.hypot(ab[0], ab[1]) + radii[sb] * (abs(ab[2]) + vb[2] * vb[2]))
+                # the slabs' velocities and accelerations at the step's end, kept for the next step's
+                # start (slot (k + 1) % 2): the screen's motion bounds need both ends
+                k1v = kin[p, (k + 1) % 2]
+                pair_kinematics(z, p, geo, k1v)
+                kin_at[p, (k + 1) % 2] = k + 1
+                speed = (np.hypot(k1v[0], k1v[1]) + radii[sa] * abs(k1v[2]) + np.hypot(k1v[6], k1v[7]) + radii[sb] * abs(k1v[8]))
+                acc = (np.hypot(k1v[3], k1v[4]) + radii[sa] * (abs(k1v[5]) + k1v[2] * k1v[2])
+                       + np.hypot(k1v[9], k1v[10]) + radii[sb] * (abs(k1v[11]) + k1v[8] * k1v[8]))
                 reach = 2.0 * (speed + 2.0 * acc * dt) * dt
                 if bound > reach:
                     continue
                 if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
                                    verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
                     continue
-                if suspect_step(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps):
+                k0v = kin[p, k % 2]
+                if kin_at[p, k % 2] != k:  # not formed at the last step's end (this stretch's first step)
+                    pair_kinematics(z0, p, geo, k0v)
+                    kin_at[p, k % 2] = k
+                V, Amax = motion_from(k0v, k1v, radii[sa], radii[sb])
+                if suspect_given(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps, da, db, V, Amax):
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
                         z[i, 1] = z0[i, 1]
