@@ -448,7 +448,7 @@ class Driver:
         if out is None:
             n = self.model.n
             work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
-            maps = work(self.model.omega, self.model.zeta, h) if np.all(self.model.omega > 0) else None
+            maps = work(self.cache.omega, self.cache.zeta, h) if np.all(self.model.omega > 0) else None
             if maps is not None:
                 WA1, WA2, WM = maps
                 trs, gc, gw = [], np.zeros(0), np.zeros(0)

@@ -166,7 +166,8 @@ class TransitionCache:
                  partial: bool = False):
         self.integrator = integrator
         self.omega = np.ascontiguousarray(omega, dtype=float)
-        self.zeta = np.ascontiguousarray(zeta, dtype=float)
+        # per mode, like omega (a scalar damping ratio is every mode's)
+        self.zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), self.omega.shape))
         self.grid_dt = grid_dt
         self.partial = partial
         self._cache: dict[float, Transition] = {}

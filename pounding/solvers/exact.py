@@ -158,8 +158,7 @@ class Exact(Integrator):
 
         if not isinstance(exact_transition, Kernel):  # without numba the numpy form is the fast one
             return self.transition(omega, zeta, dt)
-        omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
-        zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+        omega, zeta = _modes_flat(omega, zeta)
         A, B = exact_transition(omega, zeta, float(dt))
         return Transition(A=A, B=B, dt=float(dt))
 
@@ -169,8 +168,7 @@ class Exact(Integrator):
         from pounding.compiler import Kernel
         from pounding.solvers.exact_partial import work_maps_small
 
-        omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
-        zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+        omega, zeta = _modes_flat(omega, zeta)
         if not isinstance(work_maps_small, Kernel) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
             return self.work_maps(omega, zeta, dt)
         n = omega.shape[0]
@@ -225,3 +223,14 @@ class Exact(Integrator):
         u = np.stack(np.broadcast_arrays(p0, p1), axis=1)  # (n, 2) or (n, 2, k)
         z1 = np.einsum("nij,nj...->ni...", tr.A, z) + np.einsum("nij,nj...->ni...", tr.B, u)
         return z1[:, 0], z1[:, 1], z1[:, 2]
+
+
+def _modes_flat(omega, zeta):
+    """omega, zeta as contiguous float arrays (n,) for the compiled one-off maps; the driver's
+    (:class:`pounding.solvers.base.TransitionCache`) already are, and pass through untouched:
+    these maps are built a few times per contact event."""
+    if (type(omega) is np.ndarray and type(zeta) is np.ndarray and omega.ndim == 1 and omega.shape == zeta.shape
+            and omega.dtype == np.float64 and zeta.dtype == np.float64 and omega.flags.c_contiguous and zeta.flags.c_contiguous):
+        return omega, zeta
+    omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
+    return omega, np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
