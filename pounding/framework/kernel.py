@@ -26,7 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
-from pounding.framework.crossing import motion_from, pair_kinematics, suspect_given
+from pounding.framework.crossing import motion_from, slab_state, suspect_given
 from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 from pounding.framework.peaks import cubic_abs_max
 
@@ -101,8 +101,11 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
     rates = np.full((pair_a.shape[0], 3), -1.0)  # the graze screen's memories (crossing.suspect_step)
     gaps = np.full((pair_a.shape[0], 7), np.nan)
-    kin = np.empty((pair_a.shape[0], 2, 12))  # pair_kinematics at the last two step ends, by k % 2
+    kin = np.empty((pair_a.shape[0], 2, 18))  # the pairs' slab_state at the last two step ends, by k % 2
     kin_at = np.full((pair_a.shape[0], 2), -1, dtype=np.int64)  # the grid index each slot describes
+    GA, GB, gc, gw, WA1, WA2, WM = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
+    c2, bidx = modes.c2, modes.bidx
+    xw = np.empty(4)
     for k in range(k0, k1):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
         # contact check on the pairs that could touch; a rejected step books no energy.
@@ -120,30 +123,30 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 # screen first (end positions, speeds and accelerations of the two slabs, no allocation):
                 # the gap cannot reach zero within the step when the clearance bound exceeds twice what
                 # the end speeds and accelerations carry the points in a step; suspect() bounds both ends.
-                ia, na_ = n_modes[ba, 0], n_modes[ba, 1]
-                ib, nb_ = n_modes[bb, 0], n_modes[bb, 1]
-                _slab_dofs(rows[sa, :, :na_], z[ia : ia + na_, 0], da)
-                _slab_dofs(rows[sb, :, :nb_], z[ib : ib + nb_, 0], db)
-                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
-                # the slabs' velocities and accelerations at the step's end, kept for the next step's
-                # start (slot (k + 1) % 2): the screen's motion bounds need both ends
+                # (the slabs' states at the step's end are kept for the next step's start: slot (k + 1) % 2)
                 k1v = kin[p, (k + 1) % 2]
-                pair_kinematics(z, p, geo, k1v)
+                slab_state(rows, off, n_modes, ba, pair_a[p, 1], z, k1v, 0)
+                slab_state(rows, off, n_modes, bb, pair_b[p, 1], z, k1v, 9)
                 kin_at[p, (k + 1) % 2] = k + 1
-                speed = (np.hypot(k1v[0], k1v[1]) + radii[sa] * abs(k1v[2]) + np.hypot(k1v[6], k1v[7]) + radii[sb] * abs(k1v[8]))
-                acc = (np.hypot(k1v[3], k1v[4]) + radii[sa] * (abs(k1v[5]) + k1v[2] * k1v[2])
-                       + np.hypot(k1v[9], k1v[10]) + radii[sb] * (abs(k1v[11]) + k1v[8] * k1v[8]))
+                bound = clearance_bound(rest_gap[p], k1v[0], k1v[1], k1v[2], radii[sa], k1v[9], k1v[10], k1v[11], radii[sb])
+                speed = (np.hypot(k1v[3], k1v[4]) + radii[sa] * abs(k1v[5]) + np.hypot(k1v[12], k1v[13]) + radii[sb] * abs(k1v[14]))
+                acc = (np.hypot(k1v[6], k1v[7]) + radii[sa] * (abs(k1v[8]) + k1v[5] * k1v[5])
+                       + np.hypot(k1v[15], k1v[16]) + radii[sb] * (abs(k1v[17]) + k1v[14] * k1v[14]))
                 reach = 2.0 * (speed + 2.0 * acc * dt) * dt
                 if bound > reach:
                     continue
-                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
-                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], k1v[0], k1v[1], k1v[2],
+                                   verts[sb, : nvert[sb]], centres[sb], k1v[9], k1v[10], k1v[11], axis[p, 0], axis[p, 1]) > reach:
                     continue
                 k0v = kin[p, k % 2]
                 if kin_at[p, k % 2] != k:  # not formed at the last step's end (this stretch's first step)
-                    pair_kinematics(z0, p, geo, k0v)
+                    slab_state(rows, off, n_modes, ba, pair_a[p, 1], z0, k0v, 0)
+                    slab_state(rows, off, n_modes, bb, pair_b[p, 1], z0, k0v, 9)
                     kin_at[p, k % 2] = k
                 V, Amax = motion_from(k0v, k1v, radii[sa], radii[sb])
+                for i in range(3):
+                    da[i] = k1v[i]
+                    db[i] = k1v[9 + i]
                 if suspect_given(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps, da, db, V, Amax):
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
@@ -170,7 +173,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     # keep checking the other pairs: one of them may overlap in this same step
                     status = Status.CONTACT
                     hit = p
-        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
+        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
         if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
             update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
         held = False
@@ -197,9 +200,11 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
     n = z.shape[0]
     z0 = np.empty((n, 3))
     no_force = np.zeros(n)
+    xw = np.empty(4)
     for k in range(k0, k1):
         _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
-        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E)
+        _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag[k], ag[k + 1], z0, z,
+                    no_force, no_force, rec.E, xw)
         if rec.every > 1:
             update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
@@ -443,12 +448,17 @@ def _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E):
     int q'^2 = x WM x), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule on the
     step-end velocities (no points: average acceleration's exact identity).
     """
-    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr
-    L, c2, bidx = modes.L, modes.c2, modes.bidx
+    _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag0, ag1, z0, z, f0, f1, E,
+                np.empty(4))
+
+
+@njit
+def _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, f0, f1, E, x):
+    """:func:`_accumulate_forces` on the bundles' arrays, x (4,) a work array: for the stretches'
+    every step, where unpacking the bundles at each call cost a tenth of a free step."""
     n = z.shape[0]
     nq = gc.shape[0]
     maps = WA1.shape[0] > 0
-    x = np.empty(4)
     for i in range(n):
         g0 = modal_load(L, i, ag0)
         g1 = modal_load(L, i, ag1)
