@@ -33,6 +33,12 @@ from pounding.contact.geometry import EPS_REL, clearance_bound
 from pounding.framework.pairs import dofs_gap, pair_features, pair_gap, slab_dofs
 
 
+#: where a pair's two slab states start in its (18,) state array (:func:`pair_kinematics`); int64, not
+#: literals, so that each helper is compiled once
+SLAB_A = np.int64(0)
+SLAB_B = np.int64(9)
+
+
 @njit
 def slab_state(rows, off, n_modes, building, storey, z, out, o):
     """out[o:o + 9] <- one slab's (u, v, phi), their rates and their accelerations from the modal
@@ -78,8 +84,8 @@ def _point_bounds(k, o, R):
 def pair_kinematics(z, p, geo, out):
     """out (18,) <- :func:`slab_state` of pair p's slab a (out[:9]) and slab b (out[9:]) at z (n, 3)."""
     pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
-    slab_state(rows, off, n_modes, pa[p, 0], pa[p, 1], z, out, 0)
-    slab_state(rows, off, n_modes, pb[p, 0], pb[p, 1], z, out, 9)
+    slab_state(rows, off, n_modes, pa[p, 0], pa[p, 1], z, out, SLAB_A)
+    slab_state(rows, off, n_modes, pb[p, 0], pb[p, 1], z, out, SLAB_B)
 
 
 @njit
@@ -89,8 +95,8 @@ def motion_from(k0, k1, Ra, Rb):
     A = 0.0
     om = 0.0
     for k in (k0, k1):
-        sa, aa, wa = _point_bounds(k, 0, Ra)
-        sb, ab, wb = _point_bounds(k, 9, Rb)
+        sa, aa, wa = _point_bounds(k, SLAB_A, Ra)
+        sb, ab, wb = _point_bounds(k, SLAB_B, Rb)
         V = max(V, sa + sb)
         A = max(A, aa + ab)
         om = max(om, wa + wb)

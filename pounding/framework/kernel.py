@@ -26,7 +26,7 @@ from pounding.compiler import njit
 from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
 from pounding.framework.bundles import Status
-from pounding.framework.crossing import motion_from, slab_state, suspect_given
+from pounding.framework.crossing import SLAB_A, SLAB_B, motion_from, slab_state, suspect_given
 from pounding.framework.pairs import building_groups, closing, pair_gap, touching_features
 from pounding.framework.peaks import cubic_abs_max
 
@@ -125,8 +125,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 # the end speeds and accelerations carry the points in a step; suspect() bounds both ends.
                 # (the slabs' states at the step's end are kept for the next step's start: slot (k + 1) % 2)
                 k1v = kin[p, (k + 1) % 2]
-                slab_state(rows, off, n_modes, ba, pair_a[p, 1], z, k1v, 0)
-                slab_state(rows, off, n_modes, bb, pair_b[p, 1], z, k1v, 9)
+                slab_state(rows, off, n_modes, ba, pair_a[p, 1], z, k1v, SLAB_A)
+                slab_state(rows, off, n_modes, bb, pair_b[p, 1], z, k1v, SLAB_B)
                 kin_at[p, (k + 1) % 2] = k + 1
                 bound = clearance_bound(rest_gap[p], k1v[0], k1v[1], k1v[2], radii[sa], k1v[9], k1v[10], k1v[11], radii[sb])
                 speed = (np.hypot(k1v[3], k1v[4]) + radii[sa] * abs(k1v[5]) + np.hypot(k1v[12], k1v[13]) + radii[sb] * abs(k1v[14]))
@@ -140,8 +140,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     continue
                 k0v = kin[p, k % 2]
                 if kin_at[p, k % 2] != k:  # not formed at the last step's end (this stretch's first step)
-                    slab_state(rows, off, n_modes, ba, pair_a[p, 1], z0, k0v, 0)
-                    slab_state(rows, off, n_modes, bb, pair_b[p, 1], z0, k0v, 9)
+                    slab_state(rows, off, n_modes, ba, pair_a[p, 1], z0, k0v, SLAB_A)
+                    slab_state(rows, off, n_modes, bb, pair_b[p, 1], z0, k0v, SLAB_B)
                     kin_at[p, k % 2] = k
                 V, Amax = motion_from(k0v, k1v, radii[sa], radii[sb])
                 for i in range(3):
