@@ -492,10 +492,17 @@ def _pieces_inside(S, T, eps):
                 if t >= tl and t <= th:
                     ts[m] = min(max(t, 0.0), 1.0)
                     m += 1
-        tsorted = np.sort(ts[:m])
+        # sorted in place (insertion: a handful of values; np.sort allocated a copy per edge)
+        for a in range(1, m):
+            x = ts[a]
+            b = a - 1
+            while b >= 0 and ts[b] > x:
+                ts[b + 1] = ts[b]
+                b -= 1
+            ts[b + 1] = x
         for q in range(m - 1):
-            ta = tsorted[q]
-            tb = tsorted[q + 1]
+            ta = ts[q]
+            tb = ts[q + 1]
             if (tb - ta) * L <= eps:
                 continue
             tm = 0.5 * (ta + tb)
