@@ -56,10 +56,12 @@ def _congruence4(W, X, tmp, out):
 
 
 @njit
-def _times_f(P, X, out):
-    """out = P X for X with the pattern of the augmented oscillator matrix [[0, x01, 0, 0], [x10, x11,
-    x12, 0], [0, 0, 0, x23], [0, 0, 0, 0]] (its other entries are zero): 5 products a row, not 16."""
-    for r in range(4):
+def _times_f(P, X, out, rows):
+    """out[:rows] = (P X)[:rows] for X with the pattern of the augmented oscillator matrix [[0, x01, 0,
+    0], [x10, x11, x12, 0], [0, 0, 0, x23], [0, 0, 0, 0]] (its other entries are zero): 5 products a
+    row, not 16. From the square on, the last two rows of X's powers are zero: the callers skip
+    their sums (adding a zero leaves every sum as it was)."""
+    for r in range(rows):
         out[r, 0] = P[r, 1] * X[1, 0]
         out[r, 1] = P[r, 0] * X[0, 1] + P[r, 1] * X[1, 1]
         out[r, 2] = P[r, 1] * X[1, 2]
@@ -106,8 +108,9 @@ def exact_transition(omega, zeta, dt):
                 E[r, r] = 1.0
                 term[r, r] = 1.0
             for k in range(1, _TERMS + 1):
-                _times_f(term, M, tmp)
-                for a in range(4):
+                rows = 4 if k <= 2 else 2  # M^k / k! has zero rows 2 and 3 from k = 2 on
+                _times_f(term, M, tmp, rows)
+                for a in range(rows):
                     for b in range(4):
                         term[a, b] = tmp[a, b] / k
                         E[a, b] += term[a, b]
@@ -222,14 +225,15 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
         for r in range(4):
             P[r, r] = 1.0
         for jj in range(_TERMS + 1):
+            rows = 4 if jj <= 2 else 2  # X^j / j! has zero rows 2 and 3 from j = 2 on
             if jj > 0:
-                _times_f(P, X, tmp)
-                for r in range(4):
+                _times_f(P, X, tmp, rows)
+                for r in range(rows):
                     for c in range(4):
                         P[r, c] = tmp[r, c] / jj
             f1 = 1.0 / (jj + 1)
             f2 = f1 / (jj + 2)
-            for r in range(4):
+            for r in range(rows):
                 for c in range(4):
                     Phi[r, c] += P[r, c]
                     J0[r, c] += P[r, c] * f1
