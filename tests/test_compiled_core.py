@@ -115,12 +115,15 @@ def test_contact_off_loads_no_contact_code():
 def test_one_specialization_per_compiled_function(tmp_path):
     """Every call site gives a compiled function the same argument types, so a run compiles each
     function once: after the paper pair with pounding (impacts, located events, held pairs),
-    compiled from an empty cache, every dispatcher holds a single signature."""
+    with its named integrator and with ``exact`` (its one-off maps for the impact search, the
+    split steps' energy and the true peaks), compiled from an empty cache, every dispatcher holds
+    a single signature."""
     code = (
         "import json\n"
         "from pounding import compiler\n"
         "from pounding.io.scene import load_scene\n"
         "from pounding.framework.analysis import run\n"
+        f"run(load_scene({str(PAPER)!r}).with_analysis(integrator='exact', integrator_params={{}}, duration=3.0))\n"
         f"r = run(load_scene({str(PAPER)!r}).with_analysis(duration=3.0))\n"
         "sigs = {k.__module__ + '.' + k.__name__: [str(s) for s in k.signatures] for k in compiler.kernels() if k.signatures}\n"
         "print(json.dumps({'impacts': r.n_impacts, 'sigs': sigs}))\n"

@@ -167,7 +167,7 @@ class TransitionCache:
         self.integrator = integrator
         self.omega = np.ascontiguousarray(omega, dtype=float)
         # per mode, like omega (a scalar damping ratio is every mode's)
-        self.zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), self.omega.shape))
+        self.zeta = np.array(np.broadcast_to(np.asarray(zeta, dtype=float), self.omega.shape))  # (a writable copy)
         self.grid_dt = grid_dt
         self.partial = partial
         self._cache: dict[float, Transition] = {}

@@ -226,11 +226,12 @@ class Exact(Integrator):
 
 
 def _modes_flat(omega, zeta):
-    """omega, zeta as contiguous float arrays (n,) for the compiled one-off maps; the driver's
-    (:class:`pounding.solvers.base.TransitionCache`) already are, and pass through untouched:
-    these maps are built a few times per contact event."""
+    """omega, zeta as writable contiguous float arrays (n,) for the compiled one-off maps (one argument
+    type, so one compilation); the driver's (:class:`pounding.solvers.base.TransitionCache`) already
+    are, and pass through untouched: these maps are built a few times per contact event."""
     if (type(omega) is np.ndarray and type(zeta) is np.ndarray and omega.ndim == 1 and omega.shape == zeta.shape
-            and omega.dtype == np.float64 and zeta.dtype == np.float64 and omega.flags.c_contiguous and zeta.flags.c_contiguous):
+            and omega.dtype == np.float64 and zeta.dtype == np.float64 and omega.flags.c_contiguous and zeta.flags.c_contiguous
+            and omega.flags.writeable and zeta.flags.writeable):
         return omega, zeta
-    omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
-    return omega, np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+    omega = np.array(omega, dtype=float).reshape(-1)
+    return omega, np.array(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
