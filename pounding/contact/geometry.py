@@ -433,6 +433,30 @@ def _bboxes_overlap(A, B, eps):
 
 
 @njit
+def _edge(P, i):
+    """Edge i of polygon P: its start (ax, ay), its vector (dx, dy) and its length L [m]."""
+    i1 = i + 1 if i + 1 < P.shape[0] else 0
+    ax = P[i, 0]
+    ay = P[i, 1]
+    dx = P[i1, 0] - ax
+    dy = P[i1, 1] - ay
+    return ax, ay, dx, dy, math.hypot(dx, dy)
+
+
+@njit
+def _ends_across(ax, ay, dx, dy, L, T, j):
+    """Edge j of polygon T seen from the edge starting at (ax, ay) along (dx, dy) of length L: its
+    ends' offsets from (ax, ay), (wx0, wy0) and (wx1, wy1), and their signed distances h0, h1 [m]
+    from that edge's line (positive on its left)."""
+    j1 = j + 1 if j + 1 < T.shape[0] else 0
+    wx0 = T[j, 0] - ax
+    wy0 = T[j, 1] - ay
+    wx1 = T[j1, 0] - ax
+    wy1 = T[j1, 1] - ay
+    return wx0, wy0, wx1, wy1, (dx * wy0 - dy * wx0) / L, (dx * wy1 - dy * wx1) / L
+
+
+@njit
 def _pieces_inside(S, T, eps):
     """Pieces of the boundary of S lying strictly inside T.
 
@@ -450,12 +474,7 @@ def _pieces_inside(S, T, eps):
     ts = np.empty(2 * l + 2)
     n = 0
     for i in range(k):
-        i1 = i + 1 if i + 1 < k else 0
-        ax = S[i, 0]
-        ay = S[i, 1]
-        dx = S[i1, 0] - ax
-        dy = S[i1, 1] - ay
-        L = math.hypot(dx, dy)
+        ax, ay, dx, dy, L = _edge(S, i)
         if L <= eps:
             continue
         L2 = L * L
@@ -465,13 +484,7 @@ def _pieces_inside(S, T, eps):
         ts[0] = 0.0
         ts[1] = 1.0
         for j in range(l):
-            j1 = j + 1 if j + 1 < l else 0
-            wx0 = T[j, 0] - ax
-            wy0 = T[j, 1] - ay
-            wx1 = T[j1, 0] - ax
-            wy1 = T[j1, 1] - ay
-            h0 = (dx * wy0 - dy * wx0) / L  # signed distances of T's edge ends from S's edge line
-            h1 = (dx * wy1 - dy * wx1) / L
+            wx0, wy0, wx1, wy1, h0, h1 = _ends_across(ax, ay, dx, dy, L, T, j)  # h: from S's edge line
             on0 = abs(h0) <= eps
             on1 = abs(h1) <= eps
             if on0 or on1:
@@ -810,38 +823,22 @@ def _edges_may_cross(A, B, eps):
     """False only if no edge of A meets an edge of B. Two segments that meet straddle each other's
     lines and overlap in their projections on either; each test allows ``eps`` (well above the
     rounding of the signed distances), so a pair that meets is never cleared."""
-    k = A.shape[0]
-    l = B.shape[0]
-    for i in range(k):
-        i1 = i + 1 if i + 1 < k else 0
-        ax = A[i, 0]
-        ay = A[i, 1]
-        dx = A[i1, 0] - ax
-        dy = A[i1, 1] - ay
-        L = math.hypot(dx, dy)
+    for i in range(A.shape[0]):
+        ax, ay, dx, dy, L = _edge(A, i)
         if L <= eps:
             return True
-        for j in range(l):
-            j1 = j + 1 if j + 1 < l else 0
-            wx0 = B[j, 0] - ax
-            wy0 = B[j, 1] - ay
-            wx1 = B[j1, 0] - ax
-            wy1 = B[j1, 1] - ay
-            h0 = (dx * wy0 - dy * wx0) / L  # signed distances of B's edge ends from A's edge line
-            h1 = (dx * wy1 - dy * wx1) / L
+        for j in range(B.shape[0]):
+            wx0, wy0, wx1, wy1, h0, h1 = _ends_across(ax, ay, dx, dy, L, B, j)  # B's edge from A's edge line
             if (h0 > eps and h1 > eps) or (h0 < -eps and h1 < -eps):
                 continue
             t0 = (wx0 * dx + wy0 * dy) / (L * L)  # B's edge ends along A's edge (0..1 on it)
             t1 = (wx1 * dx + wy1 * dy) / (L * L)
             if min(t0, t1) > 1.0 + eps / L or max(t0, t1) < -eps / L:
                 continue
-            ex = wx1 - wx0
-            ey = wy1 - wy0
-            M = math.hypot(ex, ey)
+            bx, by, ex, ey, M = _edge(B, j)
             if M <= eps:
                 return True
-            g0 = (ex * (-wy0) - ey * (-wx0)) / M  # signed distances of A's edge ends from B's edge line
-            g1 = (ex * (dy - wy0) - ey * (dx - wx0)) / M
+            _, _, _, _, g0, g1 = _ends_across(bx, by, ex, ey, M, A, i)  # A's edge from B's edge line
             if (g0 > eps and g1 > eps) or (g0 < -eps and g1 < -eps):
                 continue
             return True
