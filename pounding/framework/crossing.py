@@ -30,7 +30,7 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.geometry import EPS_REL, clearance_bound
-from pounding.framework.pairs import dofs_gap, pair_features, pair_gap, slab_dofs
+from pounding.framework.pairs import dofs_gap, pair_features, pair_gap
 
 
 #: where a pair's two slab states start in its (18,) state array (:func:`pair_kinematics`); int64, not
@@ -90,7 +90,9 @@ def pair_kinematics(z, p, geo, out):
 
 @njit
 def motion_from(k0, k1, Ra, Rb):
-    """:func:`motion_bounds` from the pair's states (18,) at the step's ends (:func:`pair_kinematics`)."""
+    """Bounds (V [m/s], A [m/s^2]) on the relative speed and acceleration of a pair's points over a
+    step, from its slab states k0, k1 (18,) at the step's ends (:func:`pair_kinematics`; the module
+    docstring); Ra, Rb [m] the slabs' radii."""
     V = 0.0
     A = 0.0
     om = 0.0
@@ -101,18 +103,6 @@ def motion_from(k0, k1, Ra, Rb):
         A = max(A, aa + ab)
         om = max(om, wa + wb)
     return V, 2.0 * A + 2.0 * om * V
-
-
-@njit
-def motion_bounds(z0, z1, p, geo):
-    """Bounds (V [m/s], A [m/s^2]) on the relative speed and acceleration of pair p's points
-    over a step from z0 to z1 (n, 3) (see the module docstring)."""
-    pa, pb, off, radii = geo.pa, geo.pb, geo.off, geo.radii
-    k0 = np.empty(18)
-    k1 = np.empty(18)
-    pair_kinematics(z0, p, geo, k0)
-    pair_kinematics(z1, p, geo, k1)
-    return motion_from(k0, k1, radii[off[pa[p, 0]] + pa[p, 1]], radii[off[pb[p, 0]] + pb[p, 1]])
 
 
 @njit
@@ -186,20 +176,19 @@ def suspect_step(z0, z1, p, h, eps, tol, geo, k, rates, gaps):
     * ``rates`` (pairs, 3): the nearest feature's (gap, rate) at a step's end as (k + 1, gap, rate),
       the next step's start values: one feature search fewer per searched step.
     """
-    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
-    da = np.empty(3)
-    db = np.empty(3)
-    q1 = z1[:, 0].copy()
-    slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], q1, da)
-    slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], q1, db)
-    V, A = motion_bounds(z0, z1, p, geo)
-    return suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, da, db, V, A)
+    pa, pb, off, radii = geo.pa, geo.pb, geo.off, geo.radii
+    k0 = np.empty(18)
+    k1 = np.empty(18)
+    pair_kinematics(z0, p, geo, k0)
+    pair_kinematics(z1, p, geo, k1)
+    V, A = motion_from(k0, k1, radii[off[pa[p, 0]] + pa[p, 1]], radii[off[pb[p, 0]] + pb[p, 1]])
+    return suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, k1[0:3].copy(), k1[9:12].copy(), V, A)
 
 
 @njit
 def suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, da, db, V, A):
     """:func:`suspect_step` given the slabs' end (u, v, phi) da, db (3,) and the motion bounds V, A
-    (:func:`motion_bounds`): for the compiled stretch, which has formed them already."""
+    (:func:`motion_from`): for the compiled stretch, which has formed them already."""
     pa, pb, off, centres, radii = geo.pa, geo.pb, geo.off, geo.centres, geo.radii
     reach = (V + A * h) * h + eps  # the most the gap can fall over the step, from its end backwards
     # the end gap: the bound from the remembered state, then pair_gap's cascade (lower bounds all: a
