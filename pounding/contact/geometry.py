@@ -800,21 +800,24 @@ def _apart_gap(A, B, eps):
     same number, without cutting the edges or building the feature table. That is the case of
     almost every gap a run asks for (screens, searches near contact).
     """
-    g = np.inf
-    for i in range(B.shape[0]):
-        st, d, _, _, _, _ = _classify(B[i, 0], B[i, 1], A, eps)
-        if st != -1:
-            return -np.inf
-        if d < g:
-            g = d
-    for i in range(A.shape[0]):
-        st, d, _, _, _, _ = _classify(A[i, 0], A[i, 1], B, eps)
-        if st != -1:
-            return -np.inf
-        if d < g:
-            g = d
-    if _edges_may_cross(A, B, eps):
+    g = _vertices_outside(A, B, eps, _vertices_outside(B, A, eps, np.inf))  # B's vertices first, as _candidates
+    if g == -np.inf or _edges_may_cross(A, B, eps):
         return -np.inf
+    return g
+
+
+@njit
+def _vertices_outside(S, T, eps, g):
+    """min(g, the distance of every vertex of S to T's boundary) when each lies outside T by more
+    than eps (:func:`_classify`), else -inf (also when g is -inf already)."""
+    if g == -np.inf:
+        return g
+    for i in range(S.shape[0]):
+        st, d, _, _, _, _ = _classify(S[i, 0], S[i, 1], T, eps)
+        if st != -1:
+            return -np.inf
+        if d < g:
+            g = d
     return g
 
 
