@@ -371,7 +371,8 @@ def _warm_task(name: str) -> None:
     then the gap of a slab pair and a whole run of the paper pair with pounding. ``shared``: the
     Newton impulses (no geometry), then, once the geometry is cached, what that run needs later,
     called from Python with the argument types the compiled code passes: the touching features
-    of a pair and of several pairs, the held stretch (a call over no steps) and the one-off maps
+    of a pair and of several pairs, the held stretch (a call over no steps), the selection of a held
+    pair's touching points and the one-off maps
     of ``exact`` (the default integrator of elastic scenes). ``free``: the
     contact-free stretch (the same scene with contact ``none``). Measured in
     ``benchmarks/bench_compile.py``."""
@@ -409,8 +410,11 @@ def _warm_task(name: str) -> None:
         model = driver.model
         q = np.zeros(model.n)
         model.features(q, 0, driver.tol)
-        model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
+        _, gap, W, _, _ = model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
         driver.advance_held(0, 0)
+        from pounding.framework.held import touching_rows
+
+        touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), driver.eps)  # a held Python step's plastic stop
         # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
         # crossing locator builds at every located impact (the packaged paper scene names HHT)
         from pounding.solvers.exact import Exact

@@ -806,9 +806,13 @@ class Driver:
     def stop_closing(self, t: float) -> None:
         """Plastic impulses on the touching points of held pairs that still close
         (:func:`pounding.framework.held.stop_closing`); the kinetic energy they remove is
-        booked as contact work."""
+        booked as contact work. With the crossing locator only points whose gap is zero to
+        rounding are stopped (as :func:`~pounding.framework.held.held_stretch`); the paper's
+        rules stop every point within the tolerance."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        _, _, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        _, gap, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        if self.crossing:  # only the points that touch: an arriving one is stopped where it reaches contact
+            W = hold.touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), self.eps)
         v_before = self.z[:, 1].copy()
         hold.stop_closing(self.z, W, self.v_min)
         hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())

@@ -7,7 +7,11 @@ like any other, so each step and its energy audit are the integrator's own.
 * :func:`held_step` takes one step of any size with the held pairs' contact
   forces (used by the driver for every trial, including an impact search);
 * :func:`stop_closing` removes what closing speed a held pair's touching
-  points still have (a plastic impact: the limit of the Zeno sequence);
+  points still have (a plastic impact: the limit of the Zeno sequence). With the
+  ``crossing`` locator it is given the points that touch (gap zero to rounding) and
+  no others: a point of a held pair that is within the tolerance but apart closes
+  until it touches, where :func:`held_step` holds it. The paper's rules stop every
+  point within the tolerance;
 * :func:`held_stretch` runs grid steps while pairs are held and nothing else
   happens, and stops for the driver when a free pair touches or overlaps.
 
@@ -278,13 +282,24 @@ def stop_closing(z, W, v_min):
 
 
 @njit
+def touching_rows(gap, W, eps):
+    """The rows of W (m, n) whose feature gap (m,) [m] is at most eps: the points that touch."""
+    keep = np.nonzero(gap <= eps)[0]
+    out = np.empty((keep.shape[0], W.shape[1]))
+    for r in range(keep.shape[0]):
+        out[r] = W[keep[r]]
+    return out
+
+
+@njit
 def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
     Bundles and ``rules`` (None: the crossing locator; True: the paper's rules, the other
     branch pruned before compiling) as in :func:`pounding.framework.kernel.advance`, plus the contact force at the
     current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
-    Each step: :func:`stop_closing` (its kinetic-energy change booked as contact work),
+    Each step: :func:`stop_closing` on the held pairs' touching points (with ``rules`` None) or
+    their points within the tolerance (the paper's rules), its kinetic-energy change booked as contact work,
     :func:`held_step`, then the same checks as the driver's Python step.
 
     Returns (k, status, pair): the grid index reached and a
@@ -311,7 +326,10 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
         v_before = z[:, 1].copy()
         E_before = E.copy()
-        stop_closing(z, WS, v_min)
+        if rules is None:  # crossing: only the points that touch are stopped (an arriving one reaches contact first)
+            stop_closing(z, touching_rows(gapS, WS, -overlap), v_min)
+        else:
+            stop_closing(z, WS, v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
