@@ -372,7 +372,7 @@ def _warm_task(name: str) -> None:
     Newton impulses (no geometry), then, once the geometry is cached, what that run needs later,
     called from Python with the argument types the compiled code passes: the touching features
     of a pair and of several pairs, the held stretch (a call over no steps), the selection of a held
-    pair's touching points and the one-off maps
+    pair's touching points and the one-off maps and impact search
     of ``exact`` (the default integrator of elastic scenes). ``free``: the
     contact-free stretch (the same scene with contact ``none``). Measured in
     ``benchmarks/bench_compile.py``."""
@@ -421,6 +421,9 @@ def _warm_task(name: str) -> None:
 
         Exact().partial_transition(model.omega, model.zeta, 1e-3)
         Exact().partial_work_maps(model.omega, model.zeta, 1e-3)
+        # and its impact search, compiled whole (pounding.framework.event_search), as the driver calls it
+        search = Driver(scene.with_analysis(integrator="exact", integrator_params={}))
+        search.locate(0.0, search.dt, [0], search.trial(search.z, 0.0, search.dt))
     elif name == "free":
         run(scene.with_analysis(contact="none"))
     else:

@@ -311,6 +311,9 @@ class Driver:
             raise ValueError(f"the ground motion has {self.ag.shape[1]} components, the modal load {self.model.L.shape[1]}")
         self.progress = progress
         self.use_kernel = use_kernel
+        #: the record (times (m,), accelerations (m, c)) for the compiled impact search of ``exact``
+        #: (pounding.framework.event_search), or None where the driver's own search runs
+        self.search_record = self._search_record(gm) if self.crossing and use_kernel else None
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -362,6 +365,25 @@ class Driver:
             self.spring_hist = np.zeros((3, n_out, ns))
 
     # ---------------------------------------------------------------- stepping
+    def _search_record(self, gm):
+        """(times, accelerations (m, c)) of the record when the whole impact search can run compiled:
+        ``exact`` with its compiled one-off transition (the one the cache builds) and a record the
+        driver interpolates with numpy's interp; else None."""
+        from pounding.compiler import Kernel
+        from pounding.solvers.exact import Exact
+        from pounding.solvers.exact_partial import exact_transition
+
+        if not (isinstance(exact_transition, Kernel) and type(self.integrator).partial_transition is Exact.partial_transition):
+            return None
+        t, acc = getattr(gm, "t", None), getattr(gm, "acc", None)
+        if t is None or acc is None or type(gm).samples not in _INTERPOLATED:
+            return None
+        t = np.ascontiguousarray(t, dtype=float)
+        acc = np.ascontiguousarray(np.asarray(acc, dtype=float).reshape(t.shape[0], -1))
+        if acc.shape[1] != self.ag.shape[1] or not np.all(np.diff(t) > 0):
+            return None
+        return t, acc
+
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
         """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
         tr = self.cache(h)
@@ -844,6 +866,17 @@ class Driver:
 
         if self.crossing:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
+            if (self.search_record is not None and z0 is self.z and self.law.kind == "impulse" and not self.sustained
+                    and self.springs is None):
+                # nothing but the ground acts in the step: the same search, compiled whole
+                from pounding.framework.event_search import locate_exact
+
+                tr, (rec_t, rec_acc) = self.cache(self.dt), self.search_record
+                found, hs = locate_exact(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
+                                         p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), float(self.cache.grid_dt),
+                                         np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega, self.cache.zeta,
+                                         float(self.dt), self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
+                return float(hs) if found else None
             memo: dict[float, float] = {}
 
             def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
@@ -1086,6 +1119,18 @@ def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=No
             break
         x = x - fx / s
     return _first_zero(f, lo, hi, eps, xtol)
+
+
+def _interpolated() -> tuple:
+    """The ground motions' ``samples`` methods that interpolate their record with numpy's interp
+    (what :func:`pounding.framework.event_search.modal_load_at` repeats)."""
+    from pounding.io.ground_motion import GroundMotion
+    from pounding.io.motion_pair import GroundMotionPair
+
+    return (GroundMotion.samples, GroundMotionPair.samples)
+
+
+_INTERPOLATED = _interpolated()
 
 
 def _no_pairs(geo: PairArrays) -> PairArrays:

@@ -1,0 +1,188 @@
+"""The crossing locator's impact search for ``exact``, compiled whole: one call per located event.
+
+The driver's search (:meth:`pounding.framework.analysis.Driver.locate_crossing`) asks the
+integrator's own solution for the pairs' smallest gap at a handful of step lengths (the
+``gmin`` of its docstring), each a Python call that builds the step's transition, forms the
+ground-motion load at its end and calls the compiled gap: about 0.15 ms of an event's 0.5 ms.
+When the integrator is ``exact`` and nothing acts in the step but the ground (no held pair, an
+impulse law, no yielding springs), the same search runs here in one compiled call, with the same
+arithmetic in the same order, so the instants it returns are the driver's to the bit
+(tests/test_event_search.py; ``benchmarks/check_identity.py``):
+
+* the step of length hh is the grid transition when hh is the grid step, else
+  :func:`~pounding.solvers.exact_partial.exact_transition` (the driver's
+  :class:`~pounding.solvers.base.TransitionCache` for ``exact`` with the crossing locator);
+* the modal load at t + hh is :meth:`~pounding.framework.analysis.Driver.load`'s: the grid row of
+  the record at a grid instant, else numpy's ``interp`` of every component (:func:`interp`);
+* the search is :meth:`~pounding.framework.analysis.Driver.locate_crossing` with
+  :func:`~pounding.framework.analysis._polish` and :func:`~pounding.framework.analysis._first_zero`
+  on that solution, the Hermite interpolant's search and slope as there.
+
+The regula falsi with the Illinois rule is thus written three times: on a Python callable
+(:func:`~pounding.framework.analysis._first_zero`, for the steps where held pairs, force laws or
+yielding springs act), on the interpolant (:func:`~pounding.framework.crossing.hermite_zero`) and here.
+numba could take the gap function as an argument of one shared loop, but every function passed makes
+another specialization of it, and the compiled core keeps one per function
+(tests/test_compiled_core.py); the three copies are held equal by the bit-for-bit tests.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.compiler import njit
+from pounding.framework.crossing import hermite_search, hermite_slope, hermite_zero
+from pounding.framework.pairs import pair_gap, stepped_min_gap
+from pounding.solvers.exact_partial import exact_transition
+
+#: hermite_zero's ``checked`` as typed bools, not literals: the driver calls it from Python with a
+#: bool, and one specialization serves both
+_UNCHECKED = np.bool_(False)
+_CHECKED = np.bool_(True)
+
+
+@njit
+def interp(x, xp, fp):
+    """numpy's ``interp(x, xp, fp, left=0, right=0)`` for one point x and increasing xp (m,), with its
+    arithmetic: the sample itself at a sample, else slope (x - xp[j]) + fp[j] with slope =
+    (fp[j+1] - fp[j]) / (xp[j+1] - xp[j]) and xp[j] <= x < xp[j+1]."""
+    m = xp.shape[0]
+    if x != x:
+        return x
+    if x > xp[m - 1] or x < xp[0]:
+        return 0.0
+    j = np.searchsorted(xp, x, side="right") - 1
+    if j == m - 1 or xp[j] == x:
+        return fp[j]
+    slope = (fp[j + 1] - fp[j]) / (xp[j + 1] - xp[j])
+    out = slope * (x - xp[j]) + fp[j]
+    if out != out:
+        out = slope * (x - xp[j + 1]) + fp[j + 1]
+        if out != out and fp[j] == fp[j + 1]:
+            out = fp[j]
+    return out
+
+
+@njit
+def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
+    """Modal ground-motion load p = -L ag(t) (n,) at time t [s], as the driver forms it: ag(t) is the
+    grid row ag[k] (nsteps + 1, c) when t is within 1e-9 steps of grid instant k, else the record
+    (rec_t (m,), rec_acc (m, c)) interpolated linearly, zero outside it."""
+    k = t / dt
+    kr = int(k + 0.5)
+    c = L.shape[1]
+    a = np.empty(c)
+    if abs(k - kr) < 1e-9 and 0 <= kr <= ag.shape[0] - 1:
+        for j in range(c):
+            a[j] = ag[kr, j]
+    else:
+        for j in range(c):
+            a[j] = interp(t, rec_t, rec_acc[:, j])
+    n = L.shape[0]
+    p = np.empty(n)
+    for i in range(n):
+        p[i] = L[i, 0] * -a[0]
+    for j in range(1, c):
+        for i in range(n):
+            p[i] += L[i, j] * -a[j]
+    return p
+
+
+@njit
+def stepped_gap(hh, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
+    """The smallest gap [m] of the pairs ``plist`` after ``exact``'s step of hh [s] from state z (n, 3) at
+    time t with start load p0 (n,) (the driver's ``gmin``); at hh <= 0, at z itself."""
+    if hh <= 0.0:
+        g = np.inf
+        q = z[:, 0].copy()
+        for j in range(plist.shape[0]):
+            g = min(g, pair_gap(q, plist[j], np.inf, geo))
+        return g
+    p1 = modal_load_at(t + hh, dt, ag, rec_t, rec_acc, L)
+    if hh == grid_dt:
+        return stepped_min_gap(A_dt, B_dt, z, p0, p1, plist, geo)
+    A, B = exact_transition(omega, zeta, hh)
+    return stepped_min_gap(A, B, z, p0, p1, plist, geo)
+
+
+@njit
+def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
+    """:meth:`~pounding.framework.analysis.Driver.locate_crossing` for ``exact``'s step of h [s] from
+    state z (n, 3) at t [s], start load p0 (n,), ending at displacements q1 and velocities v1 (n,):
+    returns (found, hs), hs [s] the step length to the first zero of the pairs' smallest gap (to eps
+    [m]), found False when the gap stays above -eps (a graze that did not touch)."""
+    q0 = z[:, 0].copy()
+    v0 = z[:, 1].copy()
+    g0 = stepped_gap(0.0, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    gh = stepped_gap(h, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    if g0 > eps and gh < -eps:
+        x = hermite_zero(q0, v0, q1, v1, h, 0.0, h, eps, xtol, _UNCHECKED, plist, geo)
+        return True, _polish(0.0, h, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo,
+                             q0, v0, q1, v1, h)
+    found, lo, hi = hermite_search(q0, v0, q1, v1, h, g0, gh, eps, plist, geo)
+    ghi = stepped_gap(hi, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    if not found and ghi >= -eps:
+        return False, 0.0
+    if ghi >= -eps:
+        if gh < -eps:
+            hi = h
+            ghi = gh
+    if stepped_gap(lo, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo) <= eps:
+        return True, lo
+    if ghi >= -eps:
+        return False, 0.0
+    x = hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, _CHECKED, plist, geo)
+    return True, _polish(lo, hi, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo,
+                         q0, v0, q1, v1, h)
+
+
+@njit
+def _polish(lo, hi, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo, q0, v0, q1, v1, h):
+    """:func:`pounding.framework.analysis._polish` on ``exact``'s solution (:func:`stepped_gap`), with
+    the Hermite interpolant's slope, then :func:`_first_zero`."""
+    for _ in range(4):
+        if not lo < x < hi:
+            break
+        fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo = x
+        else:
+            hi = x
+        s = hermite_slope(q0, v0, q1, v1, h, x, plist, geo)
+        if not s < 0.0:
+            break
+        x = x - fx / s
+    return _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+
+
+@njit
+def _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
+    """:func:`pounding.framework.analysis._first_zero` on ``exact``'s solution: regula falsi with the
+    Illinois rule, bisection down to xtol."""
+    flo = stepped_gap(lo, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    if flo <= eps:
+        return lo
+    fhi = stepped_gap(hi, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    side = 0
+    for _ in range(200):
+        if hi - lo <= xtol:
+            break
+        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+        if not lo < x < hi:
+            x = 0.5 * (lo + hi)
+        fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+        if abs(fx) <= eps:
+            return x
+        if fx > 0:
+            lo, flo = x, fx
+            if side == 1:
+                fhi *= 0.5
+            side = 1
+        else:
+            hi, fhi = x, fx
+            if side == -1:
+                flo *= 0.5
+            side = -1
+    return lo

@@ -1,0 +1,85 @@
+"""The impact search of ``exact`` compiled whole (pounding.framework.event_search) is the driver's.
+
+The driver's search (``Driver.locate_crossing`` with ``_polish`` on the integrator's own solution)
+is the specification; the compiled one repeats its arithmetic in the same order, so everything here
+is asserted bit for bit: numpy's ``interp`` of the record, the modal load at any instant, and the
+impact instants (with everything that follows from them) of whole runs with pounding.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pounding.framework.analysis import Driver
+from pounding.framework.event_search import interp, modal_load_at
+from pounding.io.motion_pair import GroundMotionPair
+from pounding.io.scene import load_scene
+from scenes_for_tests import scene, side_by_side
+
+ROOT = Path(__file__).resolve().parents[1]
+PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
+LSHAPE = ROOT / "benchmarks" / "scenes" / "l_shape_8_rect_4.toml"
+
+
+def _exact(path, **analysis):
+    return load_scene(path).with_analysis(integrator=None, integrator_params={}, dt=None,
+                                           contact_params={"restitution": 0.5}, **analysis)
+
+
+def test_interp_is_numpys_bit_for_bit():
+    """At the record's samples, between them (random and halfway), at and beyond both ends."""
+    d = Driver(_exact(PAPER))
+    t, acc = d.search_record
+    rng = np.random.default_rng(7)
+    x = np.concatenate([t, 0.5 * (t[1:] + t[:-1]), rng.uniform(-0.1, t[-1] + 0.1, 20_000),
+                        [t[0], t[-1], np.nextafter(t[-1], 0.0), np.nextafter(t[0], 1.0), -1e-300, t[-1] + 1e-12]])
+    ours = np.array([interp(float(v), t, acc[:, 0]) for v in x])
+    assert np.array_equal(ours, np.interp(x, t, acc[:, 0], left=0.0, right=0.0))
+
+
+@pytest.mark.parametrize("angle", [None, 30.0])
+def test_the_modal_load_at_any_instant_is_the_drivers(angle):
+    """One component, and two (the record turned by 30 degrees with its orthogonal companion): the
+    grid rows at grid instants (and within 1e-9 steps of them), the record in between."""
+    sc = scene(side_by_side(0.02, integrator="exact", dt=0.004))
+    if angle is not None:  # a second component (synthetic: the first reversed in time, scaled by 0.7)
+        first = sc.ground_motion
+        second = replace(first, acc=np.ascontiguousarray(0.7 * first.acc[::-1]))
+        sc = sc.with_ground_motion(GroundMotionPair(first, second, angle=angle))
+    d = Driver(sc)
+    t, acc = d.search_record
+    rng = np.random.default_rng(3)
+    times = np.concatenate([d.t_grid[:200], d.t_grid[1:200] + 1e-12 * d.dt, rng.uniform(0.0, d.t_grid[-1], 2_000)])
+    for s in times:
+        p = modal_load_at(float(s), d.dt, d.ag, t, acc, d.model.L)
+        assert np.array_equal(p, d.load(float(s)))
+
+
+def _digest(d: Driver) -> str:
+    h = hashlib.sha256()
+    for a in (d.Q, d.V, d.E, np.array([[i.time, i.impulse, i.energy_loss] for i in d.impacts]).ravel()):
+        h.update(np.ascontiguousarray(a).tobytes())
+    return h.hexdigest()
+
+
+@pytest.mark.parametrize("path, duration, dt", [(PAPER, 8.0, None), (PAPER, 4.0, 0.001), (LSHAPE, 8.0, None)])
+def test_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(path, duration, dt):
+    """Every located impact of the paper pair (the default step and 0.001 s) and the L-shape scene:
+    the recorded states, the energy account and every impulse are the same bits with the compiled
+    search as with the driver's own."""
+    sc = _exact(path, duration=duration) if dt is None else _exact(path, duration=duration).with_analysis(dt=dt)
+    runs = []
+    for compiled in (True, False):
+        d = Driver(sc)
+        assert d.search_record is not None
+        if not compiled:
+            d.search_record = None
+        d.run()
+        runs.append(d)
+    assert runs[0].n_located >= 10
+    assert _digest(runs[0]) == _digest(runs[1])
