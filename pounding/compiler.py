@@ -414,7 +414,7 @@ def _warm_task(name: str) -> None:
         driver.advance_held(0, 0)
         from pounding.framework.held import touching_rows
 
-        touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), driver.eps)  # a held Python step's plastic stop
+        touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), driver.touch)  # a held Python step's plastic stop
         # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
         # crossing locator builds at every located impact (the packaged paper scene names HHT)
         from pounding.solvers.exact import Exact

@@ -795,16 +795,17 @@ def test_plastic_stop_of_many_held_storeys_is_solved_pair_by_pair():
             assert np.array_equal(b[rows], b0[rows])
 
 
-def _held_pair_with_an_arriving_corner(closing: float, use_kernel: bool) -> Driver:
-    """Two single-storey boxes face to face (gap 0), held: the right slab is turned clockwise by
-    5e-6 rad about its corner A = (10, 0), which touches, so its corner B = (10, 10) is 5e-5 m away
-    (inside the 1e-4 m tolerance), and turns back about A so that B closes at ``closing`` [m/s];
-    a slight translation opens A (1e-6 m/s), so no touching point closes."""
-    sc = scene(side_by_side(0.0))
+def _held_pair_with_an_arriving_corner(closing: float, use_kernel: bool, widths=(10.0, 12.0), opening: float = 1e-6) -> Driver:
+    """Two single-storey boxes 10 m deep face to face (gap 0), held: the right slab is turned
+    clockwise by 5e-6 rad about its corner A = (w0, 0), which touches, so its corner B = (w0, 10) is
+    5e-5 m away (inside the 1e-4 m tolerance), and turns back about A so that B closes at ``closing``
+    [m/s]; a slight translation opens A at about ``opening`` [m/s] (default: no touching point closes)."""
+    sc = scene(side_by_side(0.0, widths=widths))
     d = Driver(sc, use_kernel=use_kernel)
     phi, w = -5e-6, closing / 10.0
-    right = {(1, 0): np.array([-phi * 5.0, phi * 6.0, phi])}  # centre (16, 5): a turn about A
-    rates = {(1, 0): np.array([-w * 5.0 + 1e-6, w * 6.0, w])}
+    arm = widths[1] / 2.0  # centre (w0 + w1 / 2, 5): a turn about A moves it by phi x (arm, 5)
+    right = {(1, 0): np.array([-phi * 5.0, phi * arm, phi])}
+    rates = {(1, 0): np.array([-w * 5.0 + opening, w * arm, w])}
     d.z = np.zeros((d.model.n, 3))
     d.z[:, 0] = modal_from_physical(d.model, right)
     d.z[:, 1] = modal_from_physical(d.model, rates)
@@ -848,3 +849,25 @@ def test_an_arriving_corner_of_a_held_pair_closes_until_it_touches(use_kernel):
         d.python_step(0)
     gap1, _ = _corner_b(d)
     assert 0.5 * closing * d.dt < gap0 - gap1 < 1.5 * closing * d.dt
+
+
+def test_an_arriving_corner_that_would_reach_contact_is_stopped_by_a_push_not_a_pull():
+    """B (5e-5 m away, closing at 0.05 m/s) would reach contact within a 5 ms held step, so the step
+    stops it at its start. On 30 x 30 m slabs stopping B alone turns the right slab about its centre
+    and opens A, so the unilateral plastic stop is B's single-point impulse I = b / a (the paper's
+    I = (1 + k) b / a with k = 0; a = w_B . w_B), and A is left opening at b (w_A . w_B) / a.
+    A projection onto both points' constraints would pull on A to keep it closed and remove more
+    energy. Rounding: a 2 x 2 unilateral problem solved in a few flops, 1e-12 relative."""
+    d = _held_pair_with_an_arriving_corner(0.05, use_kernel=False, widths=(30.0, 30.0), opening=0.0)
+    _, gap, W, Q, _ = d.model.touching(d.z[:, 0], np.array([0]), d.tol, deep=True)
+    a_, b_ = int(np.argmin(Q[:, 1])), int(np.argmax(Q[:, 1]))
+    assert gap[a_] == 0.0 and gap[b_] == pytest.approx(5e-5, rel=1e-3)
+    d.stop_closing(0.0)  # the step's own start: A's rounding-level closing speed removed
+    v = d.z[:, 1].copy()
+    b = -(W[b_] @ v)
+    assert b == pytest.approx(0.05, rel=1e-3) and b * d.dt > gap[b_]  # B reaches contact within the step
+    start = d.held_trial(d.z, 0.0, d.dt).z0[:, 1]
+    impulse = b / (W[b_] @ W[b_])
+    assert np.allclose(start - v, impulse * W[b_], rtol=1e-12, atol=1e-12 * np.abs(impulse * W[b_]).max())
+    assert W[a_] @ start == pytest.approx(b * (W[a_] @ W[b_]) / (W[b_] @ W[b_]), rel=1e-12)
+    assert W[a_] @ start > 0.0

@@ -328,6 +328,9 @@ class Driver:
         # A closing speed below this is rounding, not an impact: it would close less than a
         # billionth of the contact tolerance in a step (identical buildings moving in phase).
         self.v_min = 1e-9 * self.tol / self.dt
+        #: [m] the gap up to which a held pair's point touches: the held contact's resolution with the
+        #: crossing locator (pounding.framework.held.touch_gap), every point within the tolerance else
+        self.touch = float(hold.touch_gap.py_func(self.tol)) if self.crossing else np.inf
         # Peaks at every step, whatever the output rate (the recorded arrays may be thinned).
         self.peak = np.zeros((len(self.model.slab_building), 3))
         self.events_in_step = 0
@@ -822,19 +825,20 @@ class Driver:
         if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
             p0, p1 = p0 - e0, p1 - e1
         z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
-                                            float(h), m.c2, m.om2, held, self.tol, 1e3 * self.v_min, gap0, W0, m.geo)
+                                            float(h), m.c2, m.om2, held, self.tol, 1e3 * self.v_min, self.touch, gap0, W0, m.geo)
         return Step(z0, z1, f0, f1)
 
     def stop_closing(self, t: float) -> None:
         """Plastic impulses on the touching points of held pairs that still close
         (:func:`pounding.framework.held.stop_closing`); the kinetic energy they remove is
-        booked as contact work. With the crossing locator only points whose gap is zero to
-        rounding are stopped (as :func:`~pounding.framework.held.held_stretch`); the paper's
-        rules stop every point within the tolerance."""
+        booked as contact work. With the crossing locator only points that touch
+        (:func:`~pounding.framework.held.touch_gap`) are stopped, as in
+        :func:`~pounding.framework.held.held_stretch`; the paper's rules stop every point within
+        the tolerance."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
         _, gap, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
-        if self.crossing:  # only the points that touch: an arriving one is stopped where it reaches contact
-            W = hold.touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), self.eps)
+        if self.crossing:  # only the points that touch (an arriving one: held_step, in the step it reaches contact)
+            W = hold.touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), self.touch)
         v_before = self.z[:, 1].copy()
         hold.stop_closing(self.z, W, self.v_min)
         hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())

@@ -8,10 +8,12 @@ like any other, so each step and its energy audit are the integrator's own.
   forces (used by the driver for every trial, including an impact search);
 * :func:`stop_closing` removes what closing speed a held pair's touching
   points still have (a plastic impact: the limit of the Zeno sequence). With the
-  ``crossing`` locator it is given the points that touch (gap zero to rounding) and
-  no others: a point of a held pair that is within the tolerance but apart closes
-  until it touches, where :func:`held_step` holds it. The paper's rules stop every
-  point within the tolerance;
+  ``crossing`` locator it is given the points that touch (within :func:`touch_gap`,
+  1e-3 of the tolerance) and no others: a point of a held pair that is within the
+  tolerance but apart closes freely until the step in which it would reach contact,
+  whose start (:func:`held_step`) stops it by plastic impulses that push and never
+  pull, so it is stopped at most one step's travel before contact. The paper's rules
+  stop every point within the tolerance;
 * :func:`held_stretch` runs grid steps while pairs are held and nothing else
   happens, and stops for the driver when a free pair touches or overlaps.
 
@@ -86,10 +88,15 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, geo):
+def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, touch, gap0, W, geo):
     """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
 
     v_cut [m/s]: the largest opening speed of a pressed point that is rounding, not a rebound.
+    touch [m]: the gap up to which a point touches (:func:`touch_gap`; inf: every point within the
+    tolerance, the paper's rules). A point that is apart and would reach contact within the step
+    has its closing speed removed at the step's start by unilateral plastic impulses
+    (:func:`stop_closing`, with the touching points as constraints); the touching points' leftover
+    normal velocity (rounding) is projected out as before.
     gap0 (m,), W (m, n) are the held pairs' touching features at the start
     (:func:`~pounding.framework.pairs.features_of` with ``deep``: gaps and modal rows).
     g0, g1 (n,) are the modal ground-motion loads at the step's ends; A (n, 3, 3),
@@ -137,9 +144,32 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, gap0, W, geo):
         # some schemes amplify it from step to step (linear acceleration: by -2 per step). A
         # real rebound (opening faster than 1e3 v_min) is left alone: the points separate.
         rate = W @ z0[:, 1].copy()
+        # A point that is apart (beyond touch) and would reach contact within the step is stopped
+        # plastically now, with the touching points as unilateral constraints: impulses that push,
+        # never pull (a projection would pull on the touching points to stop it).
+        arriving = 0
+        for k in range(m):
+            if gap0[k] > touch and free_end[k] < target[k] and rate[k] < 0.0:
+                arriving += 1
+        if arriving > 0:
+            use = np.zeros(m, dtype=np.bool_)
+            for k in range(m):
+                use[k] = gap0[k] <= touch or (free_end[k] < target[k] and rate[k] < 0.0)
+            Wr = np.empty((int(np.sum(use)), n))
+            c = 0
+            for k in range(m):
+                if use[k]:
+                    Wr[c] = W[k]
+                    c += 1
+            stop_closing(z0, Wr, v_cut * 1e-3)
+            for i in range(n):
+                z0[i, 2] = g0[i] - c2[i] * z0[i, 1] - om2[i] * z0[i, 0]
+            zf = step(A, B, z0, g0 + f0, g1 + f0)
+            free_end = gap0 + W @ (zf[:, 0] - q0)
+            rate = W @ z0[:, 1].copy()
         pressed = np.zeros(m, dtype=np.bool_)
         for k in range(m):
-            pressed[k] = free_end[k] < target[k] and rate[k] <= v_cut
+            pressed[k] = free_end[k] < target[k] and rate[k] <= v_cut and gap0[k] <= touch
         na = 0
         for k in range(m):
             if pressed[k]:
@@ -282,6 +312,15 @@ def stop_closing(z, W, v_min):
 
 
 @njit
+def touch_gap(tol):
+    """The gap [m] up to which a point of a held pair touches, with the crossing locator: the held
+    contact's own resolution, 1e-3 of the tolerance tol [m] (held_step's end passes stop when every
+    point is within it of where it is held). A point farther away is apart: it is neither stopped
+    nor pushed until it reaches contact."""
+    return 1e-3 * tol
+
+
+@njit
 def touching_rows(gap, W, eps):
     """The rows of W (m, n) whose feature gap (m,) [m] is at most eps: the points that touch."""
     keep = np.nonzero(gap <= eps)[0]
@@ -317,6 +356,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     P = geo.pa.shape[0]
     g0 = np.empty(n)
     g1 = np.empty(n)
+    touch = touch_gap(tol) if rules is None else np.inf
     have = False  # start features known (the last step's end features)
     gapS = np.empty(0)
     WS = np.empty((0, n))
@@ -326,15 +366,15 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
         v_before = z[:, 1].copy()
         E_before = E.copy()
-        if rules is None:  # crossing: only the points that touch are stopped (an arriving one reaches contact first)
-            stop_closing(z, touching_rows(gapS, WS, -overlap), v_min)
+        if rules is None:  # crossing: only the points that touch (an arriving one: held_step, in the step it reaches contact)
+            stop_closing(z, touching_rows(gapS, WS, touch), v_min)
         else:
             stop_closing(z, WS, v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
-        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, gapS, WS, geo)
+        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, touch, gapS, WS, geo)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
             if held_mask[p]:
