@@ -1076,31 +1076,23 @@ def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
 
     The iteration of :func:`pounding.framework.crossing.hermite_zero`, which runs it compiled on the
     cubic interpolant; here f is any Python callable (the integrator's own solution, which compiled
-    code cannot call)."""
+    code cannot call). The arithmetic is the shared :func:`~pounding.framework.crossing.illinois_point`
+    and :func:`~pounding.framework.crossing.illinois_bracket`."""
+    from pounding.framework.crossing import ILLINOIS_ITERATIONS, illinois_bracket, illinois_point
+
     flo = f(lo)
     if flo <= eps:
         return lo
     fhi = f(hi)
-    side = 0
-    for _ in range(200):
+    side = 0.0
+    for _ in range(ILLINOIS_ITERATIONS):
         if hi - lo <= xtol:
             break
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
+        x = illinois_point(lo, hi, flo, fhi)
         fx = f(x)
         if abs(fx) <= eps:
             return x
-        if fx > 0:
-            lo, flo = x, fx
-            if side == 1:
-                fhi *= 0.5
-            side = 1
-        else:
-            hi, fhi = x, fx
-            if side == -1:
-                flo *= 0.5
-            side = -1
+        lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
     return lo
 
 
@@ -1108,20 +1100,17 @@ def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=No
     """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: Newton steps with the
     slope of the cheap interpolant (``slope(x)``), kept inside the bracket each evaluation narrows
     (two evaluations when the guess is good), then :func:`_first_zero` if they do not settle."""
+    from pounding.framework.crossing import newton_bracket
+
     for _ in range(4):
         if not lo < x < hi:
             break
         fx = f(x)
         if abs(fx) <= eps:
             return x
-        if fx > 0:
-            lo = x
-        else:
-            hi = x
-        s = slope(x) if slope is not None else 0.0
-        if not s < 0.0:
+        lo, hi, x, more = newton_bracket(lo, hi, x, fx, slope(x) if slope is not None else 0.0)
+        if not more:
             break
-        x = x - fx / s
     return _first_zero(f, lo, hi, eps, xtol)
 
 

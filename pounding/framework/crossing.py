@@ -285,27 +285,68 @@ def hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, checked, plist, geo):
         return 0.5 * (lo + hi)
     if flo <= eps:
         return lo
-    side = 0
-    for _ in range(200):
+    side = 0.0
+    for _ in range(ILLINOIS_ITERATIONS):
         if hi - lo <= xtol:
             break
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
+        x = illinois_point(lo, hi, flo, fhi)
         fx = hermite_gap(q0, v0, q1, v1, h, x, plist, geo)
         if abs(fx) <= eps:
             return x
-        if fx > 0:
-            lo, flo = x, fx
-            if side == 1:
-                fhi *= 0.5
-            side = 1
-        else:
-            hi, fhi = x, fx
-            if side == -1:
-                flo *= 0.5
-            side = -1
+        lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
     return lo
+
+
+#: the regula falsi's most iterations (the bracket reaches xtol long before: bisection halves it)
+ILLINOIS_ITERATIONS = 200
+
+
+@njit
+def illinois_point(lo, hi, flo, fhi):
+    """The next trial point [s] of regula falsi on the bracket [lo, hi] with f(lo) = flo > 0 > fhi = f(hi)
+    (the secant's zero; the midpoint where the secant is flat or leaves the bracket).
+
+    The zero finders share it and :func:`illinois_bracket`: :func:`hermite_zero` on the interpolant,
+    :func:`pounding.framework.event_search._first_zero` on ``exact``'s solution and
+    :func:`pounding.framework.analysis._first_zero` on a Python callable (the integrator's own solution,
+    which compiled code cannot call): each loop is theirs, the arithmetic is these two functions'."""
+    x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+    if not lo < x < hi:
+        x = 0.5 * (lo + hi)
+    return x
+
+
+@njit
+def illinois_bracket(lo, hi, flo, fhi, side, x, fx):
+    """The bracket (lo, hi, flo, fhi, side) after f(x) = fx at the trial point x, with the Illinois rule:
+    the end kept twice in a row has its value halved (side: 1.0 when lo moved last, -1.0 when hi did,
+    0.0 at the start; a float, which numba never types as a literal, so every caller shares one
+    specialization), which makes regula falsi superlinear."""
+    if fx > 0:
+        lo, flo = x, fx
+        if side == 1.0:
+            fhi *= 0.5
+        side = 1.0
+    else:
+        hi, fhi = x, fx
+        if side == -1.0:
+            flo *= 0.5
+        side = -1.0
+    return lo, hi, flo, fhi, side
+
+
+@njit
+def newton_bracket(lo, hi, x, fx, slope):
+    """One step of the zero finders' Newton polish: the bracket [lo, hi] narrowed by f(x) = fx, and
+    the next point x - fx / slope with the interpolant's slope [m/s]; (lo, hi, next x, True), or
+    (lo, hi, x, False) when the slope is not negative (no crossing from above to follow)."""
+    if fx > 0:
+        lo = x
+    else:
+        hi = x
+    if not slope < 0.0:
+        return lo, hi, x, False
+    return lo, hi, x - fx / slope, True
 
 
 @njit

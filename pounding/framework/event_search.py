@@ -18,12 +18,11 @@ arithmetic in the same order, so the instants it returns are the driver's to the
   :func:`~pounding.framework.analysis._polish` and :func:`~pounding.framework.analysis._first_zero`
   on that solution, the Hermite interpolant's search and slope as there.
 
-The regula falsi with the Illinois rule is thus written three times: on a Python callable
-(:func:`~pounding.framework.analysis._first_zero`, for the steps where held pairs, force laws or
-yielding springs act), on the interpolant (:func:`~pounding.framework.crossing.hermite_zero`) and here.
-numba could take the gap function as an argument of one shared loop, but every function passed makes
-another specialization of it, and the compiled core keeps one per function
-(tests/test_compiled_core.py); the three copies are held equal by the bit-for-bit tests.
+The regula falsi's arithmetic is :func:`~pounding.framework.crossing.illinois_point` and
+:func:`~pounding.framework.crossing.illinois_bracket`, shared with the interpolant's zero finder and
+the driver's. Each keeps its own loop around them: numba could take the gap function as an argument
+of one shared loop, but every function passed would make another specialization of it, and the
+compiled core keeps one per function (tests/test_compiled_core.py).
 """
 
 from __future__ import annotations
@@ -31,7 +30,8 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.crossing import hermite_search, hermite_slope, hermite_zero
+from pounding.framework.crossing import (ILLINOIS_ITERATIONS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
+                                         illinois_point, newton_bracket)
 from pounding.framework.pairs import pair_gap, stepped_min_gap
 from pounding.solvers.exact_partial import exact_transition
 
@@ -96,7 +96,10 @@ def stepped_gap(hh, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, r
         g = np.inf
         q = z[:, 0].copy()
         for j in range(plist.shape[0]):
-            g = min(g, pair_gap(q, plist[j], np.inf, geo))
+            gj = pair_gap(q, plist[j], np.inf, geo)
+            if gj != gj:  # NaN, as numpy's min of the driver's gaps gives it
+                return gj
+            g = min(g, gj)
         return g
     p1 = modal_load_at(t + hh, dt, ag, rec_t, rec_acc, L)
     if hh == grid_dt:
@@ -146,14 +149,9 @@ def _polish(lo, hi, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, z
         fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
         if abs(fx) <= eps:
             return x
-        if fx > 0:
-            lo = x
-        else:
-            hi = x
-        s = hermite_slope(q0, v0, q1, v1, h, x, plist, geo)
-        if not s < 0.0:
+        lo, hi, x, more = newton_bracket(lo, hi, x, fx, hermite_slope(q0, v0, q1, v1, h, x, plist, geo))
+        if not more:
             break
-        x = x - fx / s
     return _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
 
 
@@ -165,24 +163,13 @@ def _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, 
     if flo <= eps:
         return lo
     fhi = stepped_gap(hi, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
-    side = 0
-    for _ in range(200):
+    side = 0.0
+    for _ in range(ILLINOIS_ITERATIONS):
         if hi - lo <= xtol:
             break
-        x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < x < hi:
-            x = 0.5 * (lo + hi)
+        x = illinois_point(lo, hi, flo, fhi)
         fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
         if abs(fx) <= eps:
             return x
-        if fx > 0:
-            lo, flo = x, fx
-            if side == 1:
-                fhi *= 0.5
-            side = 1
-        else:
-            hi, fhi = x, fx
-            if side == -1:
-                flo *= 0.5
-            side = -1
+        lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
     return lo

@@ -9,11 +9,12 @@ like any other, so each step and its energy audit are the integrator's own.
 * :func:`stop_closing` removes what closing speed a held pair's touching
   points still have (a plastic impact: the limit of the Zeno sequence). With the
   ``crossing`` locator it is given the points that touch (within :func:`touch_gap`,
-  1e-3 of the tolerance) and no others: a point of a held pair that is within the
-  tolerance but apart closes freely until the step in which it would reach contact,
-  whose start (:func:`held_step`) stops it by plastic impulses that push and never
-  pull, so it is stopped at most one step's travel before contact. The paper's rules
-  stop every point within the tolerance;
+  1e-3 of the tolerance) and no others: a point of a held pair that is apart (its
+  features reach a tolerance beyond the pair's smallest gap) closes freely until the
+  step in which it would reach contact, whose start (:func:`held_step`) stops it by
+  plastic impulses that push and never pull, so it is stopped at most one step's
+  travel before contact (and that step's start force may hold it off). The paper's
+  rules stop every point within the tolerance;
 * :func:`held_stretch` runs grid steps while pairs are held and nothing else
   happens, and stops for the driver when a free pair touches or overlaps.
 
@@ -103,7 +104,8 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, touch, gap0, W, geo
     B (n, 3, 2) the integrator's transition for h; c2 = 2 zeta omega and
     om2 = omega^2 (n,). Unilateral and rigid: no touching point of a held pair
     closes further during the step than it was at its start (never deeper than
-    half the tolerance) and no force pulls.
+    half the tolerance) and no force pulls (the projection of the touching points'
+    leftover normal velocity, at most v_cut, is bilateral: rounding).
 
     * Implicit schemes (the end displacement depends on the end load): at the
       start, the force that stops the normal acceleration of the touching points
