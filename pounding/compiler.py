@@ -412,9 +412,9 @@ def _warm_task(name: str) -> None:
         model.features(q, 0, driver.tol)
         _, gap, W, _, _ = model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
         driver.advance_held(0, 0)
-        from pounding.framework.held import touching_rows
+        from pounding.framework.held import rows_where
 
-        touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), driver.touch)  # a held Python step's plastic stop
+        rows_where(np.ascontiguousarray(gap <= driver.touch), np.ascontiguousarray(W))  # a held Python step's plastic stop
         # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
         # crossing locator builds at every located impact (the packaged paper scene names HHT)
         from pounding.solvers.exact import Exact

@@ -837,8 +837,7 @@ class Driver:
         the tolerance."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
         _, gap, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
-        if self.crossing:  # only the points that touch (an arriving one: held_step, in the step it reaches contact)
-            W = hold.touching_rows(np.ascontiguousarray(gap, dtype=float), np.ascontiguousarray(W), self.touch)
+        W = hold.rows_where(np.ascontiguousarray(gap <= self.touch), np.ascontiguousarray(W))  # (touch = inf: every point)
         v_before = self.z[:, 1].copy()
         hold.stop_closing(self.z, W, self.v_min)
         hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())
@@ -870,8 +869,7 @@ class Driver:
 
         if self.crossing:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
-            if (self.search_record is not None and z0 is self.z and self.law.kind == "impulse" and not self.sustained
-                    and self.springs is None):
+            if self.search_record is not None and z0 is self.z and not self.sustained and self.springs is None:
                 # nothing but the ground acts in the step: the same search, compiled whole
                 from pounding.framework.event_search import locate_exact
 

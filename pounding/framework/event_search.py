@@ -89,9 +89,12 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 
 
 @njit
-def stepped_gap(hh, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
-    """The smallest gap [m] of the pairs ``plist`` after ``exact``'s step of hh [s] from state z (n, 3) at
-    time t with start load p0 (n,) (the driver's ``gmin``); at hh <= 0, at z itself."""
+def stepped_gap(hh, sol):
+    """The smallest gap [m] of the pairs after ``exact``'s step of hh [s] (the driver's ``gmin``); at
+    hh <= 0, at the start state itself. ``sol`` = (t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta,
+    dt, ag, rec_t, rec_acc, L, geo): the step's start time [s], state (n, 3) and load (n,), the pairs,
+    the grid step [s] and its transition, the modes and what :func:`modal_load_at` takes."""
+    t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo = sol
     if hh <= 0.0:
         g = np.inf
         q = z[:, 0].copy()
@@ -114,61 +117,60 @@ def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, grid_dt, A_dt, B_dt, ome
     state z (n, 3) at t [s], start load p0 (n,), ending at displacements q1 and velocities v1 (n,):
     returns (found, hs), hs [s] the step length to the first zero of the pairs' smallest gap (to eps
     [m]), found False when the gap stays above -eps (a graze that did not touch)."""
-    q0 = z[:, 0].copy()
-    v0 = z[:, 1].copy()
-    g0 = stepped_gap(0.0, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
-    gh = stepped_gap(h, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    sol = (t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)  # the step's cubic Hermite interpolant
+    g0 = stepped_gap(0.0, sol)
+    gh = stepped_gap(h, sol)
     if g0 > eps and gh < -eps:
-        x = hermite_zero(q0, v0, q1, v1, h, 0.0, h, eps, xtol, _UNCHECKED, plist, geo)
-        return True, _polish(0.0, h, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo,
-                             q0, v0, q1, v1, h)
-    found, lo, hi = hermite_search(q0, v0, q1, v1, h, g0, gh, eps, plist, geo)
-    ghi = stepped_gap(hi, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+        x = hermite_zero(*herm, 0.0, h, eps, xtol, _UNCHECKED, plist, geo)
+        return True, _polish(0.0, h, x, eps, xtol, sol, herm)
+    found, lo, hi = hermite_search(*herm, g0, gh, eps, plist, geo)
+    ghi = stepped_gap(hi, sol)
     if not found and ghi >= -eps:
         return False, 0.0
     if ghi >= -eps:
         if gh < -eps:
             hi = h
             ghi = gh
-    if stepped_gap(lo, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo) <= eps:
+    if stepped_gap(lo, sol) <= eps:
         return True, lo
     if ghi >= -eps:
         return False, 0.0
-    x = hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, _CHECKED, plist, geo)
-    return True, _polish(lo, hi, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo,
-                         q0, v0, q1, v1, h)
+    x = hermite_zero(*herm, lo, hi, eps, xtol, _CHECKED, plist, geo)
+    return True, _polish(lo, hi, x, eps, xtol, sol, herm)
 
 
 @njit
-def _polish(lo, hi, x, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo, q0, v0, q1, v1, h):
+def _polish(lo, hi, x, eps, xtol, sol, herm):
     """:func:`pounding.framework.analysis._polish` on ``exact``'s solution (:func:`stepped_gap`), with
-    the Hermite interpolant's slope, then :func:`_first_zero`."""
+    the slope of the Hermite interpolant ``herm`` = (q0, v0, q1, v1, h), then :func:`_first_zero`."""
+    plist, geo = sol[3], sol[14]
     for _ in range(4):
         if not lo < x < hi:
             break
-        fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+        fx = stepped_gap(x, sol)
         if abs(fx) <= eps:
             return x
-        lo, hi, x, more = newton_bracket(lo, hi, x, fx, hermite_slope(q0, v0, q1, v1, h, x, plist, geo))
+        lo, hi, x, more = newton_bracket(lo, hi, x, fx, hermite_slope(*herm, x, plist, geo))
         if not more:
             break
-    return _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    return _first_zero(lo, hi, eps, xtol, sol)
 
 
 @njit
-def _first_zero(lo, hi, eps, xtol, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
+def _first_zero(lo, hi, eps, xtol, sol):
     """:func:`pounding.framework.analysis._first_zero` on ``exact``'s solution: regula falsi with the
     Illinois rule, bisection down to xtol."""
-    flo = stepped_gap(lo, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    flo = stepped_gap(lo, sol)
     if flo <= eps:
         return lo
-    fhi = stepped_gap(hi, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+    fhi = stepped_gap(hi, sol)
     side = 0.0
     for _ in range(ILLINOIS_ITERATIONS):
         if hi - lo <= xtol:
             break
         x = illinois_point(lo, hi, flo, fhi)
-        fx = stepped_gap(x, t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+        fx = stepped_gap(x, sol)
         if abs(fx) <= eps:
             return x
         lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)

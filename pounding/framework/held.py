@@ -149,40 +149,17 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, touch, gap0, W, geo
         # A point that is apart (beyond touch) and would reach contact within the step is stopped
         # plastically now, with the touching points as unilateral constraints: impulses that push,
         # never pull (a projection would pull on the touching points to stop it).
-        arriving = 0
-        for k in range(m):
-            if gap0[k] > touch and free_end[k] < target[k] and rate[k] < 0.0:
-                arriving += 1
-        if arriving > 0:
-            use = np.zeros(m, dtype=np.bool_)
-            for k in range(m):
-                use[k] = gap0[k] <= touch or (free_end[k] < target[k] and rate[k] < 0.0)
-            Wr = np.empty((int(np.sum(use)), n))
-            c = 0
-            for k in range(m):
-                if use[k]:
-                    Wr[c] = W[k]
-                    c += 1
-            stop_closing(z0, Wr, v_cut * 1e-3)
+        arriving = (gap0 > touch) & (free_end < target) & (rate < 0.0)
+        if np.any(arriving):
+            stop_closing(z0, rows_where(arriving | (gap0 <= touch), W), v_cut * 1e-3)
             for i in range(n):
                 z0[i, 2] = g0[i] - c2[i] * z0[i, 1] - om2[i] * z0[i, 0]
             zf = step(A, B, z0, g0 + f0, g1 + f0)
             free_end = gap0 + W @ (zf[:, 0] - q0)
             rate = W @ z0[:, 1].copy()
-        pressed = np.zeros(m, dtype=np.bool_)
-        for k in range(m):
-            pressed[k] = free_end[k] < target[k] and rate[k] <= v_cut and gap0[k] <= touch
-        na = 0
-        for k in range(m):
-            if pressed[k]:
-                na += 1
-        if na > 0:
-            Wa = np.empty((na, n))
-            c = 0
-            for k in range(m):
-                if pressed[k]:
-                    Wa[c] = W[k]
-                    c += 1
+        pressed = (free_end < target) & (rate <= v_cut) & (gap0 <= touch)
+        if np.any(pressed):
+            Wa = rows_where(pressed, W)
             mu = solve_small(Wa @ Wa.T, Wa @ z0[:, 1].copy())
             dv = Wa.T @ mu
             for i in range(n):
@@ -323,12 +300,15 @@ def touch_gap(tol):
 
 
 @njit
-def touching_rows(gap, W, eps):
-    """The rows of W (m, n) whose feature gap (m,) [m] is at most eps: the points that touch."""
-    keep = np.nonzero(gap <= eps)[0]
-    out = np.empty((keep.shape[0], W.shape[1]))
-    for r in range(keep.shape[0]):
-        out[r] = W[keep[r]]
+def rows_where(mask, W):
+    """The rows of W (m, n) where mask (m,) bool is set, in order (a new C array): the points of a
+    held pair that touch, are pressed or arrive."""
+    out = np.empty((int(np.sum(mask)), W.shape[1]))
+    c = 0
+    for k in range(mask.shape[0]):
+        if mask[k]:
+            out[c] = W[k]
+            c += 1
     return out
 
 
@@ -368,10 +348,9 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
             _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
         v_before = z[:, 1].copy()
         E_before = E.copy()
-        if rules is None:  # crossing: only the points that touch (an arriving one: held_step, in the step it reaches contact)
-            stop_closing(z, touching_rows(gapS, WS, touch), v_min)
-        else:
-            stop_closing(z, WS, v_min)
+        # the points that touch (crossing; an arriving one: held_step, in the step it reaches contact),
+        # every point within the tolerance with the paper's rules (touch = inf)
+        stop_closing(z, rows_where(gapS <= touch, WS), v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
