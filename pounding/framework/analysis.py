@@ -311,9 +311,11 @@ class Driver:
             raise ValueError(f"the ground motion has {self.ag.shape[1]} components, the modal load {self.model.L.shape[1]}")
         self.progress = progress
         self.use_kernel = use_kernel
-        #: the record (times (m,), accelerations (m, c)) for the compiled impact search of ``exact``
-        #: (pounding.framework.event_search), or None where the driver's own search runs
-        self.search_record = self._search_record(gm) if self.crossing and use_kernel else None
+        #: the record (times (m,), accelerations (m, c)) when it is interpolated linearly, as ag_at and
+        #: the compiled impact search read it (pounding.framework.event_search.record_at); else None
+        self.record = _record_arrays(gm, self.ag.shape[1])
+        #: the record for the compiled impact search of ``exact``, or None where the driver's own search runs
+        self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -368,24 +370,14 @@ class Driver:
             self.spring_hist = np.zeros((3, n_out, ns))
 
     # ---------------------------------------------------------------- stepping
-    def _search_record(self, gm):
-        """(times, accelerations (m, c)) of the record when the whole impact search can run compiled:
-        ``exact`` with its compiled one-off transition (the one the cache builds) and a record the
-        driver interpolates with numpy's interp; else None."""
+    def _compiled_search(self) -> bool:
+        """Whether the whole impact search can run compiled: ``exact`` with its compiled one-off
+        transition (the one the cache builds)."""
         from pounding.compiler import Kernel
         from pounding.solvers.exact import Exact
         from pounding.solvers.exact_partial import exact_transition
 
-        if not (isinstance(exact_transition, Kernel) and type(self.integrator).partial_transition is Exact.partial_transition):
-            return None
-        t, acc = getattr(gm, "t", None), getattr(gm, "acc", None)
-        if t is None or acc is None or type(gm).samples not in _INTERPOLATED:
-            return None
-        t = np.ascontiguousarray(t, dtype=float)
-        acc = np.ascontiguousarray(np.asarray(acc, dtype=float).reshape(t.shape[0], -1))
-        if acc.shape[1] != self.ag.shape[1] or not np.all(np.diff(t) > 0):
-            return None
-        return t, acc
+        return isinstance(exact_transition, Kernel) and type(self.integrator).partial_transition is Exact.partial_transition
 
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
         """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
@@ -439,8 +431,12 @@ class Driver:
         if ag is None:
             if len(self._ag_memo) > 64:
                 self._ag_memo.clear()
-            # (writable, like the grid rows: a read-only array would be another type for the compiled core)
-            ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+            if self.record is not None:  # the compiled impact search's own interpolation (the same numbers)
+                from pounding.framework.event_search import record_at
+
+                ag = self._ag_memo[key] = record_at(key, *self.record)
+            else:  # (writable, like the grid rows: a read-only array would be another type for the compiled core)
+                ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
         return ag
 
     def quadrature(self, h: float):
@@ -1110,6 +1106,19 @@ def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=No
         if not more:
             break
     return _first_zero(f, lo, hi, eps, xtol)
+
+
+def _record_arrays(gm, components: int):
+    """(times (m,), accelerations (m, c)) of a record that ``samples`` interpolates with numpy's interp
+    (strictly increasing times, ``components`` columns), else None."""
+    t, acc = getattr(gm, "t", None), getattr(gm, "acc", None)
+    if t is None or acc is None or type(gm).samples not in _INTERPOLATED:
+        return None
+    t = np.ascontiguousarray(t, dtype=float)
+    acc = np.ascontiguousarray(np.asarray(acc, dtype=float).reshape(t.shape[0], -1))
+    if acc.shape[1] != components or not np.all(np.diff(t) > 0):
+        return None
+    return t, acc
 
 
 def _interpolated() -> tuple:

@@ -13,7 +13,8 @@ arithmetic in the same order, so the instants it returns are the driver's to the
   :func:`~pounding.solvers.exact_partial.exact_transition` (the driver's
   :class:`~pounding.solvers.base.TransitionCache` for ``exact`` with the crossing locator);
 * the modal load at t + hh is :meth:`~pounding.framework.analysis.Driver.load`'s: the grid row of
-  the record at a grid instant, else numpy's ``interp`` of every component (:func:`interp`);
+  the record at a grid instant, else the record interpolated by :func:`record_at` (numpy's
+  ``interp`` arithmetic, :func:`interp`), which the driver calls too;
 * the search is :meth:`~pounding.framework.analysis.Driver.locate_crossing` with
   :func:`~pounding.framework.analysis._polish` and :func:`~pounding.framework.analysis._first_zero`
   on that solution, the Hermite interpolant's search and slope as there.
@@ -64,6 +65,19 @@ def interp(x, xp, fp):
 
 
 @njit
+def record_at(t, rec_t, rec_acc):
+    """Ground acceleration (c,) [m/s^2] of a record (times rec_t (m,), accelerations rec_acc (m, c))
+    at time t [s], each component by :func:`interp`. The driver's :meth:`~pounding.framework.analysis.Driver.ag_at`
+    calls it too, so its search and this one interpolate with the same machine code on any processor
+    (numpy's interp, compiled by another compiler, may fuse its multiply-add where this does not)."""
+    c = rec_acc.shape[1]
+    a = np.empty(c)
+    for j in range(c):
+        a[j] = interp(t, rec_t, rec_acc[:, j])
+    return a
+
+
+@njit
 def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
     """Modal ground-motion load p = -L ag(t) (n,) at time t [s], as the driver forms it: ag(t) is the
     grid row ag[k] (nsteps + 1, c) when t is within 1e-9 steps of grid instant k, else the record
@@ -71,13 +85,12 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
     k = t / dt
     kr = int(k + 0.5)
     c = L.shape[1]
-    a = np.empty(c)
     if abs(k - kr) < 1e-9 and 0 <= kr <= ag.shape[0] - 1:
+        a = np.empty(c)
         for j in range(c):
             a[j] = ag[kr, j]
     else:
-        for j in range(c):
-            a[j] = interp(t, rec_t, rec_acc[:, j])
+        a = record_at(t, rec_t, rec_acc)
     n = L.shape[0]
     p = np.empty(n)
     for i in range(n):
