@@ -1,7 +1,7 @@
 # Two commands do all set-up on a machine with Python 3.11+ and pip:
 #   make demo   - creates .venv, installs pounding, runs the paper example
 #   make test   - creates .venv, installs pounding with its test extra, runs pytest
-# Both then compile the numerical core once, in two processes (python -m pounding.compiler
+# Both then compile the numerical core once, in two processes (python -m pounding.warmup
 # --warm; skipped when this version of the compiled modules is already in the cache), so
 # that the first run loads machine code instead of compiling it, and build it as an extension
 # module where a C compiler is present (python -m pounding.aot; runs then need neither numba
@@ -27,7 +27,7 @@ $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-base
 	@touch $@
 
 warm: $(VENV)/.stamp-base
-	$(PY) -m pounding.compiler --warm --if-needed
+	$(PY) -m pounding.warmup --warm --if-needed
 	$(PY) -m pounding.aot --if-needed
 
 demo: $(VENV)/.stamp-base warm

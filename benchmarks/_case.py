@@ -53,7 +53,7 @@ def run_case(spec) -> dict:
     import numpy as np
 
     from common import quiet_run, timed_runs
-    from pounding.framework.analysis import Model
+    from pounding.framework.engine.driver import Model
 
     out: dict = {}
     t0 = time.perf_counter()
@@ -104,7 +104,7 @@ def split_run(scene) -> dict:
     import warnings
 
     try:
-        from pounding.framework.analysis import Driver
+        from pounding.framework.engine.driver import Driver
 
         d = Driver(scene)
         acc = {"python_steps": 0, "python_path_s": 0.0, "kernel_calls": 0, "kernel_s": 0.0}
@@ -144,7 +144,7 @@ def cli_phases(spec) -> dict:
     out["import_numba_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     import pounding.cli  # noqa: F401
-    from pounding.framework.analysis import Model, Driver  # noqa: F401
+    from pounding.framework.engine.driver import Model, Driver  # noqa: F401
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
     out["import_pounding_s"] = time.perf_counter() - t0

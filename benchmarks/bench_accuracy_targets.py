@@ -10,7 +10,7 @@ For the paper pair and the L-shape scene (El Centro 1940 NS, 0.32 g, k = 0.5), t
 * ``default``: no integrator, dt, locator, tolerance or after-impact rule given (today's defaults);
 * ``default dt=0.001``: the same with dt = 0.001 s given;
 * ``newmark``: Newmark's average acceleration at its own default step, the default integrator
-  before elastic scenes got ``exact`` (:mod:`pounding.framework.integrator_choice`).
+  before elastic scenes got ``exact`` (:mod:`pounding.framework.engine.integrator_choice`).
 
 Errors against the reference of reference.py (``exact``, ``crossing``, dt = 6.25e-5 s; its
 convergence is measured here: the same at 2 dt, Newmark with ``crossing`` at dt, and the old

@@ -19,7 +19,7 @@ Whole processes, median of N (default 5), in one run beside the baseline
   they had when the target was set (``*_rules``: halving, keep, 1e-4 m); target: no worse than before;
 * where a cold run's time goes: every compiled function and its compile time
   (one cold process);
-* the install-time warm-up (``python -m pounding.compiler --warm``, what ``make demo`` and
+* the install-time warm-up (``python -m pounding.warmup --warm``, what ``make demo`` and
   ``make test`` run once per version of the compiled modules) from an empty cache, in 2
   processes and in 1, wall and CPU time, and the user's first ``pounding run`` after it.
 
@@ -83,7 +83,7 @@ import json, statistics, sys, warnings
 warnings.simplefilter("ignore")
 sys.path.insert(0, {bench!r})
 from pounding.io.scene import load_scene
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from scenes import uniform_pair
 out = {{}}
 def paper_rules(scene):
@@ -105,7 +105,7 @@ t0 = time.perf_counter()
 from pounding.io.scene import load_scene
 scene = load_scene({paper!r})
 t1 = time.perf_counter()
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 r = run(scene)
 t2 = time.perf_counter()
 rows = []
@@ -171,7 +171,7 @@ def main(argv=None) -> dict:
             for i in range(args.warm_reps):
                 with tempfile.TemporaryDirectory() as cache:
                     cenv = dict(numba_only, NUMBA_CACHE_DIR=cache)
-                    w = timed_cpu([py, "-m", "pounding.compiler", "--warm", "--jobs", str(jobs), "--quiet"], cenv, root)
+                    w = timed_cpu([py, "-m", "pounding.warmup", "--warm", "--jobs", str(jobs), "--quiet"], cenv, root)
                     if jobs == 2:  # the user's first run after the install-time warm-up
                         w["first_run_after_s"] = timed([exe, "run", paper, "--out", f"{tmp}/a{i}", "--quiet"], cenv, root)
                 reps.append(w)
@@ -200,7 +200,7 @@ def main(argv=None) -> dict:
 
 def _aot_manifest(py, root, env) -> dict:
     """Entry points and build time of the extension module (pounding.aot), or why there is none."""
-    code = ("import json; from pounding import aot; w = aot.folder(); m = w / 'manifest.json' if w else None; "
+    code = ("import json; from pounding.compiler import prebuilt; w = prebuilt.folder(); m = w / 'manifest.json' if w else None; "
             "print(json.dumps(json.loads(m.read_text()) if m and m.exists() else None))")
     p = subprocess.run([py, "-c", code], env=env, cwd=root, capture_output=True, text=True)
     m = json.loads(p.stdout.strip().splitlines()[-1]) if p.returncode == 0 else None

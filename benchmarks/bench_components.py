@@ -46,7 +46,7 @@ def _cpu_time(scene, model) -> float:
     import time
     import warnings
 
-    from pounding.framework.analysis import Driver
+    from pounding.framework.engine.driver import Driver
 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
@@ -78,7 +78,7 @@ def run(quick: bool = False) -> dict:
     reps = 7 if quick else 21
     rows = []
     for label, scene in _cases(quick):
-        from pounding.framework.analysis import Model
+        from pounding.framework.engine.driver import Model
 
         s1, s2, s3 = (scene.with_ground_motion(m) for m in (one, pair, silent))
         r1, r2, r3 = (common.quiet_run(s) for s in (s1, s2, s3))  # warm-up (compilation, caches)

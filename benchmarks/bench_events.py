@@ -2,14 +2,14 @@
 
 For the paper pair and the L-shape scene (restitution 0.5) and three settings:
 
-* ``newmark``: Newmark's average acceleration, the step from the modes (pounding.framework.timestep),
+* ``newmark``: Newmark's average acceleration, the step from the modes (pounding.framework.engine.timestep),
   the ``crossing`` locator (the default integrator until elastic scenes got ``exact``);
 * ``exact``: the exact integrator at its own default step, ``crossing`` (these scenes' defaults);
 * ``before``: the defaults before issue 13 (HHT at the record's 0.02 s, ``halving``, ``keep``, 1e-4 m).
 
 Reported: warm in-process solver time (summary ``runtime_s``, median of ``REPS`` runs after one
 warm-up run), the located events, and the cost of an event: the wall time spent in the driver's
-Python steps (:meth:`pounding.framework.analysis.Driver.python_step`: the step holding the event,
+Python steps (:meth:`pounding.framework.engine.driver.Driver.python_step`: the step holding the event,
 its search, impulses and the rest of the step) per located event, median over the runs. The
 machine is shared: note its load (``os.getloadavg`` is recorded).
 
@@ -41,7 +41,7 @@ def settings(name: str) -> dict:
 
 
 def measure(scene, reps: int) -> dict:
-    from pounding.framework.analysis import Driver
+    from pounding.framework.engine.driver import Driver
 
     solver, per_event, in_steps = [], [], []
     for r in range(reps + 1):

@@ -35,7 +35,7 @@ LEVELS = [round(0.1 * i, 10) for i in range(1, 11)]
 
 
 def study(records, out, levels, n_records=None, **kw):
-    from pounding.framework.fragility import run_fragility
+    from pounding.framework.studies.fragility import run_fragility
 
     folder = Path(records)
     if n_records is not None:  # a sub-set: the first n records, linked into a folder of their own
@@ -51,9 +51,9 @@ def study(records, out, levels, n_records=None, **kw):
 
 def per_run_cost(records, repeat=20):
     """Median times [s] of the pieces of one contact-free run (first record, PGA 0.5 g)."""
-    from pounding.framework.analysis import run
-    from pounding.framework.fragility import contact_free_run
-    from pounding.framework.gap import gap_from_result, no_contact
+    from pounding.framework.post.run import run
+    from pounding.framework.studies.fragility import contact_free_run
+    from pounding.framework.studies.gap import gap_from_result, no_contact
     from pounding.io.ground_motion import G, read_at2
     from pounding.io.scene import load_scene
 
@@ -81,7 +81,7 @@ def per_run_cost(records, repeat=20):
 
 def cluster_start_cost():
     """Wall time [s] to start a local cluster of 2 workers, run one trivial task on each and close it."""
-    from pounding.framework.cluster import run_jobs
+    from pounding.framework.studies.cluster import run_jobs
 
     t0 = time.perf_counter()
     run_jobs(abs, [(0, (-1,)), (1, (-2,))], lambda tag, v: None, lambda tag, e: None, workers=2)
@@ -89,7 +89,7 @@ def cluster_start_cost():
 
 
 def gap_grid_cost(rows, levels):
-    from pounding.framework.fragility import summarise
+    from pounding.framework.studies.fragility import summarise
 
     out = {}
     top = max(r["required_gap_m"] for r in rows)

@@ -120,8 +120,8 @@ def timed(fn, reps: int):
 
 
 def paper_case(reps: int) -> dict:
-    from pounding.framework.analysis import run
-    from pounding.framework.inelastic import run_inelastic
+    from pounding.framework.post.run import run
+    from pounding.framework.engine.inelastic import run_inelastic
     from pounding.io.scene import parse_scene
 
     rows = {}
@@ -152,7 +152,7 @@ def paper_case(reps: int) -> dict:
     # driver does for impacts with a root search on trial steps (~250 us each, benchmarks/README.md).
     from scipy.linalg import eigh
 
-    from pounding.framework.assembly import assemble
+    from pounding.framework.model.assembly import assemble
 
     costs = {}
     for b in elastic_scene.buildings:
@@ -176,7 +176,7 @@ def paper_case(reps: int) -> dict:
 
 
 def tall_case(quick: bool) -> dict:
-    from pounding.framework.inelastic import run_inelastic
+    from pounding.framework.engine.inelastic import run_inelastic
     from pounding.io.scene import parse_scene
     from pounding.peer.opensees import load_opensees
     from pounding.peer.opensees_springs import run_springs_transient

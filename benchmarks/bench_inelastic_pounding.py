@@ -61,7 +61,7 @@ def paper_case(reps: int) -> dict:
     yielding paper pair, and of the yielding one stepped wholly in Python (``use_kernel=False``: the
     path every step took before the compiled stretches); the CPU time of each, less disturbed by the
     other processes of a shared machine, beside."""
-    from pounding.framework.analysis import Driver
+    from pounding.framework.engine.driver import Driver
     from pounding.io.scene import parse_scene
 
     rows = {}
@@ -131,7 +131,7 @@ def whole_process(reps: int) -> dict:
 
 
 def tall_case(quick: bool) -> dict:
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import parse_scene
     from pounding.peer.opensees import load_opensees
     from pounding.peer.opensees_springs import run_springs_gap_pounding

@@ -4,7 +4,7 @@ The paper pair (3 + 5 storeys, gap 0.03 m) with rigid impacts (restitution 1), a
 dt = 0.02 s, each integrator with the ``root`` locator and tolerance 1e-8 m, against the converged
 reference (``exact``, root, 1e-8 m, dt = 0.001 s; its own continuous peaks). Reported per building:
 the top storey's peak |u| at step ends and over the continuous trajectory
-(:mod:`pounding.framework.peaks`), each as an error relative to the reference. Cost: the time to
+(:mod:`pounding.framework.engine.peaks`), each as an error relative to the reference. Cost: the time to
 compute the continuous slab peaks and drift peaks after a run (output every step), and the solve
 time with thinned output (the kernel tracks the Hermite extreme of every step) against full output.
 
@@ -61,7 +61,7 @@ def main():
                        "continuous_errors": (r_k.peaks(n)[:, 0] / R - 1).tolist()}
         log(f"restitution 0.5, exact {n}: step ends {as_given[n]['step_end_errors']}, continuous {as_given[n]['continuous_errors']}")
     # cost of the post-processing (full output): slab peaks and drift peaks over the continuous trajectory
-    from pounding.framework import peaks
+    from pounding.framework.engine import peaks
 
     r = quiet_run(with_method(base, "exact", DT, locate="root", tolerance=TOL))
     cost = {}

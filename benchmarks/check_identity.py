@@ -31,7 +31,7 @@ import hashlib, sys, warnings
 import numpy as np
 warnings.simplefilter("ignore")
 from pounding import load_scene
-from pounding.framework.analysis import Driver
+from pounding.framework.engine.driver import Driver
 root, quick, paper = sys.argv[1], sys.argv[2] == "1", sys.argv[3] == "1"
 # --paper-settings: the impulse law's settings named as the paper's (before issue 13 they were the
 # defaults), and the step given, so that a base commit with other defaults runs the same problem

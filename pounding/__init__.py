@@ -35,14 +35,14 @@ def load_scene(path):
 
 
 def assemble(building):
-    """Assemble one building; see :func:`pounding.framework.assembly.assemble`."""
-    from pounding.framework.assembly import assemble as _assemble
+    """Assemble one building; see :func:`pounding.framework.model.assembly.assemble`."""
+    from pounding.framework.model.assembly import assemble as _assemble
 
     return _assemble(building)
 
 
 def run(scene, **options):
-    """Run the time-history analysis; see :func:`pounding.framework.analysis.run`."""
-    from pounding.framework.analysis import run as _run
+    """Run the time-history analysis; see :func:`pounding.framework.post.run.run`."""
+    from pounding.framework.post.run import run as _run
 
     return _run(scene, **options)

@@ -18,11 +18,11 @@ from pounding.words import plural
 
 # --------------------------------------------------------------------------- info
 def cmd_info(args: argparse.Namespace) -> int:
-    from pounding.framework.assembly import assemble
-    from pounding.framework.modal import modal_summary
+    from pounding.framework.model.assembly import assemble
+    from pounding.framework.model.modal import modal_summary
     from pounding.io.scene import load_scene
 
-    from pounding.framework import plausibility
+    from pounding.framework.post import plausibility
 
     scene = load_scene(args.scene)
     plausibility.warn(scene)
@@ -162,9 +162,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.command not in MANY_RUNS:
         # a command of one scene is a short process: the extension module built at install serves it
         # without numba (pounding.aot); a user's own POUNDING_AOT wins
-        from pounding import aot
+        from pounding.compiler import prebuilt
 
-        aot.prefer(True)
+        prebuilt.prefer(True)
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
@@ -207,9 +207,9 @@ def analyse(scene_path: Path, out: Path, *, vtk: bool = False, vtk_every: int = 
     The output folder is checked before the run (:func:`pounding.io.outputs.check_target`):
     a folder holding files pounding did not write is refused unless ``overwrite``.
     """
-    from pounding.framework import plausibility
-    from pounding.framework.analysis import run
-    from pounding.framework.yielding import check_springs
+    from pounding.framework.post import plausibility
+    from pounding.framework.post.run import run
+    from pounding.framework.engine.yielding import check_springs
     from pounding.io.outputs import check_target
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
@@ -300,26 +300,16 @@ def _add_run(sub):
 VTK_SERIES = "vtk/pounding.pvd"
 
 
-def time_overrides(args) -> dict:
-    """The --dt / --duration options of a command as Analysis overrides (checked positive)."""
-    overrides = {}
-    for key in ("dt", "duration"):
-        val = getattr(args, key, None)
-        if val is not None:
-            if not val > 0:
-                raise InputError(f"expected a positive number, got {val}", field=f"--{key}")
-            overrides[key] = val
-    return overrides
-
-
 def cmd_run(args) -> int:
     if args.vtk_every < 1:
         raise InputError(f"expected a positive integer, got {args.vtk_every}", field="--vtk-every")
     if args.scale <= 0:
         raise InputError(f"expected a positive scale, got {args.scale}", field="--scale")
+    from pounding.commands.time_options import time_overrides
+
     overrides = time_overrides(args)
     if args.integrator:
-        from pounding.framework.registry import INTEGRATORS
+        from pounding.framework.model.registry import INTEGRATORS
 
         INTEGRATORS.get(args.integrator, field="--integrator")
         overrides.update(integrator=args.integrator, integrator_params={})
@@ -365,7 +355,7 @@ def _add_demo(sub):
 
 
 def cmd_demo(args) -> int:
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
 

@@ -49,4 +49,4 @@ class AnalysisWarning(UserWarning):
 
 
 class PlausibilityWarning(AnalysisWarning):
-    """A valid scene with numbers unlikely for a real building (see :mod:`pounding.framework.plausibility`)."""
+    """A valid scene with numbers unlikely for a real building (see :mod:`pounding.framework.post.plausibility`)."""

@@ -369,7 +369,7 @@ def to_toml(data: dict) -> str:
 # =========================================================================== run-time checkers
 # (shared by test_stress.py and test_hard_cases.py; they read a run physically, not through
 # the driver's modal rows, so the modal bookkeeping is checked too)
-from pounding.framework.analysis import MAX_EVENTS_PER_STEP, Driver  # noqa: E402
+from pounding.framework.engine.driver import MAX_EVENTS_PER_STEP, Driver  # noqa: E402
 
 #: trial steps one located event may cost: <= 200 bisections + Brent's <= 100 iterations + a few
 TRIALS_PER_EVENT = 320

@@ -24,7 +24,7 @@ PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
 
 JOB = (
     "from pounding.io.scene import load_scene\n"
-    "from pounding.framework.analysis import run\n"
+    "from pounding.framework.post.run import run\n"
     f"SCENE = load_scene({str(PAPER)!r}).with_analysis(duration=3.0)\n"
 )
 
@@ -167,7 +167,7 @@ def test_equal_fingerprints_mean_equal_numba_types():
 
     from numba import typeof
 
-    from pounding.aot import fingerprint
+    from pounding.compiler.prebuilt import fingerprint
 
     a = np.zeros((3, 4))
     ro = a.copy()
@@ -221,7 +221,7 @@ def test_the_run_command_uses_the_module_unless_told_not_to(module, tmp_path):
 
 def test_a_manifest_gives_back_the_dtypes_it_was_written_with():
     """Record dtypes (the impact log's), sub-arrays and nested records survive the manifest's JSON."""
-    from pounding.aot import _from_json, _to_json
+    from pounding.compiler.prebuilt import _from_json, _to_json
 
     kinds = (np.dtype("<f8"), np.dtype("bool"), np.dtype(">i4"), np.dtype([("time", "<f8"), ("pair", "<i8")]),
              np.dtype([("a", "<f8", (2,)), ("b", [("c", "<i4")])]))

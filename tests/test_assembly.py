@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.assembly import assemble
+from pounding.framework.model.assembly import assemble
 from pounding.io.scene import parse_scene
 
 E = 30e9
@@ -103,7 +103,7 @@ def test_modes_are_mass_normalised_and_periods_sorted():
 
 def test_rayleigh_damping_gives_the_ratio_at_modes_1_and_3():
     """Default damping: 5 % Rayleigh on modes 1 and 3, and C = a0 M + a1 K."""
-    from pounding.framework.assembly import rayleigh_coefficients
+    from pounding.framework.model.assembly import rayleigh_coefficients
 
     b = build(square_building(3, y_frames=(0.0, 5.0), rigid=False))
     s = assemble(b)

@@ -16,11 +16,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding import compiler
+from pounding import compiler, warmup
+from pounding.compiler import cache
 
 PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"
-COMPILED_PACKAGES = ("pounding.contact.geometry", "pounding.contact.base", "pounding.framework.pairs",
-                     "pounding.framework.kernel", "pounding.framework.held")
+COMPILED_PACKAGES = ("pounding.contact.geometry", "pounding.contact.base", "pounding.framework.engine.pairs",
+                     "pounding.framework.engine.kernel", "pounding.framework.engine.held")
 
 needs_numba = pytest.mark.skipif(not compiler.enabled(), reason="numba is not compiling here (missing or NUMBA_DISABLE_JIT)")
 
@@ -55,13 +56,13 @@ def test_cache_key_changes_with_a_compiled_module(tmp_path, monkeypatch):
     root.mkdir()
     (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
     (root / "b.py").write_text("def g(x):\n    return x\n")
-    monkeypatch.setattr(compiler, "PACKAGE_ROOT", root)
-    assert [p.name for p in compiler.compiled_modules()] == ["a.py"]
-    k0 = compiler.cache_key()
+    monkeypatch.setattr(cache, "PACKAGE_ROOT", root)
+    assert [p.name for p in cache.compiled_modules()] == ["a.py"]
+    k0 = cache.cache_key()
     (root / "b.py").write_text("def g(x):\n    return 2 * x\n")
-    assert compiler.cache_key() == k0  # not a compiled module
+    assert cache.cache_key() == k0  # not a compiled module
     (root / "a.py").write_text("@njit\ndef f(x):\n    return 2 * x\n")
-    assert compiler.cache_key() != k0
+    assert cache.cache_key() != k0
 
 
 def test_cache_key_ignores_files_written_into_the_cache(tmp_path, monkeypatch):
@@ -70,12 +71,12 @@ def test_cache_key_ignores_files_written_into_the_cache(tmp_path, monkeypatch):
     root = tmp_path / "pkg"
     root.mkdir()
     (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
-    monkeypatch.setattr(compiler, "PACKAGE_ROOT", root)
-    k0 = compiler.cache_key()
+    monkeypatch.setattr(cache, "PACKAGE_ROOT", root)
+    k0 = cache.cache_key()
     generated = root / "__pycache__" / ("numba-" + k0) / "steppers"
     generated.mkdir(parents=True)
     (generated / "stepper_law.py").write_text("@njit\ndef stretch(x):\n    return x\n")
-    assert compiler.cache_key() == k0
+    assert cache.cache_key() == k0
 
 
 def test_loading_a_scene_and_info_import_no_numba():
@@ -84,8 +85,8 @@ def test_loading_a_scene_and_info_import_no_numba():
     code = (
         "import sys, json\n"
         "from pounding.io.scene import load_scene\n"
-        "from pounding.framework.assembly import assemble\n"
-        "from pounding.framework.modal import modal_summary\n"
+        "from pounding.framework.model.assembly import assemble\n"
+        "from pounding.framework.model.modal import modal_summary\n"
         f"s = load_scene({str(PAPER)!r})\n"
         "[modal_summary(assemble(b), 6) for b in s.buildings]\n"
         "print(json.dumps({'numba': 'numba' in sys.modules}))\n"
@@ -101,13 +102,13 @@ def test_contact_off_loads_no_contact_code():
         "import json\n"
         "from pounding import compiler\n"
         "from pounding.io.scene import load_scene\n"
-        "from pounding.framework.analysis import run\n"
+        "from pounding.framework.post.run import run\n"
         f"r = run(load_scene({str(PAPER)!r}).with_analysis(contact='none', contact_params={{}}, duration=2.0))\n"
         "print(json.dumps({k.__module__ + '.' + k.__name__: len(k.signatures) for k in compiler.kernels() if k.signatures}))\n"
     )
     used = _python(code)
-    assert "pounding.framework.kernel.advance_free" in used
-    contact = [name for name in used if name.startswith(("pounding.contact.", "pounding.framework.pairs", "pounding.framework.held"))]
+    assert "pounding.framework.engine.kernel.advance_free" in used
+    contact = [name for name in used if name.startswith(("pounding.contact.", "pounding.framework.engine.pairs", "pounding.framework.engine.held"))]
     assert contact == []
 
 
@@ -122,7 +123,7 @@ def test_one_specialization_per_compiled_function(tmp_path):
         "import json\n"
         "from pounding import compiler\n"
         "from pounding.io.scene import load_scene\n"
-        "from pounding.framework.analysis import run\n"
+        "from pounding.framework.post.run import run\n"
         f"run(load_scene({str(PAPER)!r}).with_analysis(integrator='exact', integrator_params={{}}, duration=3.0))\n"
         f"r = run(load_scene({str(PAPER)!r}).with_analysis(duration=3.0))\n"
         "sigs = {k.__module__ + '.' + k.__name__: [str(s) for s in k.signatures] for k in compiler.kernels() if k.signatures}\n"
@@ -130,7 +131,7 @@ def test_one_specialization_per_compiled_function(tmp_path):
     )
     out = _python(code, env={"NUMBA_CACHE_DIR": str(tmp_path / "numba")})
     assert out["impacts"] > 0
-    assert "pounding.framework.kernel.advance" in out["sigs"]
+    assert "pounding.framework.engine.kernel.advance" in out["sigs"]
     many = {name: s for name, s in out["sigs"].items() if len(s) > 1}
     assert many == {}
     # the same run in a second process compiles nothing: every function comes from the cache
@@ -154,7 +155,7 @@ def test_kernel_and_python_path_log_the_same_impact_records():
     with the kernel and step by step in Python, give the same impacts. The paths differ in the
     rounding of W w^T products (numba against numpy, 1e-16 relative), so the agreement is to
     rounding (1e-12 of the peak)."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import load_scene
 
     scene = load_scene(PAPER).with_analysis(duration=3.0)
@@ -193,7 +194,7 @@ def test_first_compilation_is_announced_and_timed(tmp_path):
 
 def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
     """summary.json keeps runtime_s as the solve and reports loading and compiling apart."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
 
@@ -206,7 +207,7 @@ def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
 
 @needs_numba
 def test_install_warm_up_covers_the_runs_with_one_specialization_each():
-    """The install-time warm-up (``python -m pounding.compiler --warm``) prepares what the runs it is
+    """The install-time warm-up (``python -m pounding.warmup --warm``) prepares what the runs it is
     for call from Python (the paper pair with pounding, and with contact off) with the very
     signatures those runs use, and its own calls from Python (the ``shared`` task, which compiles
     inner functions ahead for the other process) add no second specialization: every compiled
@@ -214,12 +215,12 @@ def test_install_warm_up_covers_the_runs_with_one_specialization_each():
     is warm they load machine code and compile nothing. Which inner functions a second process then
     loads rather than compiles is shown by ``NUMBA_DEBUG_CACHE=1``, see benchmarks/README.md.)"""
     sigs = "print(json.dumps({k.__module__ + '.' + k.__name__: sorted(str(s) for s in k.signatures) for k in compiler.kernels() if k.signatures}))\n"
-    warmed = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
-                     + "".join(f"compiler._warm_task({t!r})\n" for t in compiler.WARM_TASKS) + sigs)
+    warmed = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler, warmup\n"
+                     + "".join(f"warmup._warm_task({t!r})\n" for t in warmup.WARM_TASKS) + sigs)
     assert {name: s for name, s in warmed.items() if len(s) != 1} == {}
     for contact in ("impulse", "none"):
         used = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
-                       "from pounding.framework.analysis import run\nfrom pounding.io.scene import load_scene\n"
+                       "from pounding.framework.post.run import run\nfrom pounding.io.scene import load_scene\n"
                        f"run(load_scene({str(PAPER)!r}).with_analysis(contact={contact!r}))\n" + sigs)
         assert {name: s for name, s in used.items() if warmed.get(name) != s} == {}
 
@@ -228,7 +229,7 @@ def test_warm_up_if_needed_returns_at_once_when_marked(tmp_path, monkeypatch):
     """``--warm --if-needed`` (what ``make demo`` and ``make test`` run every time) starts no
     process when this version of the compiled modules was already warmed."""
     monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
-    monkeypatch.setattr(compiler, "enabled", lambda: True)
+    monkeypatch.setattr(warmup, "enabled", lambda: True)
     (tmp_path / "pounding-warmed.json").write_text("{}\n")
     monkeypatch.setattr(subprocess, "Popen", lambda *a, **k: pytest.fail("a warm-up process was started"))
-    assert compiler.warm(if_needed=True, quiet=True)["skipped"] is True
+    assert warmup.warm(if_needed=True, quiet=True)["skipped"] is True

@@ -37,7 +37,7 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from pounding.framework.analysis import Driver
+from pounding.framework.engine.driver import Driver
 from pounding.io.ground_motion import GroundMotion
 from scenes_for_tests import scene, side_by_side
 

@@ -1,4 +1,4 @@
-"""The crossing locator's compiled search on a step's cubic Hermite interpolant (pounding.framework.crossing).
+"""The crossing locator's compiled search on a step's cubic Hermite interpolant (pounding.framework.engine.crossing).
 
 The problem. Two symmetric one-storey box buildings side by side along x (the left slab's face at
 x = 10 m, the right one's ``GAP`` further), moved by pure x translations u_a, u_b of their slabs: the
@@ -19,8 +19,8 @@ import numpy as np
 import pytest
 
 from pounding import compiler
-from pounding.framework import crossing as cr
-from pounding.framework.analysis import Model
+from pounding.framework.engine import crossing as cr
+from pounding.framework.engine.driver import Model
 from scenes_for_tests import modal_from_physical, scene, side_by_side
 
 GAP = 0.1  # [m] clear distance at rest

@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from pounding.errors import AnalysisWarning
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from pounding.io.scene import load_scene
 
 PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"

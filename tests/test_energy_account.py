@@ -7,7 +7,7 @@ between the buildings only through impacts and contact forces, so summing the tw
 accounts gives the pair's, whose impact work is minus the impacts' losses. Average
 acceleration's trapezoidal work identity is exact for its own trajectory, and the
 accelerations reset to equilibrium after an impact keep it so: each account then closes
-to rounding (pounding.framework.energy_account).
+to rounding (pounding.framework.post.energy_account).
 """
 
 from __future__ import annotations
@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 from pounding.errors import AnalysisWarning
-from pounding.framework.analysis import run
-from pounding.framework.energy_account import building_balances, energy_creating_rule
+from pounding.framework.post.run import run
+from pounding.framework.post.energy_account import building_balances, energy_creating_rule
 from pounding.io.scene import load_scene
 from tests.scenes_for_tests import scene as build_scene
 from tests.scenes_for_tests import side_by_side

@@ -1,4 +1,4 @@
-"""The impact search of ``exact`` compiled whole (pounding.framework.event_search) is the driver's.
+"""The impact search of ``exact`` compiled whole (pounding.framework.engine.event_search) is the driver's.
 
 The driver's search (``Driver.locate_crossing`` with ``_polish`` on the integrator's own solution)
 is the specification; the compiled one repeats its arithmetic in the same order, so everything here
@@ -15,8 +15,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import Driver
-from pounding.framework.event_search import modal_load_at, record_at
+from pounding.framework.engine.driver import Driver
+from pounding.framework.engine.event_search import modal_load_at, record_at
 from pounding.io.motion_pair import GroundMotionPair
 from pounding.io.scene import load_scene
 from scenes_for_tests import scene, side_by_side

@@ -1,7 +1,7 @@
 """Slabs that strike a neighbour between its floors (unequal storey heights).
 
 The struck facade moves with the Hermite shape of its storey between the floors
-(:mod:`pounding.framework.facade`); the same shape carries the impulse back to the floors.
+(:mod:`pounding.framework.model.facade`); the same shape carries the impulse back to the floors.
 """
 
 from __future__ import annotations
@@ -9,7 +9,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.facade import end_shears, hermite, point_compliance
+from pounding.elements.base import point_compliance
+from pounding.framework.model.facade import end_shears, hermite
 
 from scenes_for_tests import box_building, modal_from_physical, physical, scene
 
@@ -47,7 +48,7 @@ def test_model_finds_the_facade_pair():
     """Left's slab at 4.8 m lies between right's floors at 3.2 and 6.4 m: one facade pair, storey
     index 1 (the second storey), eta = 1/2; the first slabs share a level (an ordinary pair);
     right's slabs are at or above left's roof's span (3.2 shared, 6.4 above): no other pair."""
-    from pounding.framework.analysis import Model
+    from pounding.framework.engine.driver import Model
 
     m = Model(scene(_stepped_pair()))
     assert len(m.pairs) == 2
@@ -69,8 +70,8 @@ def test_a_slab_striking_a_facade_at_mid_storey_sees_the_floors_effective_mass(c
     kept (N1 + N2 = 1) and the kinetic energy lost is (1 - k^2) b^2 / (2 a). The pair at 3.2 m
     touches but separates (right's first floor is pushed away): no impulse there. Tolerance
     1e-12 relative: W^-1 of a 2 x 2 system built from the complete modal basis."""
-    from pounding.framework.analysis import Driver
-    from pounding.framework.kernel import impulses_at
+    from pounding.framework.engine.driver import Driver
+    from pounding.framework.engine.kernel import impulses_at
     from test_impacts import kinetic
 
     k, b = 0.5, 1.0
@@ -111,7 +112,7 @@ def test_impacts_csv_names_the_struck_storey_height_and_element(tmp_path):
     mid-height), to rounding (1e-12)."""
     import csv
 
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.results import write_results
 
     data = _stepped_pair()
@@ -190,7 +191,7 @@ def test_facade_penalty_with_stiff_columns_tends_to_the_plain_penalty():
     and the run follows the plain penalty law's to ~1e-6 of the peak (the series spring's
     relative change, amplified at most tenfold by the contact's timing); with the real columns it
     differs (the facade is softer)."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
 
     def peak_difference(scale: float) -> float:
         data = _stepped_pair(contact={"name": "facade_penalty", "stiffness": 1e9, "restitution": 0.5})

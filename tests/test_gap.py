@@ -13,8 +13,8 @@ import pytest
 
 from pounding.contact.geometry import ccw, signed_gap
 from pounding.errors import InputError
-from pounding.framework.analysis import run
-from pounding.framework.gap import (
+from pounding.framework.post.run import run
+from pounding.framework.studies.gap import (
     correlation,
     direction_vector,
     minimum_gap,
@@ -118,13 +118,13 @@ def test_direction_parsing():
 def test_minimum_gap_is_the_peak_relative_displacement_without_rotation(symmetric_pair):
     """Two single-storey symmetric buildings shaken along x, "left" on the left: min gap = max_t (u_left - u_right),
     over the continuous trajectory (the closed-form extreme of the integrator's interpolant in each step,
-    :mod:`pounding.framework.peaks`), which the step ends bound from below.
+    :mod:`pounding.framework.engine.peaks`), which the step ends bound from below.
 
     The gap search maximises the translation to contact (here u_left - u_right, linear in q) by a bounded
     Brent search on each step's fraction (xatol 1e-10): the value then differs from the closed-form
     extreme by <= |y''| (1e-10 h)^2 / 2, far below 1e-12 of the peak; the same modal sums in another
     order leave ~1e-15 (eps times a few terms), hence rel 1e-12."""
-    from pounding.framework import peaks
+    from pounding.framework.engine import peaks
 
     res = run(no_contact(symmetric_pair))
     cm_l, cm_r = res.cm("left")[:, 0], res.cm("right")[:, 0]

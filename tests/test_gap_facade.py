@@ -2,7 +2,7 @@
 
 A slab whose level lies between two floors of the other building strikes its facade there; the
 facade moves with the Hermite blend N1 u_below + N2 u_above of the two floors (N2 = 3 eta^2 -
-2 eta^3, :mod:`pounding.framework.facade`). ``pounding gap`` designs the gap against these
+2 eta^3, :mod:`pounding.framework.model.facade`). ``pounding gap`` designs the gap against these
 contacts too.
 """
 
@@ -15,9 +15,9 @@ import sys
 import numpy as np
 import pytest
 
-from pounding.framework import peaks
-from pounding.framework.analysis import run
-from pounding.framework.gap import adjacent_pairs, gap_from_result, minimum_gap, no_contact, pair_sites, verify_gap
+from pounding.framework.engine import peaks
+from pounding.framework.post.run import run
+from pounding.framework.studies.gap import adjacent_pairs, gap_from_result, minimum_gap, no_contact, pair_sites, verify_gap
 from scenes_for_tests import scene as build, side_by_side
 
 
@@ -61,7 +61,7 @@ def test_required_gap_is_the_peak_of_slab_minus_hermite_blend_of_the_floors(step
     g0 - (N2(2/3) u_L - u_R1) (the ground takes N1 there): both linear in the modal coordinates, with
     N2 = 3 eta^2 - 2 eta^3 written out here. The required gap is g0 + the larger signed peak over the
     continuous trajectory (the closed-form extreme of the integrator's interpolant per step,
-    :func:`pounding.framework.peaks.abs_peaks`); at the step ends it is the largest value of the same
+    :func:`pounding.framework.engine.peaks.abs_peaks`); at the step ends it is the largest value of the same
     combination of the floors' step-end displacements. Tolerances as for common levels (test_gap):
     the bounded search inside a step (xatol 1e-10) and the modal sums in another order leave ~1e-15
     relative, hence rel 1e-12."""
@@ -138,7 +138,7 @@ def test_a_stepped_building_between_two_equal_ones_screens_them_and_faces_both()
     left-middle and middle-right share no level yet meet at the facades: both adjacent. Each pair's required
     gap from the run of the row equals the pair's run alone (without contact the buildings are independent:
     the same modal histories, so the same numbers to the rounding of the report, 1e-12 relative)."""
-    from pounding.framework.gap import facing_storeys, minimum_gaps, pair_scene
+    from pounding.framework.studies.gap import facing_storeys, minimum_gaps, pair_scene
     from scenes_for_tests import box_building
 
     data = _stepped(duration=1.5)

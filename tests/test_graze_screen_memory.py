@@ -1,4 +1,4 @@
-"""The graze screen's memories (pounding.framework.crossing.suspect_step) change its cost, not its answers.
+"""The graze screen's memories (pounding.framework.engine.crossing.suspect_step) change its cost, not its answers.
 
 Along a stretch of steps the compiled kernel keeps, per pair, the last exact gap it computed (with the
 slabs' displacements then) and the nearest feature's gap and rate at the last step's end. Two facts make
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from pounding.contact.geometry import ccw, displaced, radius, signed_gap
-from pounding.framework import crossing as cr
-from pounding.framework.analysis import Model
+from pounding.framework.engine import crossing as cr
+from pounding.framework.engine.driver import Model
 from scenes_for_tests import modal_from_physical, scene, side_by_side
 
 # an L-shaped slab and a rectangle beside its re-entrant corner: the axis separation bound is far

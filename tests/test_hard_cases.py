@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from pounding.errors import AnalysisWarning, InputError
-from pounding.framework.analysis import Driver, Model, run
+from pounding.framework.engine.driver import Driver, Model
+from pounding.framework.post.run import run
 from pounding.io.ground_motion import G, load_record
 from pounding.io.scene import load_scene, parse_scene
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.registry import HYSTERESIS
+from pounding.framework.model.registry import HYSTERESIS
 from pounding.hysteresis.bilinear import Bilinear
 from pounding.hysteresis.bouc_wen import BoucWen
 

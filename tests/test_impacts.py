@@ -38,8 +38,9 @@ import pytest
 from scipy.linalg import eigh
 
 from pounding.contact.geometry import signed_gap
-from pounding.framework.analysis import Driver, Model, run
-from pounding.framework.bundles import Status
+from pounding.framework.engine.driver import Driver, Model
+from pounding.framework.post.run import run
+from pounding.framework.engine.bundles import Status
 from pounding.io.ground_motion import GroundMotion
 from pounding.io.scene import load_scene
 
@@ -774,7 +775,7 @@ def test_plastic_stop_of_many_held_storeys_is_solved_pair_by_pair():
     block-diagonal): the plastic stop of 12 held storeys with two closing points each (24 points)
     stops every point exactly (closing speed 0 to 1e-12) and leaves the opening ones alone. Solved
     as one enumerated LCP this is 2^24 active sets; pair by pair it is 12 of 2^2."""
-    from pounding.framework.held import stop_closing
+    from pounding.framework.engine.held import stop_closing
 
     rng = np.random.default_rng(3)
     n, pairs = 72, 12

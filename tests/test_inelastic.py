@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.analysis import run
-from pounding.framework.inelastic import run_inelastic
+from pounding.framework.post.run import run
+from pounding.framework.engine.inelastic import run_inelastic
 from pounding.io.ground_motion import GroundMotion
 from pounding.io.scene import parse_scene
 
@@ -164,7 +164,7 @@ def test_a_plugin_law_is_one_module_and_one_class():
 
     from hysteresis_plugin import Linear
 
-    from pounding.framework.registry import HYSTERESIS
+    from pounding.framework.model.registry import HYSTERESIS
 
     assert HYSTERESIS.get(Linear) is Linear
     scene = parse_scene(single(eccentric_building(), duration=3.0))

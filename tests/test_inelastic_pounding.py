@@ -1,4 +1,4 @@
-"""Pounding between buildings with yielding storey springs (the driver, :mod:`pounding.framework.yielding`).
+"""Pounding between buildings with yielding storey springs (the driver, :mod:`pounding.framework.engine.yielding`).
 
 Two eccentric 3-storey buildings on storey springs side by side along x, the right one half as
 strong and 0.6 times as stiff, shaken along x by El Centro at 0.32 g: both yield, unequally, and they collide.
@@ -9,9 +9,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import Driver, run
-from pounding.framework.energy_account import building_balances
-from pounding.framework.inelastic import NEWTON_TOL, run_inelastic
+from pounding.framework.engine.driver import Driver
+
+from pounding.framework.post.run import run
+from pounding.framework.post.energy_account import building_balances
+from pounding.framework.engine.inelastic import NEWTON_TOL, run_inelastic
 from pounding.io.scene import parse_scene
 
 from inelastic_scenes import eccentric_building
@@ -164,7 +166,7 @@ def _same_run(a, b, tol_q: float | None, tol_u: float) -> None:
 
 def test_compiled_stretches_between_impacts_give_the_python_path():
     """A yielding pair pounding with impulses (equilibrium after impacts), run twice: with its
-    stretches between contact events compiled (:func:`pounding.framework.spring_core.stretch`) and
+    stretches between contact events compiled (:func:`pounding.framework.engine.spring_core.stretch`) and
     every step in Python (``use_kernel=False``). The compiled stretch hands every step that ends
     with a pair within the tolerance back to the Python step, and takes the others with the same
     compiled functions in the same order (springs' Newton, end load, work rule), so the runs agree

@@ -1,4 +1,4 @@
-"""The integrator a scene gets when it names none (pounding.framework.integrator_choice).
+"""The integrator a scene gets when it names none (pounding.framework.engine.integrator_choice).
 
 Elastic buildings with impulse contact get ``exact`` (modal closed form, as a modal linear time
 history in ETABS or SAP2000); a yielding building or a force contact law gets Newmark's average
@@ -11,7 +11,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from pounding.cli import main
-from pounding.framework.integrator_choice import chosen_integrator
+from pounding.framework.engine.integrator_choice import chosen_integrator
 from pounding.io.scene import load_scene
 from scenes_for_tests import scene, side_by_side
 

@@ -24,7 +24,7 @@ import scipy.linalg
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.registry import INTEGRATORS
+from pounding.framework.model.registry import INTEGRATORS
 from pounding.solvers.central_difference import CentralDifference
 from pounding.solvers.exact import Exact
 from pounding.solvers.generalized_alpha import GeneralizedAlpha

@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from scipy import signal
 
-from pounding.framework.intensity import MEASURES, intensity, oscillator_peaks, scale_factor, spectra
+from pounding.framework.post.intensity import MEASURES, intensity, oscillator_peaks, scale_factor, spectra
 from pounding.io.ground_motion import G, GroundMotion, load_record
 from pounding.io.motion_pair import GroundMotionPair
 
@@ -128,7 +128,7 @@ def test_scaling_to_a_target_of_any_measure(measure, two):
 
 def test_default_period_is_the_first_period_of_the_taller_building(tmp_path):
     """intensity = "sa" without a period scales to Sa at T1 of "high" (5 storeys, the taller)."""
-    from pounding.framework.assembly import assemble
+    from pounding.framework.model.assembly import assemble
     from pounding.io.scene import load_scene
 
     text = (ROOT / "examples" / "paper" / "pair_gap_0.03.toml").read_text()

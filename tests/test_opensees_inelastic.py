@@ -7,7 +7,7 @@ along 30 degrees, Newmark average acceleration, dt = 0.01 s (it divides the reco
 codes see the same load), 10 s. The springs yield to ductility 3-6 at the flexible side.
 
 pounding steps the initial model's modes with the springs' nonlinear remainders solved with the step
-(:mod:`pounding.framework.inelastic`); OpenSees assembles twoNodeLink elements with Steel01 / BoucWen
+(:mod:`pounding.framework.engine.inelastic`); OpenSees assembles twoNodeLink elements with Steel01 / BoucWen
 between rigid diaphragms and iterates Newton on the full equations
 (:mod:`pounding.peer.opensees_springs`). The issue requires the histories within 1e-5 of the peak;
 measured: 1.4e-12 to 2.6e-12 (bilinear) and 1.1e-12 to 2.2e-12 (Bouc-Wen), the two Newton tolerances
@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.inelastic import run_inelastic
+from pounding.framework.engine.inelastic import run_inelastic
 from pounding.io.scene import parse_scene
 
 from inelastic_scenes import eccentric_building, single
@@ -74,10 +74,10 @@ def test_yielding_building_with_hht_matches_opensees_hht_tp(opensees):
 
 def test_building_mixing_laws_in_the_driver_matches_opensees(opensees):
     """A building whose lines follow two laws (the y = 6 line Bouc-Wen, the others bilinear), run by
-    the driver (contact off: its compiled stretch, :mod:`pounding.framework.spring_core`), against
+    the driver (contact off: its compiled stretch, :mod:`pounding.framework.engine.spring_core`), against
     OpenSees with Steel01 and BoucWen links: every slab's u, v, phi within 1e-5 of the peak
     (measured ~1e-12: the Newton tolerances)."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.peer.opensees_springs import run_springs_transient
 
     data = single(eccentric_building())
@@ -98,7 +98,7 @@ def test_yielding_building_under_two_components_matches_opensees(opensees):
     record reversed in time and scaled by 0.7, at 120 deg): the contact-free stepper and the driver
     (its compiled stretch) against OpenSees shaken by both components (one UniformExcitation per
     component and axis): every slab's u, v, phi within 1e-5 of the peak (measured ~1e-12)."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.ground_motion import GroundMotion, load_record
     from pounding.io.motion_pair import GroundMotionPair
     from pounding.peer.opensees_springs import run_springs_transient

@@ -8,7 +8,7 @@ line, "right" (0.6 times as stiff) at half of that. Newmark average acceleration
 4 s (the strong motion and the first contacts).
 
 pounding: ``contact = {"name": "penalty", "stiffness": 1e10, "restitution": 1.0}``, the springs'
-remainders iterated with the penalty forces to convergence (:mod:`pounding.framework.yielding`).
+remainders iterated with the penalty forces to convergence (:mod:`pounding.framework.engine.yielding`).
 OpenSees (:func:`pounding.peer.opensees_springs.run_springs_gap_pounding`): the buildings as
 rigid diaphragms on ``twoNodeLink`` elements with ``Steel01`` and, at every storey, two
 ``zeroLength`` ``ElasticPPGap`` springs at the ends of the common facade, Newton to 1e-12 m.
@@ -22,8 +22,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import Driver
-from pounding.framework.energy_account import building_balances
+from pounding.framework.engine.driver import Driver
+from pounding.framework.post.energy_account import building_balances
 from pounding.io.scene import parse_scene
 
 from inelastic_scenes import springs

@@ -23,7 +23,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.assembly import assemble, rayleigh_coefficients
+from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 from pounding.io.scene import load_scene
 
 pytestmark = pytest.mark.opensees

@@ -72,7 +72,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from pounding.io.scene import parse_scene
 from pounding.peer.opensees import run_gap_pounding
 

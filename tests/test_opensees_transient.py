@@ -9,7 +9,7 @@ damped) closes to 1e-6 of the input".
 Set-up: the paper pair (``examples/paper/pair_gap_0.5.toml``: 3- and 5-storey
 buildings, both non-symmetric, El Centro NS at 0.32 g along x) with
 ``contact = "none"``. pounding integrates in modal coordinates
-(:func:`pounding.framework.analysis.run`); OpenSees integrates the full 3-D
+(:func:`pounding.framework.post.run.run`); OpenSees integrates the full 3-D
 model of :mod:`pounding.peer.opensees` (planar frames of elastic
 beam-columns, rigid diaphragms, ``rayleigh`` damping per building through
 ``region``), which shares nothing with pounding but the scene. Both start from
@@ -34,8 +34,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
-from pounding.framework.assembly import assemble, rayleigh_coefficients
+from pounding.framework.post.run import run
+from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 from pounding.io.scene import load_scene
 
 

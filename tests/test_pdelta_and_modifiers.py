@@ -1,6 +1,6 @@
 """Practice in the model: element stiffness modifiers and P-Delta from gravity loads.
 
-P-Delta is a storey geometric stiffness (pounding.framework.pdelta): -P/h on the storey
+P-Delta is a storey geometric stiffness (pounding.framework.model.pdelta): -P/h on the storey
 drift at the load centre, -I_P/h on the storey twist, with P the gravity load above and
 I_P its polar moment (loads spread like the slab masses). Checked against closed forms
 and against OpenSees' PDelta transformation on a frame.
@@ -16,8 +16,8 @@ import numpy as np
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.assembly import assemble
-from pounding.framework.pdelta import GRAVITY
+from pounding.framework.model.assembly import assemble
+from pounding.framework.model.pdelta import GRAVITY
 from tests.scenes_for_tests import box_building
 from tests.scenes_for_tests import scene as build_scene
 from tests.rounding import EPS, SAFETY, sym_eig_rel

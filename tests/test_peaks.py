@@ -1,11 +1,11 @@
-"""True peaks: extremes over the continuous trajectory (pounding.framework.peaks), not over step ends."""
+"""True peaks: extremes over the continuous trajectory (pounding.framework.engine.peaks), not over step ends."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from pounding.framework import peaks
+from pounding.framework.engine import peaks
 from pounding.solvers.exact import Exact
 
 
@@ -92,7 +92,7 @@ def test_driver_run_reports_true_peaks(tmp_path):
     (from the histories) or the output is thinned (tracked by the compiled kernel during the run):
     the same cubic formula on the same step-end states, so equal to rounding of the modal
     combinations (1e-12 relative: n <= 30 modes summed, eps * n * cond ~ 1e-14)."""
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import load_scene
 
     from tests.conftest import EXAMPLES
@@ -113,8 +113,8 @@ def test_minimum_gap_of_oscillators_approaching_between_steps():
     their facing faces, max_t (u_a(t) - u_b(t)) (rotation-free: symmetric frames, motion along x).
     On the continuous trajectory (exact integrator, its intra-step solution) it is the maximum found
     by Newton on the exact solution, and it exceeds the step-end value at dt = 0.02 s."""
-    from pounding.framework.gap import gap_from_result, no_contact
-    from pounding.framework.analysis import run
+    from pounding.framework.studies.gap import gap_from_result, no_contact
+    from pounding.framework.post.run import run
     from pounding.io.scene import parse_scene
 
     from tests.scenes_for_tests import side_by_side

@@ -1,4 +1,4 @@
-"""The compiled Hermite extremes of the true peaks (pounding.framework.peaks.hermite_extremes).
+"""The compiled Hermite extremes of the true peaks (pounding.framework.engine.peaks.hermite_extremes).
 
 The extreme of |y| of a cubic Hermite over a step is closed form: the step ends and the roots in (0, 1)
 of y'(s) (a quadratic). The compiled loop evaluates it element by element with the operations of the
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.framework import peaks as pk
+from pounding.framework.engine import peaks as pk
 
 
 def test_the_parabola_s_one_minus_s_peaks_at_a_quarter_mid_step():

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-from pounding.framework import plausibility
+from pounding.framework.post import plausibility
 from pounding.io.scene import parse_scene
 from pounding.io.scene_doc import template_text
 

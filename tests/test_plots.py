@@ -17,7 +17,7 @@ pytest.importorskip("matplotlib")
 
 @pytest.fixture(scope="module")
 def runs():
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import load_scene
 
     scene = load_scene(PAPER).with_analysis(duration=3.0)

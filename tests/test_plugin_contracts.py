@@ -15,8 +15,9 @@ import pytest
 
 from pounding.contact.base import ContactLaw
 from pounding.errors import InputError
-from pounding.framework.analysis import Driver, run
-from pounding.framework.registry import CONTACT_LAWS
+from pounding.framework.engine.driver import Driver
+from pounding.framework.post.run import run
+from pounding.framework.model.registry import CONTACT_LAWS
 from pounding.io.scene import load_scene
 from pounding.solvers.base import Integrator
 

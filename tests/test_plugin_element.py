@@ -67,7 +67,7 @@ def brace_installed():
 
 def test_brace_is_found_through_its_entry_point(brace_installed):
     """After installation the registry lists "brace" with the built-ins, without any edit to pounding."""
-    out = subprocess.run([sys.executable, "-c", "from pounding.framework.registry import ELEMENTS; print(ELEMENTS.names())"], capture_output=True, text=True, check=True)
+    out = subprocess.run([sys.executable, "-c", "from pounding.framework.model.registry import ELEMENTS; print(ELEMENTS.names())"], capture_output=True, text=True, check=True)
     assert "brace" in out.stdout and "frame" in out.stdout
 
 

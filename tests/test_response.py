@@ -2,7 +2,7 @@
 
 Every check recomputes the quantity from the written files (response.npz) and
 the elements' own stiffness, by hand, from first principles: nothing here calls
-:mod:`pounding.framework.response`.
+:mod:`pounding.framework.post.response`.
 """
 
 from __future__ import annotations
@@ -12,7 +12,7 @@ import json
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from tests.scenes_for_tests import scene as build_scene
 from tests.scenes_for_tests import side_by_side
 
@@ -88,10 +88,10 @@ def test_drift_ratios_from_the_vertex_histories(written):
     every storey, so vertex k of both floors is the same plan point; the ground does not move).
     At the centre of mass: the same from B_cm, moving the floor below to the point above by its
     rotation. Differences of O(1e-2) m displacements: rounding is 1e-16 m, so 1e-12 of the peak
-    drift ratio. summary.json reports the peaks over the continuous trajectory (pounding.framework.peaks:
+    drift ratio. summary.json reports the peaks over the continuous trajectory (pounding.framework.engine.peaks:
     the same code on the same result gives the same numbers), which the step-end maxima bound from below
     (up to the rounding of the two ways of summing the modal rows, 1e-12 as above)."""
-    from pounding.framework.peaks import drift_peaks
+    from pounding.framework.engine.peaks import drift_peaks
 
     scene, result, npz, summ = written
     for b in scene.buildings:
@@ -184,7 +184,7 @@ def test_hertz_peak_force_and_duration_match_the_contact_ode(written):
     the two slabs for single-point impacts."""
     from scipy.integrate import solve_ivp
 
-    from pounding.framework.response import impact_forces
+    from pounding.framework.post.response import impact_forces
 
     scene, result, _, _ = written
     force, tau = impact_forces(result)
@@ -227,7 +227,7 @@ def test_duration_model_is_a_half_sine_pulse():
     int F dt = 2 F tau / pi = I, so F = pi I / (2 tau). Checked on the pair's impacts, exact."""
     import warnings
 
-    from pounding.framework.response import impact_forces
+    from pounding.framework.post.response import impact_forces
 
     scene = _pounding_pair().with_analysis(duration=1.5)
     with warnings.catch_warnings():

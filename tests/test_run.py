@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from pounding.io.results import IMPACT_COLUMNS
 from pounding.io.scene import load_scene
 
@@ -54,7 +54,7 @@ def test_vertex_displacements_are_the_rigid_motion_of_the_slab(far_run):
 
 def test_summary_has_the_documented_keys_and_peaks(far_run):
     """summary.json: steps, runtime_s, integrator, dt, periods and peak |u|, |v|, |phi| per storey: the peaks
-    over the continuous trajectory (pounding.framework.peaks), the run folder's slab peaks to the bit (the same
+    over the continuous trajectory (pounding.framework.engine.peaks), the run folder's slab peaks to the bit (the same
     numbers written twice), never below the maxima of the step-end histories (the step ends are points of the
     trajectory)."""
     from pounding.io.results import load_result
@@ -179,7 +179,7 @@ def test_without_numba_the_same_numbers(tmp_path):
         "from pounding.contact import geometry\n"
         "assert geometry.signed_gap.py_func is geometry.signed_gap, 'numba still compiling'\n"
         "from pounding.io.scene import load_scene\n"
-        "from pounding.framework.analysis import run\n"
+        "from pounding.framework.post.run import run\n"
         f"r = run(load_scene({str(PAPER / 'pair_gap_0.03.toml')!r}).with_analysis(duration=3.0))\n"
         f"np.savez({str(tmp_path / 'b.npz')!r}, q=r.q, n=r.n_impacts)\n"
     )

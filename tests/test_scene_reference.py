@@ -94,7 +94,7 @@ def test_plugin_parameters_come_from_the_signature_and_the_docstring():
 @pytest.mark.parametrize("element", ["frame", "shear_wall"])
 def test_template_loads_as_printed_and_is_plausible(element, tmp_path):
     """`pounding template [--element TYPE]` prints a scene that load_scene accepts, with no plausibility warning."""
-    from pounding.framework import plausibility
+    from pounding.framework.post import plausibility
 
     path = tmp_path / "scene.toml"
     path.write_text(pounding("template", "--element", element).stdout)
@@ -112,7 +112,7 @@ def test_template_of_an_unknown_element_type_suggests_the_closest():
 def test_check_prints_what_it_understood_with_units(tmp_path):
     """`pounding check` on the paper scene: exit 0, the masses [t], mass per area [kg/m2], the first period as
     the modal analysis gives it (to the 4 digits printed), the gap at rest, and that nothing was run."""
-    from pounding.framework.assembly import assemble
+    from pounding.framework.model.assembly import assemble
 
     proc = pounding("check", PAPER / "pair_gap_0.03.toml")
     out = proc.stdout
@@ -145,7 +145,7 @@ def test_toml_values_read_back_as_written():
 
 def test_with_gap_sets_the_clear_distance_at_rest():
     """Scene.with_gap(g, direction) moves the second building so that the clear distance along the direction is g."""
-    from pounding.framework.gap import rest_gap
+    from pounding.framework.studies.gap import rest_gap
 
     scene = load_scene(PAPER / "pair_gap_0.03.toml")
     for g in (0.0, 0.1, 0.75):

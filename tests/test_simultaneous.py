@@ -11,8 +11,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import Driver
-from pounding.framework.kernel import impulses_at
+from pounding.framework.engine.driver import Driver
+from pounding.framework.engine.kernel import impulses_at
 
 from scenes_for_tests import box_building, modal_from_physical, physical, scene
 

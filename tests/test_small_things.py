@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from pounding.io.scene import load_scene, parse_scene
 from pounding.words import plural
 
@@ -36,7 +36,7 @@ def test_info_of_a_one_storey_building_says_storey(tmp_path):
 @pytest.mark.parametrize("every", [1, 3])
 def test_slab_peaks_are_always_filled_and_survive_the_run_folder(every, tmp_path):
     """Result.slab_peaks holds the peak |u|, |v|, |phi| of every slab over the continuous trajectory: with every step
-    in the output they are the extremes of the histories' interpolant (pounding.framework.peaks, the same code on the
+    in the output they are the extremes of the histories' interpolant (pounding.framework.engine.peaks, the same code on the
     same numbers: to the bit) and bound the step-end maxima; with every 3rd step kept they bound the output's maxima; a run
     folder gives them back unchanged. (The kernel sums each slab's modal rows in its own order, the histories by a
     matrix product: the two differ by rounding, a few ulps; 1e-14 of the peak is allowed.)"""
@@ -47,7 +47,7 @@ def test_slab_peaks_are_always_filled_and_survive_the_run_folder(every, tmp_path
     assert result.slab_peaks is not None and result.slab_peaks.shape == (8, 3)
     from_output = np.vstack([np.abs(result.cm(n)).max(axis=0) for n in result.names])
     if every == 1:
-        from pounding.framework.peaks import slab_peaks
+        from pounding.framework.engine.peaks import slab_peaks
 
         assert np.array_equal(result.slab_peaks, slab_peaks(result))
         # the step-end values enter both as matrix products over the same numbers, perhaps blocked differently by

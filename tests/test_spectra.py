@@ -15,9 +15,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import run
-from pounding.framework.response import floor_acceleration, floor_velocity_jumps, impact_forces
-from pounding.framework.spectra import floor_spectra
+from pounding.framework.post.run import run
+from pounding.framework.post.response import floor_acceleration, floor_velocity_jumps, impact_forces
+from pounding.framework.post.spectra import floor_spectra
 from pounding.io.scene import load_scene
 
 PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"

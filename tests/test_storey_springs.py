@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.assembly import assemble
+from pounding.framework.model.assembly import assemble
 from pounding.io.scene import load_scene, parse_scene
 from tests.rounding import EPS, sym_eig_rel
 
@@ -224,7 +224,7 @@ def test_pounding_gap_on_yielding_buildings_is_checked_by_full_yielding_runs(tmp
 def test_pounding_sweep_on_yielding_buildings(tmp_path):
     """`pounding sweep --gaps` on two yielding buildings runs every case with the springs (one row
     per gap): impacts at a gap they close, none at a gap wider than any approach."""
-    from pounding.framework.sweep import read_table
+    from pounding.framework.studies.sweep import read_table
 
     path = tmp_path / "pair.toml"
     path.write_text(PAIR)

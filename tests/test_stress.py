@@ -38,8 +38,8 @@ from hypothesis.errors import InvalidArgument
 
 from pounding.contact.geometry import MAX_FEATURES
 from pounding.errors import AnalysisWarning, InputError
-from pounding.framework.analysis import Model
-from pounding.framework.assembly import assemble, rayleigh_coefficients
+from pounding.framework.engine.driver import Model
+from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
 from tests import strategies as S
 
@@ -338,7 +338,7 @@ def test_damping_ratios_are_as_asked(data):
     outside; modal: exactly the given ratios; stiffness: ratio at the target mode, proportional to
     omega elsewhere. 1e-12 relative. Also the values ``pounding info`` prints are these same numbers
     (no rounding or clipping between the model and the user)."""
-    from pounding.framework.modal import modal_summary
+    from pounding.framework.model.modal import modal_summary
 
     sc = S.parse_or_reject(data, "building")
     b = sc.buildings[0]

@@ -14,9 +14,9 @@ from pathlib import Path
 import pytest
 
 from pounding.errors import InputError
-from pounding.framework.analysis import run
-from pounding.framework.gap import with_gap
-from pounding.framework.sweep import build_cases, parse_values, read_table, run_sweep
+from pounding.framework.post.run import run
+from pounding.framework.studies.gap import with_gap
+from pounding.framework.studies.sweep import build_cases, parse_values, read_table, run_sweep
 from pounding.io.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -16,7 +16,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pounding.framework.analysis import Driver, Model, run
+from pounding.framework.engine.driver import Driver, Model
+
+from pounding.framework.post.run import run
 from pounding.io.ground_motion import G, GroundMotion, load_record
 from pounding.io.motion_pair import GroundMotionPair, common_time_base
 from pounding.io.scene import load_scene

@@ -91,7 +91,7 @@ mass_per_area = 800.0
 
 @pytest.fixture(scope="module")
 def paper():
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import load_scene
 
     scene = load_scene(EXAMPLES / "paper" / "pair_gap_0.03.toml").with_analysis(duration=3.0)
@@ -233,7 +233,7 @@ def test_writer_reads_recorded_states_only(paper):
     """The VTK writer reads the states the run recorded and never integrates: an output step
     gives the record, an impact instant the driver's own state just before its impulses (its
     closing speed is the logged approach velocity, exactly), any other instant is refused."""
-    from pounding.framework.analysis import Model
+    from pounding.framework.engine.driver import Model
     from pounding.io.vtk import StateAt
 
     scene, result = paper
@@ -251,7 +251,7 @@ def test_writer_reads_recorded_states_only(paper):
 
 
 def test_walls_frames_storeys_and_element_types(tmp_path):
-    from pounding.framework.analysis import run
+    from pounding.framework.post.run import run
     from pounding.io.scene import load_scene
     from pounding.io.vtk import read_pvd, write_vtk_series
 

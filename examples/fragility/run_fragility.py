@@ -39,7 +39,7 @@ def main(argv=None) -> int:
     p.add_argument("--serial", action="store_true")
     a = p.parse_args(argv)
 
-    from pounding.framework.fragility import run_fragility
+    from pounding.framework.studies.fragility import run_fragility
 
     with tempfile.TemporaryDirectory(prefix="fragility-records-") as tmp:
         records = a.records

@@ -47,8 +47,8 @@ def annotated_plot(rows, report, path: Path) -> Path:
 
 
 def main() -> None:
-    from pounding.framework.gap import minimum_gap, verify_gap
-    from pounding.framework.sweep import run_sweep
+    from pounding.framework.studies.gap import minimum_gap, verify_gap
+    from pounding.framework.studies.sweep import run_sweep
     from pounding.io.scene import load_scene
 
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from pounding.cli import corner_tally, human_summary
-from pounding.framework.analysis import run
+from pounding.framework.post.run import run
 from pounding.io.results import write_results
 from pounding.io.scene import load_scene
 

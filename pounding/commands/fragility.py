@@ -47,8 +47,8 @@ def add_parser(sub) -> None:
 
 
 def cmd_fragility(args: argparse.Namespace) -> int:
-    from pounding.framework.fragility import run_fragility
-    from pounding.framework.sweep import parse_values
+    from pounding.framework.studies.fragility import run_fragility
+    from pounding.framework.studies.sweep import parse_values
 
     check_cluster_options(args)
     levels = parse_values(args.levels, "--levels")

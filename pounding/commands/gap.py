@@ -44,12 +44,12 @@ def add_parser(sub) -> None:
 
 
 def cmd_gap(args: argparse.Namespace) -> int:
-    from pounding.framework.gap import direction_vector, minimum_gap, verify_gap
+    from pounding.framework.studies.gap import direction_vector, minimum_gap, verify_gap
     from pounding.io.scene import load_scene
 
     direction = direction_vector(args.direction)
     scene = load_scene(args.scene)
-    from pounding.cli import time_overrides
+    from pounding.commands.time_options import time_overrides
 
     overrides = time_overrides(args)
     if overrides:
@@ -81,7 +81,7 @@ def cmd_gap(args: argparse.Namespace) -> int:
 def _row(args, scene, direction) -> int:
     """Three or more buildings: the required gap of every adjacent pair, each checked alone."""
     from pounding.errors import InputError
-    from pounding.framework.gap import minimum_gaps, pair_scene, pair_sites, verify_gap
+    from pounding.framework.studies.gap import minimum_gaps, pair_scene, pair_sites, verify_gap
 
     for opt in ("angles", "history"):
         if getattr(args, opt) is not None:
@@ -117,9 +117,9 @@ def _angle_study(args, scene, direction) -> int:
     """``--angles``: the minimum gap at every incidence angle, the governing one checked and plotted."""
     import os
 
-    from pounding.framework.gap import verify_gap
-    from pounding.framework.incidence import gap_against_angle, plot_gap_against_angle
-    from pounding.framework.sweep import parse_values
+    from pounding.framework.studies.gap import verify_gap
+    from pounding.framework.studies.incidence import gap_against_angle, plot_gap_against_angle
+    from pounding.framework.studies.sweep import parse_values
 
     angles = parse_values(args.angles, "--angles")
     study = gap_against_angle(scene, angles, direction)

@@ -49,7 +49,7 @@ def add_silence(parser) -> None:
 
 def silenced(args) -> tuple[str, ...]:
     """The --silence names, checked."""
-    from pounding.framework.plausibility import NAMES
+    from pounding.framework.post.plausibility import NAMES
     from pounding.io.scene_structure import unknown_key_message
 
     for name in args.silence:
@@ -73,7 +73,7 @@ def cmd_reference(args: argparse.Namespace) -> int:
 
 
 def cmd_check(args: argparse.Namespace) -> int:
-    from pounding.framework import plausibility
+    from pounding.framework.post import plausibility
     from pounding.io.scene import load_scene
 
     silence = silenced(args)
@@ -97,7 +97,7 @@ def describe(scene, path: Path | None = None) -> str:
     import numpy as np
 
     from pounding.contact.geometry import polygon_properties
-    from pounding.framework.assembly import assemble
+    from pounding.framework.model.assembly import assemble
 
     lines = []
     title = ""
@@ -112,22 +112,22 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
-    from pounding.framework.integrator_choice import chosen_integrator
-    from pounding.framework.timestep import default_dt
+    from pounding.framework.engine.integrator_choice import chosen_integrator
+    from pounding.framework.engine.timestep import default_dt
 
     integrator = chosen_integrator(scene)
     int_src = "" if an.integrator else " (chosen for the scene)"
     if an.dt:
         dt, dt_src = an.dt, ""
-    else:  # as the driver chooses (pounding.framework.timestep)
-        from pounding.framework.analysis import Model
+    else:  # as the driver chooses (pounding.framework.engine.timestep)
+        from pounding.framework.engine.driver import Model
 
         m = Model(scene)
         dt, dt_src = default_dt(m.systems, m.directions, gm.dt, integrator), " (chosen for accuracy from the significant modes)"
     duration = an.duration or gm.duration
     dur_src = "" if an.duration else " (the record's)"
     steps = int(np.ceil(duration / dt - 1e-9))
-    from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+    from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 
     def params(registry, name, given):
         """Every parameter of the plugin, the defaults it chose included."""
@@ -180,16 +180,15 @@ def describe(scene, path: Path | None = None) -> str:
 def _facing(scene) -> list[str]:
     """The clear distance at rest between the slabs of every two buildings at a common level."""
     from pounding.contact.geometry import signed_gap
-    from pounding.framework.gap import adjacent_pairs
-    from pounding.io.scene import LENGTH_TOL
+    from pounding.framework.studies.gap import adjacent_pairs
+    from pounding.framework.model.levels import common_levels
 
     out = []
     bs = scene.buildings
     screened = set(adjacent_pairs(scene)[1]) if len(bs) > 2 else set()
     for i in range(len(bs)):
         for j in range(i + 1, len(bs)):
-            gaps = [(fa + 1, signed_gap(sa.vertices, sb.vertices)) for fa, sa in enumerate(bs[i].slabs) for sb in bs[j].slabs
-                    if abs(sa.elevation - sb.elevation) < LENGTH_TOL]
+            gaps = [(fa + 1, signed_gap(bs[i].slabs[fa].vertices, bs[j].slabs[fb].vertices)) for fa, fb in common_levels(bs[i], bs[j])]
             if gaps:
                 g = min(g for _, g in gaps)
                 levels = f"storey {gaps[0][0]}" if len(gaps) == 1 else f"storeys {gaps[0][0]}-{gaps[-1][0]}"

@@ -42,7 +42,7 @@ def load_source(args) -> tuple[object, dict[str, list[float]], Path | None]:
 
     src = str(args.source)
     if src.endswith(".toml"):
-        from pounding.framework.assembly import assemble
+        from pounding.framework.model.assembly import assemble
         from pounding.io.scene import load_scene
 
         scene = load_scene(src)
@@ -61,9 +61,9 @@ def load_source(args) -> tuple[object, dict[str, list[float]], Path | None]:
 def cmd_spectrum(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from pounding.framework.intensity import default_periods, spectra
+    from pounding.framework.post.intensity import default_periods, spectra
     from pounding.io.ground_motion import G
-    from pounding.framework.sweep import parse_values
+    from pounding.framework.studies.sweep import parse_values
     from pounding.io.outputs import check_target, write_folder
     from pounding.io.spectra import plot_spectra, spectra_dict, write_spectra_csv
 

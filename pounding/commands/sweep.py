@@ -52,7 +52,7 @@ def add_parser(sub) -> None:
 
 
 def cmd_sweep(args: argparse.Namespace) -> int:
-    from pounding.framework.sweep import parse_values, run_sweep
+    from pounding.framework.studies.sweep import parse_values, run_sweep
 
     check_cluster_options(args)
     gaps = parse_values(args.gaps, "--gaps", minimum=0.0) if args.gaps is not None else None
@@ -87,7 +87,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     print(f"{plural(len(res.rows), 'run')} ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
     print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
     if angles:
-        from pounding.framework.sweep import governing_angles
+        from pounding.framework.studies.sweep import governing_angles
 
         for key, (angle, gap) in governing_angles(res.rows).items():
             what = ", ".join(f"{k} {v}" for k, v in zip(("gap", "pga_scale", "record", "restitution", "integrator"), key) if v is not None)

@@ -63,7 +63,7 @@ from pounding.errors import InputError
 #: the kinds of contact law the driver knows (see the module docstring)
 KINDS = ("impulse", "force", "none")
 #: the ways an impulse law's impact instant can be located: "crossing" (where the gap is zero, grazes
-#: included: :mod:`pounding.framework.crossing`), or the paper's overlap-then-search "halving" and "root"
+#: included: :mod:`pounding.framework.engine.crossing`), or the paper's overlap-then-search "halving" and "root"
 LOCATORS = ("crossing", "halving", "root")
 #: what an impulse law does to the accelerations after an impact
 AFTER_IMPACT = ("keep", "equilibrium")

@@ -179,12 +179,12 @@ def no_tension_damping_ratio(k: float) -> float:
 
 class FacadePenalty(Penalty):
     """:class:`Penalty` whose points on a neighbour's facade (a slab striking between floors,
-    :mod:`pounding.framework.facade`) have the local stiffness of the struck column or wall in
+    :mod:`pounding.framework.model.facade`) have the local stiffness of the struck column or wall in
     series with the slab-edge spring: 1/k = 1/k_p + 1/k_local. Slab-to-slab points keep k_p.
 
     A rigid impact (the impulse law) on a facade makes the struck column as stiff as a slab's
     edge; this law lets the column bend locally under the blow (a fixed-fixed member with a point
-    load, :func:`~pounding.framework.facade.local_stiffness`), which lengthens the contact and
+    load, :func:`~pounding.framework.model.facade.local_stiffness`), which lengthens the contact and
     lowers the peak force.
 
     Parameters

@@ -13,7 +13,9 @@ reports
 4. :meth:`plan_segment`: the plan extent (start, end) [m], used to check that
    the element stands on its slabs and to draw it;
 5. :meth:`outline`: lines and panels in its own (s along the line, z up)
-   coordinates, for drawing.
+   coordinates, for drawing;
+6. optionally :meth:`point_stiffness`: its local stiffness against a point load
+   between two floors (a neighbour's slab striking it), nan where it has none.
 
 The framework places it: the displacement along ``direction`` at floor f with
 centre of mass c is ``d . (u, v) + phi * ((p - c) x d)`` (phi counter-clockwise,
@@ -84,6 +86,20 @@ class PlanarElement(ABC):
         s is measured from ``point`` along ``direction`` [m], z from the ground [m].
         """
         return {"lines": [], "panels": []}
+
+    def point_stiffness(self, storey: int, a: float, normal: np.ndarray) -> float:
+        """Stiffness [N/m] against a point load along the plan unit ``normal`` (2,) at a [m] above the
+        bottom of its (0-based) ``storey``, relative to the floors at its ends: what a slab of a
+        neighbour striking it between floors meets (:mod:`pounding.framework.model.facade`).
+        nan (the default): no local stiffness known, the struck point is as stiff as a slab edge."""
+        return float("nan")
+
+
+def point_compliance(E: float, I: float, L: float, a: float, GAs: float = np.inf) -> float:
+    """Deflection per unit load [m/N] under a point load at a [m] from the bottom of a fixed-fixed
+    member of length L [m]: a^3 b^3 / (3 E I L^3) + a b / (G A_s L), b = L - a."""
+    b = L - a
+    return a**3 * b**3 / (3.0 * E * I * L**3) + (a * b / (GAs * L) if np.isfinite(GAs) else 0.0)
 
 
 def section_properties(sec: Mapping[str, float]) -> tuple[float, float, float]:

@@ -20,7 +20,7 @@ from typing import Any, ClassVar, Mapping, Sequence
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from pounding.elements.base import POINT_SCHEMA, SECTION_SCHEMA, PlanarElement, documented, per_storey, section_properties
+from pounding.elements.base import POINT_SCHEMA, SECTION_SCHEMA, PlanarElement, documented, per_storey, point_compliance, section_properties
 from pounding.errors import InputError
 
 
@@ -159,6 +159,21 @@ class Frame(PlanarElement):
         lines = [(s, z[i], s, z[i + 1]) for i in range(len(self.heights)) for s in self.columns]
         lines += [(a, z[i + 1], b, z[i + 1]) for i in range(len(self.heights)) for a, b in zip(self.columns, self.columns[1:])]
         return {"lines": lines, "panels": []}
+
+    def point_stiffness(self, storey: int, a: float, normal: np.ndarray) -> float:
+        """The column of the storey nearest the contact point, fixed-fixed (a slab edge meeting the
+        frame face to face is two contact points, each on its nearest column): a load along the frame
+        line bends it in the frame's plane (I of the section), one across it out of the plane (I of the
+        rectangle with the section's A and I: h = sqrt(12 I / A), b = A / h, I_out = h b^3 / 12); an
+        oblique load has the compliance cos^2 c_in + sin^2 c_out (see the base class for the rest)."""
+        if storey >= len(self.heights):
+            return float("nan")
+        c2 = float(np.dot(normal, self.direction)) ** 2  # cos^2 of the load to the frame's line
+        L = self.heights[storey]
+        E, A, I = self.column_sections[storey]
+        h = np.sqrt(12.0 * I / A)
+        I_out = h * (A / h) ** 3 / 12.0
+        return 1.0 / (c2 * point_compliance(E, I, L, a) + (1.0 - c2) * point_compliance(E, I_out, L, a))
 
     def lateral_stiffness(self) -> np.ndarray:
         ns, nc = len(self.heights), len(self.columns)

@@ -19,7 +19,7 @@ from typing import Any, ClassVar, Mapping, Sequence
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from pounding.elements.base import POINT_SCHEMA, PlanarElement, documented
+from pounding.elements.base import POINT_SCHEMA, PlanarElement, documented, point_compliance
 from pounding.elements.frame import _spanned_storeys, line_from_table
 from pounding.errors import InputError
 
@@ -117,6 +117,19 @@ class ShearWall(PlanarElement):
         F = self.flexibility()
         K = cho_solve(cho_factor(F), np.eye(len(F)))
         return 0.5 * (K + K.T)
+
+    def point_stiffness(self, storey: int, a: float, normal: np.ndarray) -> float:
+        """The wall as one member, fixed-fixed between the floors: bending and shear in its plane
+        (I = t l^3 / 12, A_s), bending out of it (I = l t^3 / 12); an oblique load has the compliance
+        cos^2 c_in + sin^2 c_out (see the base class for the rest)."""
+        if storey >= len(self.heights):
+            return float("nan")
+        c2 = float(np.dot(normal, self.direction)) ** 2  # cos^2 of the load to the wall's line
+        L = self.heights[storey]
+        I_in = self.thickness * self.length**3 / 12.0
+        I_out = self.length * self.thickness**3 / 12.0
+        GAs = self.G * self.shear_area
+        return 1.0 / (c2 * point_compliance(self.E, I_in, L, a, GAs) + (1.0 - c2) * point_compliance(self.E, I_out, L, a, GAs))
 
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point, self.point + self.length * self.direction

@@ -10,7 +10,7 @@ k_f [N/m] give the tridiagonal lateral stiffness over the floors,
 so elastic assembly, modal analysis and plan placement treat it like any other
 element. With ``yield_force`` each spring follows a hysteresis law (a plugin
 of the ``pounding.hysteresis`` family, :mod:`pounding.hysteresis.base`) and the
-nonlinear stepping of :mod:`pounding.framework.inelastic` applies; without it
+nonlinear stepping of :mod:`pounding.framework.engine.inelastic` applies; without it
 the springs are elastic.
 
 Scene table::
@@ -125,7 +125,7 @@ class StoreySprings(PlanarElement):
 
     @classmethod
     def from_table(cls, table: Mapping[str, Any], *, storey_heights: Sequence[float]) -> "StoreySprings":
-        from pounding.framework.registry import HYSTERESIS
+        from pounding.framework.model.registry import HYSTERESIS
 
         point, direction = line_from_table(table)
         length = float(np.hypot(*(np.asarray(table["end"], float) - point)))

@@ -22,7 +22,7 @@ Steel01 bounds); OpenSees ``SRC/material/uniaxial/Steel01.cpp``.
 
 from __future__ import annotations
 
-from pounding.contact.geometry import njit
+from pounding.compiler import njit
 from pounding.hysteresis.base import HysteresisLaw
 
 #: law-specific state slot: the plastic deformation u_p [m]

@@ -40,7 +40,7 @@ import math
 
 import numpy as np
 
-from pounding.contact.geometry import njit
+from pounding.compiler import njit
 from pounding.errors import InputError
 from pounding.hysteresis.base import HysteresisLaw
 

@@ -32,8 +32,8 @@ def plot_fragility(out, runs: list[dict], fragility: list[dict], target: list[di
         from matplotlib.figure import Figure
     except ImportError:
         return []
-    from pounding.framework.lognormal import fit_lognormal
-    from pounding.framework.fragility import pounding_probability
+    from pounding.framework.post.lognormal import fit_lognormal
+    from pounding.framework.post.lognormal import pounding_probability
 
     ok = [r for r in runs if r.get("status") == "ok"]
     levels = [lv for lv in levels if any(r["level"] == lv for r in ok)]

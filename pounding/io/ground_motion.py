@@ -34,6 +34,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from pounding.errors import InputError
+from pounding.framework.model.units import G  # noqa: F401 - standard gravity [m/s2], read here by the record readers
 
 __all__ = [
     "G",
@@ -44,9 +45,6 @@ __all__ = [
     "load_record",
     "BUILTIN_RECORDS",
 ]
-
-#: Standard gravity [m/s^2] (exact by definition, CGPM 1901).
-G = 9.80665
 
 #: Names accepted as ``record`` for the records shipped in ``pounding/io/data``.
 BUILTIN_RECORDS = {"elcentro": "elcentro_1940_ns.at2"}
@@ -185,6 +183,12 @@ class GroundMotion:
     def directions(self) -> np.ndarray:
         """Plan unit vector of every component, shape (c, 2) = (1, 2): ``direction()[None]``."""
         return self.direction()[None, :]
+
+    def piecewise_linear(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(times (m,) [s], accelerations (m, c) [m/s^2]) whose linear interpolation, zero outside the
+        record, :meth:`samples` is; the engine then interpolates the record in its compiled search with
+        the same arithmetic. A subclass whose ``samples`` is anything else returns None."""
+        return self.t, np.asarray(self.acc, dtype=float).reshape(len(self.t), -1)
 
     def samples(self, times: Any) -> np.ndarray:
         """Acceleration of every component at ``times`` [m/s^2]: shape (m, 1), or (1,) for a scalar time.

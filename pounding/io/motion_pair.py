@@ -188,6 +188,12 @@ class GroundMotionPair:
         """Plan unit vectors of the two components, shape (2, 2): angle and angle + 90."""
         return np.stack([c.direction() for c in self.components])
 
+    def piecewise_linear(self) -> tuple[np.ndarray, np.ndarray] | None:
+        """(times (m,) [s], accelerations (m, c) [m/s^2]) whose linear interpolation, zero outside the
+        record, :meth:`samples` is; the engine then interpolates the record in its compiled search with
+        the same arithmetic. A subclass whose ``samples`` is anything else returns None."""
+        return self.t, np.asarray(self.acc, dtype=float).reshape(len(self.t), -1)
+
     def samples(self, times: Any) -> np.ndarray:
         """Accelerations of both components at ``times`` [m/s^2]: (m, 2), or (2,) for a scalar.
 

@@ -32,23 +32,7 @@ from typing import Sequence
 
 import numpy as np
 
-DPI = 120
-COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"]
-MARKERS = ["o", "s", "^", "v", "D", "P", "X", "<", ">", "*"]
-
-
-def _figure(w: float, h: float):
-    from matplotlib.figure import Figure
-
-    return Figure(figsize=(w, h), dpi=DPI, layout="constrained")
-
-
-def _save(fig, path) -> Path:
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=DPI, format="png")
-    return path
-
+from pounding.io.plot_style import COLOURS, DPI, MARKERS, _figure, _save  # noqa: F401 - the figures' common look
 
 def _bindex(result, building) -> int:
     return int(building) if isinstance(building, (int, np.integer)) else result.names.index(building)

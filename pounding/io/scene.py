@@ -1,4 +1,4 @@
-"""Read a scene file (TOML) into a validated, immutable :class:`~pounding.framework.model.Scene`.
+"""Read a scene file (TOML) into a validated, immutable :class:`~pounding.framework.model.scene.Scene`.
 
 Checks run in three layers, each stopping at the first problem with one
 message naming the file, the key path (``building[0].element[2].columns``)
@@ -24,10 +24,10 @@ from typing import Any, Mapping
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.framework.model import Analysis, Building, Damping, Scene, Slab
+from pounding.framework.model.levels import LEVEL_TOL as LENGTH_TOL, distance_to_polygon, same_level, unchecked_pairs  # noqa: F401 - the scene checks' rule
+from pounding.framework.model.scene import Analysis, Building, Damping, Scene, Slab
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
-LENGTH_TOL = 1e-6  # [m] tolerance for "on the slab" and "same elevation"
 
 
 # --------------------------------------------------------------------------- buildings
@@ -91,7 +91,7 @@ def _damping(table: Mapping | None, where: list) -> Damping:
 
 def _building(table: Mapping, index: int) -> Building:
     from pounding.contact.geometry import polygon_properties
-    from pounding.framework.registry import ELEMENTS
+    from pounding.framework.model.registry import ELEMENTS
 
     where = ["building", index]
     heights = tuple(float(h) for h in table["storey_heights"])
@@ -150,7 +150,7 @@ def _building(table: Mapping, index: int) -> Building:
 
 
 def _p_delta(table: Mapping | None, n: int, where: list):
-    from pounding.framework.model import PDelta
+    from pounding.framework.model.scene import PDelta
 
     if table is None:
         return None
@@ -161,17 +161,6 @@ def _p_delta(table: Mapping | None, n: int, where: list):
             raise InputError(f"expected {n} loads [N] (one per floor), got {len(table['loads'])}", field=_path(where + ["p_delta", "loads"]))
         return PDelta(loads=tuple(float(w) for w in table["loads"]))
     return PDelta(load_factor=float(table.get("load_factor", 1.0)))
-
-
-def distance_to_polygon(vertices: np.ndarray, p: np.ndarray) -> float:
-    """Distance [m] from point p to a simple polygon (0 when p is inside or on it)."""
-    a, b = vertices, np.roll(vertices, -1, axis=0)
-    ab, ap = b - a, p - a
-    t = np.clip(np.einsum("ij,ij->i", ap, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
-    d = float(np.min(np.hypot(*(ap - t[:, None] * ab).T)))
-    # crossing number: a ray from p towards +x crosses the boundary an odd number of times when inside
-    crosses = ((a[:, 1] > p[1]) != (b[:, 1] > p[1])) & (p[0] < a[:, 0] + (p[1] - a[:, 1]) * ab[:, 0] / np.where(ab[:, 1] == 0, 1, ab[:, 1]))
-    return 0.0 if np.count_nonzero(crosses) % 2 == 1 else d
 
 
 def interior_point(vertices: np.ndarray) -> np.ndarray:
@@ -240,29 +229,13 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
                     nested = distance_to_polygon(sb.vertices, interior_point(sa.vertices)) == 0.0 or distance_to_polygon(sa.vertices, interior_point(sb.vertices)) == 0.0
                     if not (g < -LENGTH_TOL or (nested and g >= -LENGTH_TOL)):
                         continue
-                    if abs(sa.elevation - sb.elevation) < LENGTH_TOL:
+                    if same_level(sa.elevation, sb.elevation):
                         where = f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1}"
                     else:
                         where = (f"storey {fa + 1} of {a.name!r} ({za[0]:g}-{za[1]:g} m) and storey {fb + 1} of {b.name!r} "
                                  f"({zb[0]:g}-{zb[1]:g} m), at different levels but sharing heights,")
                     how = f"overlap by {-g:.4g} m at rest" if g < -LENGTH_TOL else "lie on top of each other at rest"
                     raise InputError(f"{where} {how}", field=_path(["building", j, "slab"]))
-
-
-def unchecked_pairs(buildings) -> list[tuple[str, str]]:
-    """Pairs of buildings (names) with no slabs at a common level (within LENGTH_TOL).
-
-    Pounding is checked between slabs at a common level only, so nothing is
-    checked between such a pair, however close they stand.
-    """
-    out = []
-    for i, a in enumerate(buildings):
-        za = np.array([s.elevation for s in a.slabs])
-        for b in buildings[i + 1:]:
-            zb = np.array([s.elevation for s in b.slabs])
-            if not np.any(np.abs(za[:, None] - zb[None, :]) < LENGTH_TOL):
-                out.append((a.name, b.name))
-    return out
 
 
 # --------------------------------------------------------------------------- analysis
@@ -292,7 +265,7 @@ def _check_params(cls, params: dict, field: str) -> None:
 
 
 def _analysis(table: Mapping) -> Analysis:
-    from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+    from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 
     integrator, iparams = (None, {}) if "integrator" not in table else _plugin(table["integrator"], INTEGRATORS, "analysis.integrator")
     contact, cparams = _plugin(table.get("contact", "impulse"), CONTACT_LAWS, "analysis.contact")
@@ -327,7 +300,7 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     if problems:
         raise problems[0].error()
     buildings = [_building(t, i) for i, t in enumerate(data["building"])]
-    from pounding.framework.assembly import check_stable
+    from pounding.framework.model.assembly import check_stable
 
     for i, b in enumerate(buildings):
         check_stable(b, field=f"building[{i}].element")

@@ -175,7 +175,7 @@ def _nested_owner(sub: Mapping) -> Mapping:
 
 def all_undocumented() -> list[str]:
     """Every undocumented key of the core and of every registered plugin."""
-    from pounding.framework.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
+    from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
     from pounding.io.scene_schema import ANALYSIS, BUILDING, ground_motion_schema, SCENE
 
     out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion"))
@@ -333,7 +333,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         Also document the plugins other installed packages register (``pounding reference``);
         by default only those that ship with pounding (the checked-in page).
     """
-    from pounding.framework.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
+    from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
     from pounding.io.scene_schema import ANALYSIS, BUILDING, DAMPING, SCENE, ground_motion_schema
 
     parts = [
@@ -395,7 +395,7 @@ def _exclusive_choices(schema: Mapping) -> str:
 
 
 def plausibility_section() -> str:
-    from pounding.framework.plausibility import CHECKS
+    from pounding.framework.post.plausibility import CHECKS
 
     rows = "\n".join(f"| `{c.name}` | {_cell(c.condition)} | {_cell(c.cause)} |" for c in CHECKS)
     return (
@@ -424,7 +424,7 @@ def _comment(schema: Mapping, key: str) -> str:
 
 def _element_tables(element: str) -> tuple[list[dict], bool]:
     """(example tables of an element type, whether they came from the plugin)."""
-    from pounding.framework.registry import ELEMENTS
+    from pounding.framework.model.registry import ELEMENTS
 
     schema = ELEMENTS.get(element, field="--element").schema
     if schema.get("examples"):
@@ -449,7 +449,7 @@ def _shifted(table: dict, schema: Mapping, dx: float) -> dict:
 
 def template_text(element: str = "frame") -> str:
     """A commented starting scene: two buildings of ``element`` tables, a gap of 0.05 m along x."""
-    from pounding.framework.registry import ELEMENTS
+    from pounding.framework.model.registry import ELEMENTS
     from pounding.io.scene_schema import ANALYSIS, BUILDING, DAMPING, ground_motion_schema
 
     tables, from_plugin = _element_tables(element)

@@ -199,7 +199,7 @@ def framework_element_keys() -> frozenset:
 
 
 def _element_problems(data: Mapping) -> list[Problem]:
-    from pounding.framework.registry import ELEMENTS
+    from pounding.framework.model.registry import ELEMENTS
 
     framework_keys = framework_element_keys()
     out = []
@@ -220,7 +220,7 @@ def _element_problems(data: Mapping) -> list[Problem]:
 
 def _plugin_problems(data: Mapping) -> list[Problem]:
     """Unknown plugin names and parameters in [analysis] (their values are checked by the plugin)."""
-    from pounding.framework.registry import CONTACT_LAWS, INTEGRATORS
+    from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 
     analysis = data.get("analysis") if isinstance(data, Mapping) else None
     if not isinstance(analysis, Mapping):

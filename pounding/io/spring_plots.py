@@ -16,7 +16,7 @@ from typing import Sequence
 
 import numpy as np
 
-from pounding.io.plots import COLOURS, _figure, _save
+from pounding.io.plot_style import COLOURS, _figure, _save
 
 
 def spring_index(sp: dict, element: int, storey: int) -> int:

@@ -44,7 +44,8 @@ from typing import Iterable, Sequence
 
 import numpy as np
 
-LEVEL_TOL = 1e-6  # [m] a drawing point is at a floor when its z differs by less
+from pounding.framework.model.levels import common_levels, same_level
+
 DEFAULT_TOLERANCE = 1e-4  # [m] contact tolerance when neither the result nor the scene gives one
 
 SLAB, LINE, PANEL = 0, 1, 2
@@ -90,7 +91,7 @@ class Motion:
 
     @classmethod
     def from_result(cls, result, scene=None) -> "Motion":
-        """Motion of a :class:`~pounding.framework.results.Result`."""
+        """Motion of a :class:`~pounding.framework.engine.results.Result`."""
         return cls(
             t=np.asarray(result.t, dtype=float),
             names=list(result.names),
@@ -159,10 +160,9 @@ def level_pairs(buildings) -> list:
     bs = list(buildings)
     for a in range(len(bs)):
         for b in range(a + 1, len(bs)):
-            for fa, sa in enumerate(bs[a].slabs):
-                for fb, sb in enumerate(bs[b].slabs):
-                    if abs(sa.elevation - sb.elevation) < LEVEL_TOL:
-                        out.append((a, fa, b, fb, float(signed_gap(_f64(sa.vertices), _f64(sb.vertices)))))
+            for fa, fb in common_levels(bs[a], bs[b]):
+                sa, sb = bs[a].slabs[fa], bs[b].slabs[fb]
+                out.append((a, fa, b, fb, float(signed_gap(_f64(sa.vertices), _f64(sb.vertices)))))
     return out
 
 
@@ -200,7 +200,7 @@ def pair_gaps(result, pairs: Sequence | None = None) -> np.ndarray:
     facades = getattr(result, "facades", None)
     if pairs is None and facades:
         # a slab against a neighbour's facade between floors: the facade's own motion (storey shape)
-        from pounding.framework.pairs import pair_gap
+        from pounding.framework.engine.pairs import pair_gap
 
         for p in facades:
             out[:, p] = [pair_gap(np.ascontiguousarray(q), p, np.inf, result.geo) for q in result.q]
@@ -371,7 +371,7 @@ class Drawing:
 def _storey_of(levels: np.ndarray, z: float) -> int:
     """Storey number of an item whose top is at z: the floor there (1-based), 0 at ground."""
     j = int(np.argmin(np.abs(levels - z)))
-    if abs(levels[j] - z) < LEVEL_TOL:
+    if same_level(levels[j], z):
         return j
     return int(np.searchsorted(levels, z))  # inside storey i: between floors i-1 and i
 
@@ -379,7 +379,7 @@ def _storey_of(levels: np.ndarray, z: float) -> int:
 def _bracket(levels: np.ndarray, z: float) -> tuple[int, int, float]:
     """(floor below, floor above, weight of above) of height z; floors 0-based, -1 ground."""
     j = int(np.argmin(np.abs(levels - z)))
-    if abs(levels[j] - z) < LEVEL_TOL:
+    if same_level(levels[j], z):
         return j - 1, j - 1, 1.0
     if z >= levels[-1]:
         return len(levels) - 2, len(levels) - 2, 1.0

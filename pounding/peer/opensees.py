@@ -47,7 +47,7 @@ def load_opensees():
 # (ndm 3, ndf 6) where every planar element is a real planar structure of
 # elastic beam-columns, every floor a rigid diaphragm with its mass at one
 # master node. Nothing here uses pounding's condensed stiffness: agreement with
-# :func:`pounding.framework.assembly.assemble` is an independent check.
+# :func:`pounding.framework.model.assembly.assemble` is an independent check.
 
 #: Poisson's ratio used for the shear modulus G = E / (2 (1 + nu)) of frame
 #: members. G only multiplies the (negligible) torsional constant, so its
@@ -166,7 +166,7 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
 
 
 def build_building(ops, building, *, out_of_plane: float = 1e-6, tag_offset: int = 0) -> list[int]:
-    """Add one pounding :class:`~pounding.framework.model.Building` to the OpenSees domain.
+    """Add one pounding :class:`~pounding.framework.model.scene.Building` to the OpenSees domain.
 
     The model is 3-D (``ndm 3, ndf 6``), in SI units (m, N, kg, s):
 
@@ -305,7 +305,7 @@ def run_transient(
         Master-node displacements (ux [m], uy [m], rz [rad]) relative to the
         ground, row 0 the initial rest state, row k at time k dt.
     """
-    from pounding.framework.model import Building
+    from pounding.framework.model.scene import Building
 
     single = isinstance(scene_or_building, Building)
     buildings = (scene_or_building,) if single else tuple(scene_or_building.buildings)
@@ -364,7 +364,7 @@ def uniform_excitation(ops, ground_motion) -> int:
 
 def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
     if rayleigh is None:
-        from pounding.framework.assembly import assemble, rayleigh_coefficients
+        from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
         pairs = []
         for b in buildings:
@@ -395,7 +395,7 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
     of the springs [N] (negative in compression); the total Newton iterations; the
     clear distance [m].
     """
-    from pounding.framework.assembly import assemble, rayleigh_coefficients
+    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
     low, high = scene.buildings
     ops.wipe()

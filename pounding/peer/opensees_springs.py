@@ -57,7 +57,7 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
     -------
     (masters, nodes, elements, yielding) : master tags per floor, every node tag, every
     element tag, and the link tags of the yielding springs in the order of
-    :func:`pounding.framework.inelastic.spring_set`.
+    :func:`pounding.framework.engine.inelastic.spring_set`.
     """
     from pounding.elements.storey_springs import StoreySprings
 
@@ -130,7 +130,7 @@ def run_springs_transient(
     (ux [m], uy [m], rz [rad]); dict name -> (n_steps + 1, ns) basic force of the
     yielding links [N] (spring_set order); the total Newton iterations.
     """
-    from pounding.framework.assembly import assemble, rayleigh_coefficients
+    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
@@ -191,7 +191,7 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
     (n_steps + 1, common storeys, 2) gap springs' basic force [N] (negative in compression);
     total Newton iterations.
     """
-    from pounding.framework.assembly import assemble, rayleigh_coefficients
+    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
     low, high = scene.buildings
     ops.wipe()

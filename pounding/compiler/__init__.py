@@ -1,0 +1,296 @@
+"""The compiler set-up: numba, loaded only when compiled code first runs.
+
+Every compiled function of the package is declared with :func:`njit`. It returns a
+:class:`Kernel`, a light handle on the plain Python function: numba is imported,
+and the function compiled (or its machine code loaded from the cache), only when
+the function is first called. So importing the package, loading a scene and
+``pounding info`` import no numba and load no machine code, and a run loads only
+the functions it calls. A compiled function that calls another finds the handle
+in its module's globals; numba types it as the dispatcher behind it
+(:func:`_register_typeof`), so calls between compiled functions stay compiled
+calls.
+
+Without numba, or with ``NUMBA_DISABLE_JIT=1``, :func:`njit` returns the
+function itself (``func.py_func is func``): the same arithmetic runs as plain
+Python over numpy arrays.
+
+A function's first call first looks for it in the extension module built at install
+(:mod:`pounding.compiler.prebuilt`): where the module has it for the call's argument types, calls run the
+module's machine code, and numba is not imported at all; any other call goes to numba.
+
+The cache
+---------
+numba keys a cached function on its own source file only: a change in a function
+it calls from another module would leave it stale. The cache folder is therefore
+keyed on the source of every module that declares compiled functions, found by
+scanning the package for ``@njit`` (:func:`compiled_modules`), not by a hand-kept
+list. ``NUMBA_CACHE_DIR``, when set, is numba's and is left alone.
+
+Timing
+------
+:func:`compile_seconds` is the wall time this process has spent compiling (numba's
+``numba:compile`` events, cache loads excluded); :func:`load_seconds` the time spent making
+compiled functions ready (compiling or loading each from the cache before its first call); :func:`on_first_compile` registers a
+callback run once, just before the first compilation (the command line prints that it
+is compiling).
+"""
+
+from __future__ import annotations
+
+import contextlib
+import hashlib
+import importlib.util
+import os
+import re
+from pathlib import Path
+
+from pounding.compiler.cache import PACKAGE_ROOT, cache_dir, cache_key, compiled_modules, enabled  # noqa: F401 - the set-up's public names
+
+#: the package's root folder (``pounding/``)
+
+_KERNELS: list["Kernel"] = []
+_interpreted = [0]  # depth of interpreted() blocks (scene loading: single-threaded)
+_loading = [0]  # inside Kernel._first_call
+_load_time = [0.0]
+_compile_outside = [0.0]  # compile time not inside a first call (a second signature)
+_active = False
+_compile_time = [0.0]
+_first_compile_hooks: list = []
+
+
+
+class Kernel:
+    """A compiled function, compiled on first use.
+
+    Calling it calls the numba dispatcher (compiled once per argument types, cached
+    on disk); ``py_func`` is the plain Python function. Inside :func:`interpreted`,
+    calls run ``py_func`` instead and compile nothing (one-off geometry at scene load).
+    """
+
+    def __init__(self, func):
+        self.py_func = func
+        self._dispatcher = None
+        self._call = None  # what a call runs: the numba dispatcher, or the built extension's entry (pounding.aot)
+        self.__name__ = func.__name__
+        self.__qualname__ = func.__qualname__
+        self.__doc__ = func.__doc__
+        self.__module__ = func.__module__
+        self.__wrapped__ = func
+        _KERNELS.append(self)
+
+    @property
+    def dispatcher(self):
+        """The numba dispatcher (created, with numba imported, on first access)."""
+        if self._dispatcher is None:
+            import numba
+
+            activate()
+            self._dispatcher = numba.njit(cache=True)(self.py_func)
+        return self._dispatcher
+
+    @property
+    def signatures(self) -> list:
+        """The argument types compiled or loaded so far in this process (empty before first use)."""
+        return [] if self._dispatcher is None else list(self._dispatcher.signatures)
+
+    def __call__(self, *args):
+        # the driver calls compiled functions hundreds of times a run: keep this path short
+        if _interpreted[0]:
+            return self.py_func(*args)
+        c = self._call
+        if c is None:
+            c = self._first_call(args)
+        return c(*args)
+
+    def _first_call(self, args):
+        """What calls run from now on: the extension built at install when it has this function
+        (:mod:`pounding.compiler.prebuilt`; its entry checks each call's argument types), else numba's dispatcher,
+        compiled or loaded from the cache for these arguments' types before the first call runs it.
+        Timed apart (:func:`load_seconds`)."""
+        import time
+
+        t0 = time.perf_counter()
+        from pounding.compiler import prebuilt
+
+        exports = prebuilt.lookup(self)
+        _load_time[0] += time.perf_counter() - t0
+        if exports:
+            self._call = _Prebuilt(self, exports)
+            return self._call
+        self._call = self._jit(args)
+        return self._call
+
+    def _jit(self, args):
+        """numba's dispatcher, with the machine code for these arguments' types compiled or loaded."""
+        import time
+
+        t0 = time.perf_counter()
+        d = self.dispatcher
+        if hasattr(d, "compile"):  # not with NUMBA_DISABLE_JIT
+            from numba import typeof
+
+            _loading[0] += 1
+            try:
+                d.compile(tuple(typeof(a) for a in args))
+            except Exception:  # noqa: BLE001 - the call itself reports a typing error, with numba's message
+                pass
+            finally:
+                _loading[0] -= 1
+        _load_time[0] += time.perf_counter() - t0
+        return d
+
+    def __repr__(self) -> str:
+        return f"<compiled function {self.__module__}.{self.__name__}>"
+
+
+class _Prebuilt:
+    """A compiled function's entries in the extension built at install (:mod:`pounding.compiler.prebuilt`): a call
+    whose argument fingerprint the extension was built for runs its entry; any other goes to numba."""
+
+    __slots__ = ("kernel", "exports", "fallback", "call_print")
+
+    def __init__(self, kernel, exports):
+        from pounding.compiler.prebuilt import call_print
+
+        self.kernel, self.exports, self.fallback, self.call_print = kernel, exports, None, call_print
+
+    def __call__(self, *args):
+        f = self.exports.get(self.call_print(args))
+        if f is not None:
+            return f(*args)
+        if self.fallback is None:
+            self.fallback = self.kernel._jit(args)
+        return self.fallback(*args)
+
+
+def njit(func):
+    """Declare ``func`` compiled (numba ``njit(cache=True)``, no fastmath): a :class:`Kernel`,
+    or ``func`` itself (with ``func.py_func = func``) when compiled code is not used."""
+    if not enabled():
+        func.py_func = func
+        return func
+    return Kernel(func)
+
+
+@contextlib.contextmanager
+def interpreted():
+    """Run compiled functions called in this block (and the functions they call) as plain Python.
+
+    For one-off calls from Python where compiling would cost seconds and running
+    interpreted costs microseconds (the rest gaps of a scene's slabs at load)."""
+    _interpreted[0] += 1
+    try:
+        yield
+    finally:
+        _interpreted[0] -= 1
+
+
+def kernels() -> list[Kernel]:
+    """Every compiled function declared so far (by the modules imported so far)."""
+    return list(_KERNELS)
+
+
+
+def activate() -> None:
+    """Import numba and set it up (cache folder, typing of :class:`Kernel`, compile-time listener).
+
+    Called by the first compiled call; idempotent."""
+    global _active
+    if _active:
+        return
+    import numba
+    from numba.core import event
+
+    if not os.environ.get("NUMBA_CACHE_DIR"):
+        folder = cache_dir()
+        if folder is not None:
+            numba.config.CACHE_DIR = folder
+    _register_typeof()
+    event.register("numba:compile", _compile_listener())
+    _active = True
+
+
+def _register_typeof() -> None:
+    from numba.extending import typeof_impl
+
+    @typeof_impl.register(Kernel)
+    def _typeof_kernel(val, c):
+        # a compiled function calling another: type the handle as the dispatcher behind it
+        return typeof_impl(val.dispatcher, c)
+
+
+def _compile_listener():
+    """numba event listener: wall time of outermost compilations (nested ones run inside them)."""
+    import time
+
+    from numba.core import event
+
+    class CompileTimer(event.Listener):
+        depth = 0
+        start = 0.0
+
+        def on_start(self, ev):
+            if self.depth == 0:
+                hooks = list(_first_compile_hooks)
+                _first_compile_hooks.clear()
+                for hook in hooks:
+                    hook()
+                self.start = time.perf_counter()
+            self.depth += 1
+
+        def on_end(self, ev):
+            self.depth -= 1
+            if self.depth == 0:
+                _compile_time[0] += time.perf_counter() - self.start
+                if not _loading[0]:
+                    _compile_outside[0] += time.perf_counter() - self.start
+
+    return CompileTimer()
+
+
+def compile_seconds() -> float:
+    """Wall time [s] this process has spent compiling (cache loads excluded)."""
+    return _compile_time[0]
+
+
+def load_seconds() -> float:
+    """Wall time [s] this process has spent making compiled functions ready: the first call of
+    each (compile or cache load) and any later compilation. Time that is not the solve."""
+    return _load_time[0] + _compile_outside[0]
+
+
+def on_first_compile(callback) -> None:
+    """Run ``callback()`` once, just before this process first compiles (not on cache loads)."""
+    _first_compile_hooks.append(callback)
+
+
+    raise SystemExit(_package_main())
+
+
+def generated_module(folder: str, stem: str, text: str):
+    """Import the generated source ``text`` as module ``_pounding_<stem>`` from ``folder/<stem>.py``.
+
+    The file is (re)written only when its text differs, through a temporary file and an atomic
+    rename, so that concurrent processes never read half a module; numba's cache then keys the
+    module's compiled functions on that file like on any other source. Raises OSError when the
+    folder cannot be written."""
+    import sys
+
+    os.makedirs(folder, exist_ok=True)
+    path = os.path.join(folder, stem + ".py")
+    try:
+        with open(path) as fh:
+            current = fh.read()
+    except OSError:
+        current = None
+    if current != text:
+        tmp = f"{path}.{os.getpid()}.tmp"
+        with open(tmp, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    name = "_pounding_" + stem
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
+    spec.loader.exec_module(module)
+    return module

@@ -1,0 +1,163 @@
+"""The declared interface between the driver and the compiled core.
+
+The compiled entry points (:func:`pounding.framework.engine.kernel.advance`,
+:func:`pounding.framework.engine.kernel.impulses_at`,
+:func:`pounding.framework.engine.held.held_stretch` and the pair queries of
+:mod:`pounding.framework.engine.pairs`) take their arrays in named bundles, one per
+concern, and unpack them on their first line; nothing is indexed by position.
+They answer with a :class:`Status` and log impacts as records of
+:data:`IMPACT_DTYPE`.
+
+Every call site builds a bundle with the same field types (float64 arrays,
+C-contiguous; int64 index arrays; Python floats and bools for scalars), so each
+compiled function has one specialization per run. A bundle's arrays are filled in
+place, never reshaped, re-typed or re-flagged: a bundle with other arrays is a new
+bundle (the extension module built at install checks a bundle's types once,
+:mod:`pounding.aot`).
+
+Shapes: n stacked modes, c ground-motion components, S slabs, P slab pairs,
+nmax the most modes of one building, kmax the most vertices of one slab.
+"""
+
+from __future__ import annotations
+
+from enum import IntEnum
+from typing import NamedTuple
+
+import numpy as np
+
+
+class Status(IntEnum):
+    """Why a compiled stretch stopped (returned with the grid index reached)."""
+
+    #: the last grid step asked for was reached
+    DONE = 0
+    #: a pair touches within the tolerance and closes at the end of the step before the index
+    #: returned: the driver applies the impulses (or, for force laws, steps in Python)
+    CONTACT = 1
+    #: a pair would overlap in the step starting at the index returned; the state is its start
+    OVERLAP = 2
+    #: every held pair was released at the end of the step before the index returned
+    RELEASED = 3
+    #: the kernel applied impulses and a pair's rebounds accumulate (Zeno): hold it
+    HELD = 4
+
+
+#: One impact: an impulse at one point of one slab pair (see :class:`pounding.framework.engine.results.Impact`).
+IMPACT_DTYPE = np.dtype(
+    [
+        ("time", np.float64),  # [s]
+        ("pair", np.int64),  # index in the run's pair list
+        ("striker", np.int64),  # 0: a vertex of the pair's first slab hit, 1: the second's
+        ("vertex", np.int64),  # striking vertex in its polygon, -1 face to face
+        ("impulse", np.float64),  # [N s]
+        ("nx", np.float64),  # unit normal from the first slab towards the second
+        ("ny", np.float64),
+        ("approach_velocity", np.float64),  # closing speed before the impact [m/s]
+        ("energy_loss", np.float64),  # kinetic energy lost [J]
+        ("px", np.float64),  # contact point in plan [m]
+        ("py", np.float64),
+    ]
+)
+
+
+class PairArrays(NamedTuple):
+    """Every slab pair that shares a level, as flat arrays (see :mod:`pounding.framework.engine.pairs`)."""
+
+    pa: np.ndarray  #: (P, 2) int64, (building, storey) of the pair's first slab
+    pb: np.ndarray  #: (P, 2) int64, of its second slab
+    rows: np.ndarray  #: (S, 3, nmax), Phi rows (u, v, phi) of every slab over its building's modes
+    off: np.ndarray  #: (n_buildings,) int64, slab index of a building's first storey
+    n_modes: np.ndarray  #: (n_buildings, 2) int64, first stacked mode and mode count of each building
+    verts: np.ndarray  #: (S, kmax, 2) rest polygons [m]
+    nvert: np.ndarray  #: (S,) int64 vertex counts
+    centres: np.ndarray  #: (S, 2) centres of mass [m]
+    radii: np.ndarray  #: (S,) largest distance of a vertex from the centre [m]
+    rest: np.ndarray  #: (P,) signed gap at rest [m]
+    axis: np.ndarray  #: (P, 2) unit direction a -> b of the closest points at rest (zeros: none)
+    #: (S + V, 2) int64, the real slabs whose rows make up a slab's contact row (-1: none, the
+    #: ground): (s, -1) for a real slab, the floors below and above for a facade slab
+    floors: np.ndarray
+    weights: np.ndarray  #: (S + V, 2) their weights: (1, 0), or the storey shape's (N1, N2)
+
+
+class Modes(NamedTuple):
+    """The stacked modal model and its load."""
+
+    L: np.ndarray  #: (n, c) modal load per unit ground acceleration: p_i = -sum_j L[i, j] ag_j
+    c2: np.ndarray  #: (n,) 2 zeta omega [1/s]
+    om2: np.ndarray  #: (n,) omega^2 [1/s^2]
+    bidx: np.ndarray  #: (n,) int64, building of every mode
+    slab_building: np.ndarray  #: (S,) int64, building of every slab
+
+
+class Ground(NamedTuple):
+    """The ground acceleration on the time grid."""
+
+    dt: float  #: grid step [s]
+    ag: np.ndarray  #: (nsteps + 1, c) ground acceleration [m/s^2]
+
+
+class Transition(NamedTuple):
+    """An integrator's per-mode step of the grid step and its energy rule (see ``_accumulate_forces``)."""
+
+    A: np.ndarray  #: (n, 3, 3)
+    B: np.ndarray  #: (n, 3, 2)
+    GA: np.ndarray  #: (nq, n, 3, 3) transitions to the quadrature points c_j dt
+    GB: np.ndarray  #: (nq, n, 3, 2)
+    gc: np.ndarray  #: (nq,) quadrature points on [0, 1]
+    gw: np.ndarray  #: (nq,) quadrature weights
+    WA1: np.ndarray  #: (n, 4) closed-form work integrals (shape (0, 4) without them)
+    WA2: np.ndarray  #: (n, 4)
+    WM: np.ndarray  #: (n, 4, 4)
+
+
+class Recorder(NamedTuple):
+    """What a run records, written in place."""
+
+    every: int  #: output rate: the state at grid index k is stored in Q[k // every] when k % every == 0
+    Q: np.ndarray  #: (n_out, n) modal displacements
+    V: np.ndarray  #: (n_out, n) modal velocities
+    E: np.ndarray  #: (n_buildings, 3) ground-motion work, damping work, contact-force work [J]
+    peak: np.ndarray  #: (S, 3) running peak |u|, |v|, |phi| of every slab (updated when every > 1)
+
+
+class Settings(NamedTuple):
+    """The contact decisions of a run."""
+
+    tol: float  #: contact tolerance [m]: a step ending with a gap <= tol is contact
+    overlap: float  #: gap [m] below which a step is rejected: -tol (impulse laws), 0 (force laws)
+    v_min: float  #: closing speed [m/s] below which a touching point is not approaching (rounding)
+    #: Newton restitution the kernel applies itself (a law declaring ``compiled_impulses``), -1: the driver does
+    restitution: float
+    after_eq: bool  #: after impulses, reset the accelerations to equilibrium
+    #: the ``crossing`` locator: a step with a pair that ends below ``overlap`` (-eps, rounding) or may
+    #: graze inside it (:func:`pounding.framework.engine.crossing.suspect`) goes to the driver; a pair within
+    #: the tolerance at a step's end is not struck there
+    instant: bool = False
+
+
+class EventLog(NamedTuple):
+    """Buffers the compiled code appends impacts and event states to; the driver drains them."""
+
+    impacts: np.ndarray  #: (cap,) IMPACT_DTYPE
+    n_impacts: np.ndarray  #: (1,) int64
+    t: np.ndarray  #: (cape,) times of impact instants [s]
+    q: np.ndarray  #: (cape, n) modal displacements just before the impulses
+    v: np.ndarray  #: (cape, n) modal velocities just before the impulses
+    n_events: np.ndarray  #: (1,) int64
+    last_t: np.ndarray  #: (1,) time of the last event state recorded [s] (-inf: none)
+    zeno: np.ndarray  #: (P,) bool, pairs whose rebound is too slow to open the tolerance in a step
+
+    @classmethod
+    def empty(cls, n: int, n_pairs: int, max_features: int, cap_events: int = 64) -> "EventLog":
+        return cls(
+            np.zeros(cap_events * max(n_pairs, 1) * max_features, dtype=IMPACT_DTYPE),
+            np.zeros(1, dtype=np.int64),
+            np.zeros(cap_events),
+            np.zeros((cap_events, n)),
+            np.zeros((cap_events, n)),
+            np.zeros(1, dtype=np.int64),
+            np.full(1, -np.inf),
+            np.zeros(n_pairs, dtype=np.bool_),
+        )

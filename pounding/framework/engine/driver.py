@@ -1,0 +1,1126 @@
+"""The analysis driver: owns time, never physics.
+
+It steps every building with the chosen integrator in modal coordinates (see
+:mod:`pounding.solvers.base` for why that is exact here), lets the compiled
+kernel run the stretches where no slabs touch, and handles contact events in
+Python:
+
+* a step that ends with a pair overlapping is taken again from its start with
+  a shorter step until the pair touches within the tolerance (``halving``, the
+  paper), or with the root of the gap function (``root``, Brent's method);
+* at contact, approaching features get impulses from the contact law, all the
+  pairs linked through a shared building solved together (a building struck
+  from both sides at once), and the rest of the step is integrated with the
+  new velocities;
+* a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
+  that stays pressed together is switched to *sustained contact*: a rigid
+  unilateral constraint force solved implicitly with each step, released when
+  the force would pull;
+* force laws (penalty) get the end-of-step gaps and their compliances and
+  return forces, solved implicitly with the step.
+
+Everything the run needs lives in objects created here; nothing is global.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pounding import compiler
+from pounding.contact import geometry as geo
+from pounding.contact.geometry import MAX_FEATURES
+from pounding.framework.model.assembly import System, assemble
+from pounding.framework.model.levels import common_levels
+from pounding.framework.model.units import G
+from pounding.framework.engine import held as hold
+from pounding.framework.engine import pairs as pg
+from pounding.framework.engine.bundles import EventLog, Ground, Modes, PairArrays, Recorder, Settings, Status, Transition
+from pounding.framework.model.scene import Scene
+from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
+from pounding.framework.engine.results import Impact, Result
+from pounding.solvers.base import TransitionCache
+
+MAX_EVENTS_PER_STEP = 64  # bounded work per step: beyond this the pair is held in sustained contact
+
+
+@dataclass
+class Feature:
+    """One touching feature of a slab pair, with its modal row w (ntot,)."""
+
+    pair: int
+    point: np.ndarray
+    normal: np.ndarray  # unit, from slab a towards slab b
+    striker: int  # 0: a vertex of slab a hits, 1: a vertex of slab b hits
+    vertex: int  # index in the striking slab's polygon, -1 face to face
+    gap: float
+    w: np.ndarray = field(repr=False)
+
+
+@dataclass
+class Step:
+    """A trial step: the start state it used, its end state, and the modal contact force at both ends.
+
+    ``z0`` differs from the driver's state only in the acceleration, made consistent with ``f0``
+    when a pair is held in sustained contact.
+    """
+
+    z0: np.ndarray
+    z1: np.ndarray
+    f0: np.ndarray
+    f1: np.ndarray
+    sp: object = None  # the yielding springs' trial (:class:`pounding.framework.engine.yielding.SpringTrial`)
+
+
+class Model:
+    """The stacked modal model of all buildings and their slab pairs (read-only during a run)."""
+
+    def __init__(self, scene: Scene, systems: list[System] | None = None):
+        self.scene = scene
+        self.systems = systems or [assemble(b) for b in scene.buildings]
+        gm = scene.ground_motion
+        # one column of L per ground-motion component: L (n, c), p = -L @ ag (c = 1 or 2)
+        self.directions = np.asarray(gm.directions(), dtype=float).reshape(-1, 2)
+        sizes = [s.n_dof for s in self.systems]
+        self.mode_start = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.n = int(sum(sizes))
+        self.omega = np.concatenate([s.omega for s in self.systems])
+        self.zeta = np.concatenate([s.zeta for s in self.systems])
+        self.c2 = 2.0 * self.zeta * self.omega
+        self.om2 = self.omega**2
+        #: (n, c) modal load per unit ground acceleration of each component, p = -L ag
+        self.L = np.ascontiguousarray(np.stack(
+            [np.concatenate([s.participation(s.influence(d)) for s in self.systems]) for d in self.directions], axis=1))
+        self.bidx = np.concatenate([[i] * n for i, n in enumerate(sizes)]).astype(np.int64)
+        # slabs, numbered building by building
+        self.slab_off = np.concatenate([[0], np.cumsum([s.n_storeys for s in self.systems])[:-1]]).astype(np.int64)
+        slabs = [(b, f, slab) for b, s in enumerate(self.systems) for f, slab in enumerate(s.slabs)]
+        nmax, kmax = max(sizes), max(len(sl.vertices) for _, _, sl in slabs)
+        S = len(slabs)
+        self.rows = np.zeros((S, 3, nmax))
+        self.verts = np.zeros((S, kmax, 2))
+        self.nvert = np.zeros(S, dtype=np.int64)
+        self.centres = np.zeros((S, 2))
+        self.radii = np.zeros(S)
+        for s, (b, f, slab) in enumerate(slabs):
+            self.rows[s, :, : sizes[b]] = self.systems[b].modes[3 * f : 3 * f + 3, :]
+            k = len(slab.vertices)
+            self.verts[s, :k] = slab.vertices
+            self.nvert[s] = k
+            self.centres[s] = slab.centre
+            self.radii[s] = slab.radius
+        self.n_modes = np.stack([self.mode_start, np.array(sizes, dtype=np.int64)], axis=1)
+        self.slab_building = np.array([b for b, _, _ in slabs], dtype=np.int64)
+        self.pairs = self._pairs()
+        #: facade slabs of the pairs where a slab strikes a neighbour between its floors:
+        #: {pair index: :class:`~pounding.framework.model.facade.Facade`}
+        self.facades = {}
+        pa = [[a, fa] for a, fa, _, _, _ in self.pairs]
+        pb = [[b, fb] for _, _, b, fb, _ in self.pairs]
+        axes = [self._rest_axis(p) for p in range(len(self.pairs))]
+        # the pair arrays hold the facade slabs after the real ones (slab index S + v: a pair's
+        # "storey" there is S + v - off[building]); the real slabs' arrays stay as they are
+        facades = self._facades()
+        V = len(facades)
+        grows = np.zeros((S + V, 3, nmax))
+        grows[:S] = self.rows
+        gverts = np.zeros((S + V, kmax, 2))
+        gverts[:S] = self.verts
+        gnvert, gcentres, gradii = np.zeros(S + V, dtype=np.int64), np.zeros((S + V, 2)), np.zeros(S + V)
+        gnvert[:S], gcentres[:S], gradii[:S] = self.nvert, self.centres, self.radii
+        floors = np.full((S + V, 2), -1, dtype=np.int64)
+        floors[:S, 0] = np.arange(S)
+        weights = np.zeros((S + V, 2))
+        weights[:S, 0] = 1.0
+        for v, (a, fa, F) in enumerate(facades):
+            s = S + v
+            grows[s, :, : sizes[F.building]] = F.rows
+            gverts[s, : len(F.vertices)] = F.vertices
+            gnvert[s], gcentres[s], gradii[s] = len(F.vertices), F.centre, F.radius
+            top = int(self.slab_off[F.building]) + F.storey
+            floors[s] = (top - 1 if F.storey > 0 else -1, top)
+            weights[s] = F.shape
+            A = self.systems[a].slabs[fa].vertices
+            rest = geo.rest_gap(A, F.vertices)
+            self.facades[len(self.pairs)] = F
+            self.pairs.append((a, fa, F.building, F.storey, rest))
+            pa.append([a, fa])
+            pb.append([F.building, s - int(self.slab_off[F.building])])
+            axes.append(pg.rest_axis(np.asarray(A, float), F.vertices, rest))
+        self.geo = PairArrays(
+            np.array(pa, dtype=np.int64).reshape(-1, 2),
+            np.array(pb, dtype=np.int64).reshape(-1, 2),
+            grows, self.slab_off, self.n_modes, gverts, gnvert, gcentres, gradii,
+            np.array([g for *_, g in self.pairs], dtype=float),
+            np.array(axes, dtype=float).reshape(-1, 2),
+            floors, weights,
+        )
+        self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
+        self.modes = Modes(self.L, self.c2, self.om2, self.bidx, self.slab_building)
+
+    def _pairs(self) -> list[tuple[int, int, int, int, float]]:
+        """Slab pairs at a common level: (building a, storey a, building b, storey b, rest gap).
+
+        The rest gaps run interpreted (0.4 ms a pair): loading the compiled gap would cost more."""
+        out = []
+        if self.scene.analysis.contact == "none":
+            return out
+        for a, sa in enumerate(self.systems):
+            for b in range(a + 1, len(self.systems)):
+                for fa, fb in common_levels(sa, self.systems[b]):
+                    out.append((a, fa, b, fb, geo.rest_gap(sa.slabs[fa].vertices, self.systems[b].slabs[fb].vertices)))
+        return out
+
+    def _facades(self) -> list:
+        """(building a, storey a, Facade) for every slab whose level lies strictly between two
+        floors of another building, below its roof (:mod:`pounding.framework.model.facade`)."""
+        from pounding.framework.model.facade import facade
+
+        out = []
+        if self.scene.analysis.contact == "none":
+            return out
+        for a, sa in enumerate(self.systems):
+            for fa, slab in enumerate(sa.slabs):
+                for b, sb in enumerate(self.systems):
+                    if b != a:
+                        F = facade(sb, b, slab.elevation)
+                        if F is not None:
+                            out.append((a, fa, F))
+        return out
+
+    def _rest_axis(self, p: int) -> np.ndarray:
+        a, fa, b, fb, rest = self.pairs[p]
+        sa, sb = self.slab_index(a, fa), self.slab_index(b, fb)
+        return pg.rest_axis(self.verts[sa, : self.nvert[sa]], self.verts[sb, : self.nvert[sb]], rest)
+
+    def local_stiffness(self, pair: np.ndarray, points: np.ndarray, normals: np.ndarray) -> np.ndarray:
+        """Local stiffness [N/m] (m,) of the element struck at every contact point (m, 2) [m] with
+        unit normal (m, 2) of the pairs ``pair`` (m,): the column or wall a slab strikes between a
+        neighbour's floors (:func:`pounding.framework.model.facade.local_stiffness`), inf at a slab."""
+        from pounding.framework.model.facade import struck
+
+        out = np.full(len(pair), np.inf)
+        for j, p in enumerate(np.asarray(pair).tolist()):
+            F = self.facades.get(p)
+            if F is None:
+                continue
+            levels = [0.0] + [s.elevation for s in self.systems[F.building].slabs]
+            out[j] = struck(self.scene.buildings[F.building], F.storey, F.height - levels[F.storey], points[j], normals[j])[2]
+        return out
+
+    def update_peaks(self, z0: np.ndarray, z1: np.ndarray, h: float, peak: np.ndarray) -> None:
+        """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab over a step of h [s] between the
+        modal states z0, z1 (n, 3) (:func:`pounding.framework.engine.kernel.update_peaks`; h = 0: at z1)."""
+        from pounding.framework.engine.kernel import update_peaks
+
+        update_peaks(self.rows, np.ascontiguousarray(z0, dtype=float), np.ascontiguousarray(z1, dtype=float), float(h),
+                     self.n_modes, self.slab_building, peak)
+
+    def energy(self, z: np.ndarray, E: np.ndarray) -> dict:
+        """Energy account per building [J]: the work E (n_buildings, 3) booked by a run, and the
+        kinetic and strain energy of the modal state z (n, 3)."""
+        out = {}
+        for i, s in enumerate(self.systems):
+            sl = slice(self.mode_start[i], self.mode_start[i] + s.n_dof)
+            out[s.name] = {
+                "input": float(E[i, 0]),
+                "damping": float(E[i, 1]),
+                "contact_forces": float(E[i, 2]),
+                "kinetic": float(0.5 * np.sum(z[sl, 1] ** 2)),
+                "strain": float(0.5 * np.sum((s.omega * z[sl, 0]) ** 2)),
+            }
+        return out
+
+    def slab_index(self, building: int, storey: int) -> int:
+        return int(self.slab_off[building] + storey)
+
+    def slab_dofs(self, x: np.ndarray, building: int, storey: int) -> np.ndarray:
+        """(u, v, phi) of a slab from a stacked modal vector x (ntot,)."""
+        i0, n = self.mode_start[building], self.systems[building].n_dof
+        return self.rows[self.slab_index(building, storey), :, :n] @ x[i0 : i0 + n]
+
+    def pair_gap(self, q: np.ndarray, p: int, cutoff: float | None = None) -> float:
+        """Signed gap [m] of pair p for modal displacements q.
+
+        With ``cutoff``, a cheap lower bound (rest gap minus the relative motion of the
+        slabs, :func:`~pounding.contact.geometry.clearance_bound`) is returned whenever it exceeds the
+        cutoff: callers that only compare the gap with thresholds <= cutoff get the same
+        answers without the polygon test.
+        """
+        return float(pg.pair_gap(np.ascontiguousarray(q), p, np.inf if cutoff is None else float(cutoff), self.geo))
+
+    def gaps(self, q: np.ndarray, plist: np.ndarray, cutoff: float | None = None) -> np.ndarray:
+        """Signed gaps [m] of the pairs ``plist`` (int array), lower bounds above ``cutoff``."""
+        return pg.pair_gaps(np.ascontiguousarray(q), plist, np.inf if cutoff is None else float(cutoff), self.geo)
+
+    def touching(self, q: np.ndarray, plist: np.ndarray, tol: float, deep: bool = False):
+        """Touching features of the pairs ``plist``, stacked: (pair (m,), gap (m,), W (m, n), Q, N (m, 2))."""
+        return pg.features_of(np.ascontiguousarray(q), plist, float(tol), bool(deep), self.n, self.geo)
+
+    def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
+        """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.
+
+        d gap = w . dq, and an impulse pair I pushing the slabs apart changes q' by w I.
+        """
+        return pg.pair_row(np.ascontiguousarray(q, dtype=float), p, float(point[0]), float(point[1]), float(normal[0]), float(normal[1]), self.geo)
+
+    def features(self, q: np.ndarray, p: int, tol: float) -> list[Feature]:
+        count, Q, N, gap, who, idx, face, W = pg.pair_features(np.ascontiguousarray(q), p, float(tol), self.n, self.geo)
+        return [
+            Feature(p, Q[j].copy(), N[j].copy(), int(who[j]), -1 if face[j] >= 0 else int(idx[j]), float(gap[j]), W[j].copy())
+            for j in range(count)
+        ]
+
+
+class Driver:
+    """One run: state, events and records. Create, call :meth:`run`, read :attr:`result`."""
+
+    def __init__(self, scene: Scene, *, model: Model | None = None, progress=None, use_kernel: bool = True):
+        self.scene = scene
+        an = scene.analysis
+        self.model = model or Model(scene)
+        gm = scene.ground_motion
+        self.gm = gm
+        from pounding.framework.engine.integrator_choice import chosen_integrator
+        from pounding.framework.engine.timestep import default_dt
+
+        integrator = chosen_integrator(scene)
+        # without a dt the step is chosen for accuracy from the significant modes (pounding.framework.engine.timestep)
+        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, integrator))
+        duration = float(an.duration or gm.duration)
+        # cover the whole requested duration: a duration that is not a multiple of dt ends on
+        # the first grid point at or after it (summary.json reports the duration covered)
+        self.nsteps = max(1, int(np.ceil(duration / self.dt - 1e-9)))
+        self.every = an.output_every
+        self.integrator = INTEGRATORS.get(integrator)(**an.integrator_params)
+        self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+        self.tol = float(self.law.tolerance)
+        #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
+        #: resting contact and chatter (see :mod:`pounding.framework.engine.crossing`)
+        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        # the crossing locator's one-off step lengths take the integrator's partial maps (equal to
+        # rounding, cheaper); the paper's locators keep transition() to the bit
+        self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta, grid_dt=self.dt, partial=self.crossing)
+        self.t_grid = np.arange(self.nsteps + 1) * self.dt
+        # (nsteps + 1, c): one column per ground-motion component
+        self.ag = np.ascontiguousarray(np.asarray(gm.samples(self.t_grid), dtype=float).reshape(self.nsteps + 1, -1))
+        if self.ag.shape[1] != self.model.L.shape[1]:
+            raise ValueError(f"the ground motion has {self.ag.shape[1]} components, the modal load {self.model.L.shape[1]}")
+        self.progress = progress
+        self.use_kernel = use_kernel
+        #: the record (times (m,), accelerations (m, c)) when it is interpolated linearly, as ag_at and
+        #: the compiled impact search read it (pounding.framework.engine.event_search.record_at); else None
+        self.record = _record_arrays(gm, self.ag.shape[1])
+        #: the record for the compiled impact search of ``exact``, or None where the driver's own search runs
+        self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
+        n = self.model.n
+        self.z = np.zeros((n, 3))
+        self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
+        n_out = self.nsteps // self.every + 1
+        self.Q = np.zeros((n_out, n))
+        self.V = np.zeros((n_out, n))
+        self.E = np.zeros((len(self.model.systems), 3))  # ground work, damping work, contact-force work [J]
+        self.impacts: list[Impact] = []
+        self.event_states: list[tuple[float, np.ndarray, np.ndarray]] = []  # (t, q, q' before the impulses)
+        self.sustained: set[int] = set()
+        self.python_step_until_clear = False  # step in Python until every pair is clear of the tolerance
+        # A closing speed below this is rounding, not an impact: it would close less than a
+        # billionth of the contact tolerance in a step (identical buildings moving in phase).
+        self.v_min = 1e-9 * self.tol / self.dt
+        #: [m] the gap up to which a held pair's point touches: the held contact's resolution with the
+        #: crossing locator (pounding.framework.engine.held.touch_gap), every point within the tolerance else
+        self.touch = float(hold.touch_gap.py_func(self.tol)) if self.crossing else np.inf
+        # Peaks at every step, whatever the output rate (the recorded arrays may be thinned).
+        self.peak = np.zeros((len(self.model.slab_building), 3))
+        self.events_in_step = 0
+        self.n_located = 0
+        self._quad: dict = {}
+        self._ag_memo: dict[float, np.ndarray] = {}
+        self._load_memo: dict[float, np.ndarray] = {}
+        # the bundles the compiled core takes (see pounding.framework.engine.bundles)
+        self.ground = Ground(self.dt, self.ag)
+        self.rec = Recorder(int(self.every), self.Q, self.V, self.E, self.peak)
+        # contact "none": no pair is watched
+        self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
+        compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
+        #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
+        #: below which the signed gap is not continuous
+        self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
+        self.settings = Settings(
+            self.tol, 0.0 if self.law.kind == "force" else (-self.eps if self.crossing else -self.tol), float(self.v_min),
+            -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
+            bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
+        )
+        #: the compiled stretches' rules (kernel.advance): None with the crossing locator, else the paper's;
+        #: each compiles only its own branch
+        self.rules = None if self.crossing else np.True_
+        self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
+        self.timings = {"compile_s": 0.0, "load_s": 0.0}
+        from pounding.framework.engine.yielding import Yielding
+
+        #: yielding storey springs (None: every building elastic). Their stretches between contact
+        #: events run compiled (:meth:`Yielding.advance`); every contact step is the Python step.
+        self.springs = Yielding.of(scene, self.model)
+        if self.springs is not None:
+            ns = self.springs.size
+            # spring deformation [m], force [N] and the law's dissipated energy [J] at the output rows
+            self.spring_hist = np.zeros((3, n_out, ns))
+
+    # ---------------------------------------------------------------- stepping
+    def _compiled_search(self) -> bool:
+        """Whether the whole impact search can run compiled: ``exact`` with its compiled one-off
+        transition (the one the cache builds)."""
+        from pounding.compiler import Kernel
+        from pounding.solvers.exact import Exact
+        from pounding.solvers.exact_partial import exact_transition
+
+        return isinstance(exact_transition, Kernel) and type(self.integrator).partial_transition is Exact.partial_transition
+
+    def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
+        """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
+        tr = self.cache(h)
+        p0 = self.load(t) + f0
+        p1 = self.load(t + h) if f1 is None else self.load(t + h) + f1
+        return hold.step(tr.A, tr.B, np.ascontiguousarray(z), p0, p1)
+
+    def snap(self, h: float) -> float:
+        """h [s], or the dyadic fraction m dt / 2**20 it differs from by rounding only (1e-10 dt).
+
+        The rest of a grid step after a located impact is t_end - t, which differs in the
+        last bits from one event to the next for the same fraction of dt: snapping gives
+        one transition per distinct step size, and steps that end exactly on the grid.
+        """
+        x = h / self.dt * 1048576.0
+        m = float(int(x + 0.5))
+        if m > 0 and abs(x - m) <= 1e-4:
+            return m / 1048576.0 * self.dt
+        return h
+
+    def load(self, t: float) -> np.ndarray:
+        """Modal ground-motion load p = -L ag(t) (n,) [N/kg^0.5], summed over the components
+        in the compiled core's order (:func:`pounding.framework.engine.kernel.modal_load`).
+
+        An event asks for the loads at a few instants a dozen times (its trials, steps, impulses and
+        energy): they are formed once per instant. Callers only read the array."""
+        key = float(t)
+        p = self._load_memo.get(key)
+        if p is not None:
+            return p
+        L, ag = self.model.L, self.ag_at(t)
+        p = L[:, 0] * -ag[0]
+        for j in range(1, L.shape[1]):
+            p += L[:, j] * -ag[j]
+        if len(self._load_memo) > 64:
+            self._load_memo.clear()
+        self._load_memo[key] = p
+        return p
+
+    def ag_at(self, t: float) -> np.ndarray:
+        """Ground acceleration (c,) [m/s^2] at time t (the grid samples at grid times)."""
+        k = t / self.dt
+        kr = int(k + 0.5)
+        if abs(k - kr) < 1e-9 and 0 <= kr <= self.nsteps:
+            return self.ag[kr]
+        # an event's instant is asked for by its step, its energy, its impulses and the next step: the
+        # record is interpolated once per instant (callers only read it, as the grid rows above)
+        key = float(t)
+        ag = self._ag_memo.get(key)
+        if ag is None:
+            if len(self._ag_memo) > 64:
+                self._ag_memo.clear()
+            if self.record is not None:  # the compiled impact search's own interpolation (the same numbers)
+                from pounding.framework.engine.event_search import record_at
+
+                ag = self._ag_memo[key] = record_at(key, *self.record)
+            else:  # (writable, like the grid rows: a read-only array would be another type for the compiled core)
+                ag = self._ag_memo[key] = np.asarray(self.gm.samples(t), dtype=float).reshape(-1)
+        return ag
+
+    def quadrature(self, h: float):
+        """Energy quadrature for a step of h: (transitions to the points, points, weights)."""
+        nq = self.integrator.energy_nodes
+        if nq == 0:
+            return [], np.zeros(0), np.zeros(0)
+        x, w = np.polynomial.legendre.leggauss(nq)
+        c, w = 0.5 * (x + 1.0), 0.5 * w
+        return [self.cache(cj * h) for cj in c], c, w
+
+    def accumulate(self, z0, z1, t, h, f0, f1):
+        """Add one step's input, damping and contact-force work [J] to the energy audit."""
+        from pounding.framework.engine.kernel import _accumulate_forces
+
+        if not h > 0.0:  # an impact located at the step's very start: a step of no length books nothing
+            return
+        _accumulate_forces(self.transition(h), self.model.modes, float(h), self.ag_at(t), self.ag_at(t + h),
+                           np.ascontiguousarray(z0), np.ascontiguousarray(z1), np.ascontiguousarray(f0, dtype=float),
+                           np.ascontiguousarray(f1, dtype=float), self.E)
+
+    def transition(self, h: float) -> Transition:
+        """The integrator's step of h and its energy rule, as the compiled core takes them.
+
+        Closed-form work integrals when the integrator has them (``work_maps``), else Gauss
+        points on its own trajectory (``energy_nodes``), else the trapezoidal rule.
+        """
+        key = float(h)
+        out = self._quad.get(key)
+        if out is None:
+            n = self.model.n
+            work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
+            maps = work(self.cache.omega, self.cache.zeta, h) if np.all(self.model.omega > 0) else None
+            if maps is not None:
+                WA1, WA2, WM = maps
+                trs, gc, gw = [], np.zeros(0), np.zeros(0)
+            else:
+                WA1, WA2, WM = np.zeros((0, 4)), np.zeros((0, 4)), np.zeros((0, 4, 4))
+                trs, gc, gw = self.quadrature(h)
+            GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
+            GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+            if len(self._quad) > 256:
+                self._quad.clear()
+            tr = self.cache(h)
+            out = self._quad[key] = Transition(
+                np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), GA, GB, np.asarray(gc, dtype=float), np.asarray(gw, dtype=float),
+                np.ascontiguousarray(WA1, dtype=float), np.ascontiguousarray(WA2, dtype=float), np.ascontiguousarray(WM, dtype=float),
+            )
+        return out
+
+    def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
+        """Signed gaps of the pairs [m] (lower bounds where they exceed ``cutoff``)."""
+        plist = self.model.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)
+        return self.model.gaps(q, plist, cutoff)
+
+    # ---------------------------------------------------------------- the run
+    def run(self) -> Result:
+        """Integrate the whole record; the solve is timed apart from loading and compiling the core."""
+        tc0 = compiler.compile_seconds()
+        t_load = time.perf_counter()
+        self.prepare()
+        t0 = time.perf_counter()
+        self.timings["load_s"] = t0 - t_load
+        tl1 = compiler.load_seconds()
+        k = 0
+        self._record(0)
+        if self.model.pairs and self.law.kind != "none":
+            g0 = self.gaps(self.z[:, 0])
+            if np.any(g0 <= self.tol):
+                self.python_step_until_clear = True
+        while k < self.nsteps:
+            if self.use_kernel and self.sustained and self.law.kind == "impulse" and self.springs is None:
+                k_end = min(self.nsteps, k + 4096)
+                k_new, status, _ = self.advance_held(k, k_end)
+            elif self.needs_python(k):
+                self.python_step(k)
+                k += 1
+                continue
+            else:
+                k_end = min(self.nsteps, k + 4096)
+                k_new, status, _ = self.advance(k, k_end)
+            self.drain_kernel_events()
+            status = Status(status)
+            if status in (Status.DONE, Status.RELEASED):
+                k = k_new
+            elif status == Status.HELD:  # the kernel applied impulses and a pair's rebounds accumulate: hold it
+                self.sustained.update(int(p) for p in np.flatnonzero(self.log.zeno))
+                self.log.zeno[:] = False
+                k = k_new
+            elif status == Status.CONTACT:  # at the end of step k_new - 1 (a closing pair within the tolerance)
+                self.contact_at(self.t_grid[k_new])
+                self._record(k_new)  # with the velocities after the impulses, as a Python step records
+                k = k_new
+                if self.law.kind == "force":
+                    self.python_step_until_clear = True
+            else:  # OVERLAP in step k_new -> k_new + 1: the state is its start
+                self.python_step(k_new)
+                k = k_new + 1
+            if self.progress:
+                self.progress(k, self.nsteps)
+        # compiling or loading a function first needed by an event is not solve time
+        loaded_in_loop = compiler.load_seconds() - tl1
+        runtime = time.perf_counter() - t0 - loaded_in_loop
+        self.timings["compile_s"] = compiler.compile_seconds() - tc0
+        self.timings["load_s"] += loaded_in_loop
+        return self.result(runtime)
+
+    def prepare(self) -> None:
+        """Compile, or load from the cache, the compiled stretch this run starts with (a call over
+        no steps), so that the solve is timed without it."""
+        if self.use_kernel:
+            self.advance(0, 0)
+
+    def result(self, runtime: float) -> Result:
+        """The run's :class:`Result` (``runtime`` [s]: the solve)."""
+        m = self.model
+        k_out = np.arange(0, self.nsteps + 1, self.every)
+        gm = self.gm
+        ne = len(self.event_states)
+        return Result(
+            t=self.t_grid[k_out],
+            names=[s.name for s in m.systems],
+            q=self.Q,
+            qd=self.V,
+            systems=m.systems,
+            mode_start=m.mode_start,
+            pairs=m.pairs,
+            impacts=self.impacts,
+            geo=m.geo,
+            facades=m.facades,
+            buildings=self.scene.buildings,
+            energy=self.energy(),
+            runtime_s=runtime,
+            dt=self.dt,
+            steps=self.nsteps,
+            integrator=self.integrator.describe(),
+            contact=self.law.describe(),
+            ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / G, "angle": gm.angle},
+            info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
+                  # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
+                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)},
+                  "pair_checks": self._pair_checks()},
+            energy_tolerance=self.scene.analysis.energy_tolerance,
+            slab_peaks=self.peak.copy() if self.every > 1 else None,
+            springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
+            event_t=np.array([e[0] for e in self.event_states]),
+            event_q=np.array([e[1] for e in self.event_states]).reshape(ne, m.n),
+            event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
+            timings={"load_and_compile_s": self.timings["load_s"], "compile_s": self.timings["compile_s"], "solve_s": runtime},
+            intra_step=self.intra_step(),
+        )
+
+    def intra_step(self):
+        """The integrator's own solution inside a step for the true peaks
+        (:class:`pounding.framework.engine.peaks.ExactIntraStep`), or None: the Hermite cubic."""
+        if self.integrator.name != "exact" or self.springs is not None or self.law.kind == "force":
+            return None
+        from pounding.framework.engine.peaks import ExactIntraStep
+
+        return ExactIntraStep(self.integrator, self.model.omega, self.model.zeta, self.model.L, self.ag, self.dt)
+
+    def _pair_checks(self) -> dict:
+        """How many pair checks the clearance bound settles, counted on the recorded states
+        (:func:`pounding.framework.engine.screening.bound_screening`; none watched with contact off)."""
+        from pounding.framework.engine.screening import bound_screening
+
+        return bound_screening(self.kgeo, self.Q, self.tol)
+
+    def energy(self) -> dict:
+        """The energy account per building [J] (:meth:`Model.energy`); with yielding springs, strain
+        is what the springs store and ``hysteretic`` what they dissipated: their whole work (the
+        elastic part k0 u^2/2 in the modal strain plus the remainders' work) minus what they store."""
+        out = self.model.energy(self.z, self.E)
+        if self.springs is None:
+            return out
+        for i, s in enumerate(self.model.systems):
+            e = self.springs.energy(i, self.z[:, 0], s.omega, int(self.model.mode_start[i]))
+            out[s.name]["strain"] += e["stored"] - e["elastic_springs"]
+            out[s.name]["hysteretic"] = e["hysteretic"]
+        return out
+
+    def needs_python(self, k: int) -> bool:
+        if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
+            return True
+        if self.python_step_until_clear:
+            if self.model.pairs and np.all(self.gaps(self.z[:, 0], cutoff=self.tol) > self.tol):
+                self.python_step_until_clear = False
+                return False
+            return True
+        return False
+
+    def advance(self, k0: int, k1: int):
+        """Free grid steps k0 -> k1, compiled (:func:`pounding.framework.engine.kernel.advance`)."""
+        from pounding.framework.engine.kernel import advance, advance_free
+
+        if self.springs is not None:  # yielding springs: their own stretch, stopping before any contact
+            return self.springs.advance(self, k0, k1)
+        if self.kgeo.pa.shape[0] == 0:  # nothing to watch: no contact code
+            return advance_free(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo)
+        return advance(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo,
+                       self.settings, self.log, self.rules)
+
+    def drain_kernel_events(self) -> None:
+        """Move the impacts and event states the compiled core logged into the run's lists."""
+        log = self.log
+        for j in range(int(log.n_events[0])):
+            self.event_states.append((float(log.t[j]), log.q[j].copy(), log.v[j].copy()))
+        for r in log.impacts[: int(log.n_impacts[0])]:
+            self.impacts.append(Impact.from_record(r))
+        log.n_impacts[0] = 0
+        log.n_events[0] = 0
+
+    def advance_held(self, k0: int, k1: int):
+        """Grid steps with pairs held in sustained contact, compiled (:func:`pounding.framework.engine.held.held_stretch`)."""
+        mask = np.zeros(len(self.model.pairs), dtype=np.bool_)
+        mask[sorted(self.sustained)] = True
+        self.fc = np.ascontiguousarray(self.fc, dtype=float)
+        out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, self.fc, mask, int(k0), int(k1),
+                                self.rec, self.model.geo, self.settings, self.rules)
+        self.sustained = {int(p) for p in np.flatnonzero(mask)}
+        return out
+
+    def _record(self, k: int) -> None:
+        if self.every > 1:
+            self.model.update_peaks(self.z, self.z, 0.0, self.peak)
+        if k % self.every == 0:
+            self.Q[k // self.every] = self.z[:, 0]
+            self.V[k // self.every] = self.z[:, 1]
+            if self.springs is not None:
+                self.springs.record(self.spring_hist[:, k // self.every])
+
+
+    # ---------------------------------------------------------------- one step in Python
+    def python_step(self, k: int) -> None:
+        """Grid step k -> k+1 with contact handled: locate impacts, impulses, contact forces."""
+        t, t_end = self.t_grid[k], self.t_grid[k + 1]
+        self.events_in_step = 0
+        while t_end - t > 1e-12 * self.dt:
+            h = self.snap(t_end - t)
+            if self.sustained:
+                self.stop_closing(t)
+            st = self.trial(self.z, t, h)
+            culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
+            hs = None if not culprits else self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
+            if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
+                self.commit(st, t, h)
+                t = t_end
+                self.contact_at(t, self.touching_pairs() if self.crossing else None)
+                break
+            self.commit(self.trial(self.z, t, hs), t, hs)
+            t += hs
+            self.n_located += 1
+            if not self.contact_at(t, culprits):
+                # touching but not approaching, yet overlapping before the step ends: pressed together
+                self.sustained.update(culprits)
+            self.events_in_step += 1
+            if self.events_in_step > MAX_EVENTS_PER_STEP:
+                self.sustained.update(culprits)
+        self._record(k + 1)
+        self.release_sustained()
+
+    def commit(self, st: Step, t: float, h: float) -> None:
+        """Accept a trial step: book its work (contact forces are loads like any other) and move on."""
+        if st.z0 is not self.z:
+            # a held step may start with the normal velocity of pressed points projected out
+            hold.book_velocity_change(self.E, self.model.bidx, self.z[:, 1].copy(), st.z0[:, 1].copy())
+        if self.springs is None:
+            self.accumulate(st.z0, st.z1, t, h, st.f0, st.f1)
+        else:
+            self.accumulate_with_springs(st, t, h)
+            self.springs.commit(st.sp)
+        if self.every > 1:  # the step's extremes, before any impulse at its end (true peaks)
+            self.model.update_peaks(st.z0, st.z1, h, self.peak)
+        self.fc = np.ascontiguousarray(st.f1, dtype=float)
+        self.z = np.ascontiguousarray(st.z1)
+
+    def accumulate_with_springs(self, st: Step, t: float, h: float) -> None:
+        """Book a step with yielding springs: their remainders' modal loads -g are loads like the
+        contact forces; their work goes to the springs' account, not the contact column."""
+        from pounding.framework.engine.yielding import force_work
+
+        g0, g1 = self.springs.g, st.sp.g
+        ftot0, ftot1 = st.f0 - g0, st.f1 - g1
+        self.accumulate(st.z0, st.z1, t, h, ftot0, ftot1)
+        if not h > 0.0:
+            return
+        w = force_work(self.transition(h), float(h), self.load(t), self.load(t + h), st.z0, st.z1, ftot0, ftot1, g0, g1)
+        per = np.bincount(self.model.bidx, weights=w, minlength=len(self.model.systems))
+        self.E[:, 2] += per  # the contact column holds the contact forces' work only
+        self.springs.work += per
+
+    def overlapping(self, z1) -> list[int]:
+        """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
+        if self.law.kind != "impulse":
+            return []
+        free = self.free_pairs()
+        g = self.model.gaps(z1[:, 0], free, self.tol)
+        return [int(p) for p in free[g < -self.tol]]
+
+    def crossing_pairs(self, st: Step, h: float) -> list[int]:
+        """Free pairs that may touch inside the trial step ``st`` of h [s] (the crossing locator):
+        ending it overlapping, or grazing by :func:`pounding.framework.engine.crossing.suspect`'s bound."""
+        from pounding.framework.engine.crossing import suspects
+
+        z0, z1 = np.ascontiguousarray(st.z0), np.ascontiguousarray(st.z1)
+        free = self.free_pairs()
+        return free[suspects(z0, z1, free, float(h), self.eps, self.tol, self.model.geo)].tolist()
+
+    def touching_pairs(self) -> np.ndarray:
+        """Free pairs whose gap is zero to rounding (the crossing locator strikes only these at a step's end)."""
+        free = self.free_pairs()
+        return free[self.model.gaps(self.z[:, 0], free, self.tol) <= self.eps]
+
+    def free_pairs(self) -> np.ndarray:
+        if not self.sustained:
+            return self.model.all_pairs
+        return np.array([p for p in self.model.all_pairs if p not in self.sustained], dtype=np.int64)
+
+    def trial(self, z, t, h) -> Step:
+        """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
+        zero = np.zeros(self.model.n)
+        if self.springs is not None:
+            return self.spring_trial(z, t, h)
+        if self.law.kind == "impulse" and self.sustained:
+            return self.held_trial(z, t, h)
+        if self.law.kind == "force":
+            return self.force_trial(z, t, h, zero, zero)
+        return Step(z, self.step(z, t, h, self.fc), self.fc, zero)
+
+    def spring_trial(self, z, t, h) -> Step:
+        """A trial step with yielding springs (:mod:`pounding.framework.engine.yielding`): Newton on the
+        springs' end remainders where no force depends on the step's end, else a fixed-point loop on
+        them around the held-contact or penalty solve."""
+        sp, tr = self.springs, self.cache(h)
+        g0 = sp.g
+        if self.law.kind == "impulse" and self.sustained:
+            def solve(g1):
+                st = self.held_trial(z, t, h, g0, g1)
+                return st, st.z1[:, 0]
+
+            st, new = sp.fixed_point(solve)
+            st.sp = new
+            return st
+        if self.law.kind == "force":
+            def solve(g1):
+                st = self.force_trial(z, t, h, -g0, -g1)
+                return st, st.z1[:, 0]
+
+            st, new = sp.fixed_point(solve)
+            st.sp = new
+            return st
+        zlin = self.step(z, t, h, self.fc - g0)
+        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1])
+        return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
+
+    def force_trial(self, z, t, h, e0, e1) -> Step:
+        """A penalty-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
+        zero for elastic buildings): the penalty forces are solved implicitly with the step."""
+        zero = np.zeros(self.model.n)
+        zf = self.step(z, t, h, self.fc + e0, e1)
+        pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        keep = gap < 0
+        if not np.any(keep):
+            return Step(z, zf, self.fc, zero)
+        Wr, gap = Wr[keep], gap[keep]
+        tr = self.cache(h)
+        S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
+        S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
+        extra = {}
+        if getattr(self.law, "local_stiffness", False):  # a spring per point (slab against a facade)
+            extra["stiffness"] = self.law.point_stiffness(self.model.local_stiffness(pair[keep], Qf[keep], Nf[keep]))
+        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T, **extra)
+        f1 = Wr.T @ lam
+        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
+
+    def held_trial(self, z, t, h, e0=None, e1=None) -> Step:
+        """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`)."""
+        m, tr = self.model, self.cache(h)
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        _, gap0, W0, _, _ = m.touching(z[:, 0], held, self.tol, deep=True)
+        p0, p1 = self.load(t), self.load(t + h)
+        if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
+            p0, p1 = p0 - e0, p1 - e1
+        z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
+                                            float(h), m.c2, m.om2, held, self.tol, 1e3 * self.v_min, self.touch, gap0, W0, m.geo)
+        return Step(z0, z1, f0, f1)
+
+    def stop_closing(self, t: float) -> None:
+        """Plastic impulses on the touching points of held pairs that still close
+        (:func:`pounding.framework.engine.held.stop_closing`); the kinetic energy they remove is
+        booked as contact work. With the crossing locator only points that touch
+        (:func:`~pounding.framework.engine.held.touch_gap`) are stopped, as in
+        :func:`~pounding.framework.engine.held.held_stretch`; the paper's rules stop every point within
+        the tolerance."""
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        _, gap, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        W = hold.rows_where(np.ascontiguousarray(gap <= self.touch), np.ascontiguousarray(W))  # (touch = inf: every point)
+        v_before = self.z[:, 1].copy()
+        hold.stop_closing(self.z, W, self.v_min)
+        hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())
+
+    def release_sustained(self) -> None:
+        if not self.sustained:
+            return
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        for p, g in zip(held, self.model.gaps(self.z[:, 0], held, self.tol)):
+            if g > self.tol:
+                self.sustained.discard(int(p))
+
+    # ---------------------------------------------------------------- impact location
+    def locate(self, t: float, h: float, culprits: list[int], st: Step | None = None) -> float | None:
+        """Step length from t to the first contact of the culprit pairs (within the tolerance; with the
+        crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
+        plist = np.array(culprits, dtype=np.int64)
+        p0 = self.load(t) + self.fc  # the load at the start, the same for every trial
+
+        def gmin(hh):
+            if hh <= 0.0:
+                return float(self.model.gaps(self.z[:, 0], plist).min())
+            if self.law.kind == "impulse" and not self.sustained and self.springs is None:
+                # no contact force in the step: only its end displacements are needed
+                tr = self.cache(hh)
+                return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, p0,
+                                                self.load(t + hh), plist, self.model.geo))
+            return float(self.model.gaps(self.trial(self.z, t, hh).z1[:, 0], plist).min())
+
+        if self.crossing:
+            z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
+            if self.search_record is not None and z0 is self.z and not self.sustained and self.springs is None:
+                # nothing but the ground acts in the step: the same search, compiled whole
+                from pounding.framework.engine.event_search import locate_exact
+
+                tr, (rec_t, rec_acc) = self.cache(self.dt), self.search_record
+                found, hs = locate_exact(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
+                                         p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), float(self.cache.grid_dt),
+                                         np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega, self.cache.zeta,
+                                         float(self.dt), self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
+                return float(hs) if found else None
+            memo: dict[float, float] = {}
+
+            def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
+                g = memo.get(hh)
+                if g is None:
+                    g = memo[hh] = gmin(hh)
+                return g
+
+            # the step's cubic Hermite interpolant (q, q' at both ends): a fourth-order guess of the
+            # integrator's intra-step solution, with no transition to build (pounding.framework.engine.crossing)
+            herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
+                    np.ascontiguousarray(z1[:, 1]), float(h))
+            return self.locate_crossing(gmin_once, h, herm, plist)
+        if self.law.locate == "root" and gmin(0.0) > self.tol:
+            from scipy.optimize import brentq
+
+            root = brentq(gmin, 0.0, h, xtol=1e-14 * max(self.dt, 1.0), rtol=4 * np.finfo(float).eps)
+            if abs(gmin(root)) <= self.tol:
+                return root
+        # halving: bisection on [lo, hi] from the saved state at t (the paper)
+        lo, hi = 0.0, h
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            g = gmin(mid)
+            if g < -self.tol:
+                hi = mid
+            elif g <= self.tol:
+                return mid
+            else:
+                lo = mid
+            if hi - lo < 1e-15 * self.dt:
+                break
+        return hi if gmin(hi) >= -self.tol else lo
+
+    def locate_crossing(self, gmin, h: float, herm: tuple, plist: np.ndarray) -> float | None:
+        """Step length to the first zero of the smallest gap gmin(hh) of the pairs ``plist`` on [0, h],
+        to the geometry's rounding, or None when the gap stays above -eps (a graze that did not touch).
+
+        The search runs on the step's cubic Hermite interpolant ``herm`` = (q0, v0, q1, v1 (n,), h),
+        compiled (:mod:`pounding.framework.engine.crossing`): a step ending overlapping brackets a root at
+        once; otherwise samples, then Brent's bounded minimisation, tell whether the gap dips below
+        zero. The integrator's own intra-step solution gmin then confirms and polishes the zero
+        (Newton with the interpolant's slope, then regula falsi with the Illinois rule).
+        """
+        from pounding.framework.engine.crossing import hermite_search, hermite_slope, hermite_zero
+
+        eps = self.eps
+        xtol = 1e-14 * max(self.dt, 1.0)
+        geo_ = self.model.geo
+
+        def slope(x):  # of the interpolant's gap: the Newton slope of _polish
+            return hermite_slope(*herm, float(x), plist, geo_)
+
+        g0 = gmin(0.0)
+        gh = gmin(h)
+        if g0 > eps and gh < -eps:
+            return _polish(gmin, 0.0, h, hermite_zero(*herm, 0.0, float(h), eps, xtol, False, plist, geo_), eps, xtol, slope)
+        found, lo, hi = hermite_search(*herm, float(g0), float(gh), eps, plist, geo_)
+        if not found and gmin(hi) >= -eps:  # hi: the interpolant's minimum; the integrator's own solution decides
+            return None
+        if gmin(hi) >= -eps:
+            hi = h if gh < -eps else hi
+        if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
+            return lo
+        if gmin(hi) >= -eps:
+            return None
+        return _polish(gmin, lo, hi, hermite_zero(*herm, float(lo), float(hi), eps, xtol, True, plist, geo_), eps, xtol, slope)
+
+    # ---------------------------------------------------------------- impacts
+    def contact_at(self, t: float, pairs=None) -> bool:
+        """Apply impulses at time t to every touching, approaching pair (among ``pairs``, default
+        all) that is not held. True if any impulse acted.
+
+        The same steps as the kernel's :func:`~pounding.framework.engine.kernel.impulses_at` (which
+        applies the impulses of a law declaring ``compiled_impulses`` inside compiled
+        stretches), with the law's own ``impulses(W, b)``, logged to the same records. A pair whose rebound is too slow to open the tolerance within one
+        step (Zeno) is held from then on.
+        """
+        if self.law.kind != "impulse":
+            return False
+        if pairs is not None and len(pairs) == 0:  # nothing to strike (the crossing locator's step ends, mostly)
+            self.drain_kernel_events()
+            return False
+        m = self.model
+        candidates = np.zeros(len(m.pairs), dtype=np.bool_)
+        candidates[m.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
+        for p in self.sustained:
+            candidates[p] = False
+        # The Python path keeps numpy's arithmetic for the features' Delassus matrix and closing
+        # speeds: routing it through the compiled impulses_at (numba's matrix products) moved
+        # results by rounding, which the stress suite's chaotic random scenes amplified into an
+        # event sequence that gained energy; with this path the runs are main's to the bit.
+        n_before = len(self.impacts)
+        acted = self._law_impulses_at(t, candidates)
+        self.drain_kernel_events()
+        if self.crossing:  # chatter decided by the rest of the sequence, not the law's test on dt x speed
+            struck = {imp.pair for imp in self.impacts[n_before:]}
+            self.log.zeno[:] = [p in struck and self.chatters(p, t) for p in range(len(self.log.zeno))]
+        self.sustained.update(int(p) for p in np.flatnonzero(self.log.zeno))
+        self.log.zeno[:] = False
+        return bool(acted)
+
+    def chatters(self, p: int, t: float) -> bool:
+        """Whether pair p, just struck at t, starts chatter the step cannot resolve (crossing locator).
+
+        After a rebound at opening speed r against a closing relative acceleration a, restitution k
+        gives a Zeno sequence of impacts that accumulates within 2 r / (a (1 - k)) and ends with the
+        points moving together. When that is shorter than a step, the pair is held now (the
+        sequence's limit; the error is bounded by the sequence's duration, below dt); otherwise the
+        impacts are resolved one by one. Points that do not close again (a <= 0), or k = 1, never chatter.
+        """
+        m = self.model
+        q = np.ascontiguousarray(self.z[:, 0])
+        count, *_, W = pg.pair_features(q, p, self.tol, m.n, m.geo)
+        if count == 0:
+            return False
+        rem = self.springs.g if self.springs is not None else 0.0
+        acc = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * q
+        r, a = W[:count] @ self.z[:, 1], -(W[:count] @ acc)  # opening speed; closing acceleration
+        k = float(self.law.restitution)
+        if k >= 1.0:
+            return False
+        close = a > 0.0
+        if not np.any(close):
+            return False
+        duration = 2.0 * np.maximum(r[close], 0.0) / (a[close] * (1.0 - k))
+        return bool(np.min(duration) < self.dt)
+
+    def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
+        """:func:`~pounding.framework.engine.kernel.impulses_at` for the Python path: the same features
+        (:func:`~pounding.framework.engine.pairs.touching_features`), the same groups of pairs linked
+        through shared buildings (:func:`~pounding.framework.engine.pairs.building_groups`), each group
+        one Newton problem given to ``self.law.impulses(W, b)``, written to the same records.
+
+        The velocity arithmetic (closing speeds, Delassus matrices, velocity jumps) is numpy's
+        here and numba's in the kernel: routing this path through the compiled products moved
+        results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
+        (issue #12); a law only Python knows needs this path anyway.
+        """
+        m, log = self.model, self.log
+        q = np.ascontiguousarray(self.z[:, 0])
+        count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
+        pair, Wst = pair[:count], Wst[:count]
+        b = np.zeros(count)
+        kept, approaching = [], []
+        for p in dict.fromkeys(pair.tolist()):  # touching pairs in stacked order
+            sel = pair == p
+            bp = -(Wst[sel] @ self.z[:, 1])
+            approaching.append(bp.max() > self.v_min)  # rounding-level closing is not approach
+            bp[(bp > 0.0) & (bp <= self.v_min)] = 0.0
+            b[sel] = bp
+            kept.append(p)
+        if not any(approaching):
+            return False
+        kept = np.array(kept, dtype=np.int64)
+        label = pg.building_groups(kept, m.geo)
+        group_of = dict(zip(kept.tolist(), label.tolist()))
+        fgroup = np.array([group_of[p] for p in pair.tolist()], dtype=np.int64)
+        I_all, after_all = np.zeros(count), np.zeros(count)
+        # a group with an approaching pair is one Newton problem; its touching pairs take part
+        groups = sorted({int(g) for g, a in zip(label.tolist(), approaching) if a})
+        for g in groups:
+            sel = fgroup == g
+            Wr = Wst[sel]
+            W = Wr @ Wr.T
+            I = np.asarray(self.law.impulses(W, b[sel]), dtype=float)
+            I_all[sel], after_all[sel] = I, b[sel] - W @ I
+        if not np.any(I_all > 0):
+            return False
+        if log.last_t[0] != t:
+            self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
+            log.last_t[0] = t
+        for g in groups:
+            sel = fgroup == g
+            self.z[:, 1] += Wst[sel].T @ I_all[sel]
+        if self.law.after_impact == "equilibrium":
+            rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
+            self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
+        for j in np.flatnonzero(I_all > 0).tolist():  # the fields of an IMPACT_DTYPE record (Impact.from_record), directly
+            self.impacts.append(Impact(float(t), int(pair[j]), int(who[j]), int(vertex[j]), float(I_all[j]), N[j, :2].copy(),
+                                       float(b[j]), float(0.5 * I_all[j] * (b[j] + after_all[j])), Q[j, :2].copy()))
+        for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
+            sel = pair == p
+            if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
+                log.zeno[p] = True
+        return True
+
+
+def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
+    """A zero of f on [lo, hi] with f(lo) > 0 > f(hi): the first point found where |f| <= eps (the
+    geometry's zero), by regula falsi with the Illinois rule (superlinear, bracketing); bisection
+    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already.
+
+    The iteration of :func:`pounding.framework.engine.crossing.hermite_zero`, which runs it compiled on the
+    cubic interpolant; here f is any Python callable (the integrator's own solution, which compiled
+    code cannot call). The arithmetic is the shared :func:`~pounding.framework.engine.crossing.illinois_point`
+    and :func:`~pounding.framework.engine.crossing.illinois_bracket`."""
+    from pounding.framework.engine.crossing import ILLINOIS_ITERATIONS, illinois_bracket, illinois_point
+
+    flo = f(lo)
+    if flo <= eps:
+        return lo
+    fhi = f(hi)
+    side = 0.0
+    for _ in range(ILLINOIS_ITERATIONS):
+        if hi - lo <= xtol:
+            break
+        x = illinois_point(lo, hi, flo, fhi)
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
+    return lo
+
+
+def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=None) -> float:
+    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: Newton steps with the
+    slope of the cheap interpolant (``slope(x)``), kept inside the bracket each evaluation narrows
+    (two evaluations when the guess is good), then :func:`_first_zero` if they do not settle."""
+    from pounding.framework.engine.crossing import newton_bracket
+
+    for _ in range(4):
+        if not lo < x < hi:
+            break
+        fx = f(x)
+        if abs(fx) <= eps:
+            return x
+        lo, hi, x, more = newton_bracket(lo, hi, x, fx, slope(x) if slope is not None else 0.0)
+        if not more:
+            break
+    return _first_zero(f, lo, hi, eps, xtol)
+
+
+def _record_arrays(gm, components: int):
+    """(times (m,), accelerations (m, c)) of a record that ``samples`` interpolates with numpy's interp
+    (strictly increasing times, ``components`` columns), else None."""
+    record = gm.piecewise_linear() if hasattr(gm, "piecewise_linear") else None
+    if record is None:
+        return None
+    t, acc = record
+    t = np.ascontiguousarray(t, dtype=float)
+    acc = np.ascontiguousarray(np.asarray(acc, dtype=float).reshape(t.shape[0], -1))
+    if acc.shape[1] != components or not np.all(np.diff(t) > 0):
+        return None
+    return t, acc
+
+
+def _no_pairs(geo: PairArrays) -> PairArrays:
+    """``geo`` with no pair to watch (contact "none")."""
+    return geo._replace(pa=geo.pa[:0].copy(), pb=geo.pb[:0].copy(), rest=geo.rest[:0].copy(), axis=geo.axis[:0].copy())

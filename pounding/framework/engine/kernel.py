@@ -1,0 +1,513 @@
+"""The compiled no-contact stretch: many steps at once, in modal coordinates.
+
+:func:`advance` steps every mode of every building with its per-mode
+transition, records the state at the output rate, accumulates the energy
+terms, and after each step checks the slab pairs that could touch: first a
+cheap lower bound on their clear distance, then the exact signed gap only
+when that bound is below the tolerance. A step that ends with a pair within
+the tolerance and closing gets Newton impulses right there (:func:`impulses_at`,
+when the law declares them compiled) or stops the kernel (``Status.CONTACT``:
+the state is the end of that step); a step that ends overlapping stops it with
+the state rolled back to the step's start (``Status.OVERLAP``), so that the
+driver can locate the impact. :func:`advance_free` is the same stepping with no
+pair to watch (contact off): it compiles and loads no contact code.
+
+The entry points take the bundles of :mod:`pounding.framework.engine.bundles`. The same
+functions run compiled by numba (:mod:`pounding.compiler`, cache on, so a second
+process starts warm) or as plain Python over numpy arrays when numba is missing;
+the arithmetic is identical.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.compiler import njit
+from pounding.contact.base import newton_group
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
+from pounding.framework.engine.bundles import Status
+from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, slab_state, suspect_given
+from pounding.framework.engine.pairs import building_groups, closing, pair_gap, touching_features
+from pounding.framework.engine.peaks import cubic_abs_max
+
+
+@njit
+def _slab_dofs(rows, q, out):
+    # rows (3, n) of Phi for one slab, restricted to its building's modes
+    for r in range(3):
+        s = 0.0
+        for i in range(rows.shape[1]):
+            s += rows[r, i] * q[i]
+        out[r] = s
+
+
+@njit
+def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
+    """Advance z from grid index k0 towards k1 (exclusive of events).
+
+    Parameters
+    ----------
+    tr : Transition
+        The integrator's per-mode step of the grid step and its energy rule.
+    modes : Modes
+        Modal load L (n, c), damping 2 zeta omega, omega^2, building of every mode and slab.
+    ground : Ground
+        Grid step dt [s] and ground acceleration ag (nsteps + 1, c) [m/s^2].
+    z : (n, 3)
+        Modal state (q, q', q''), updated in place.
+    k0, k1 : int
+        First and last grid index.
+    rec : Recorder
+        Recorded modal displacements and velocities, the energy account (ground-motion and
+        damping work; column 2, contact-force work, is the driver's), and the running slab
+        peaks, updated at every step when the output is thinned (every > 1).
+    geo : PairArrays
+        The slab pairs that could touch (none: no contact check).
+    settings : Settings
+        Tolerance, overlap threshold, rounding speed v_min; with ``restitution`` >= 0 the
+        kernel applies Newton impulses itself (:func:`impulses_at`) and runs on, with -1
+        it stops for the driver.
+    log : EventLog
+        Impacts and event states the kernel appends; ``zeno`` is set for a pair whose
+        rebound is too slow to open the tolerance in a step (the kernel stops: HELD).
+    rules : None or bool
+        None with the ``crossing`` locator (``settings.instant``: the driver strikes every
+        impact where the gap is zero; the kernel only screens); True with the paper's rules
+        (struck within the tolerance). numba prunes the branch of the other rules before
+        compiling (an argument typed None), so a run compiles and loads only its own: the
+        crossing run does not compile :func:`impulses_at` (~10 s of a cold start), the
+        paper's does not compile the graze screen (:func:`~pounding.framework.engine.crossing.suspect_given`).
+
+    A step ending with a pair within the tolerance stops the kernel only if a touching
+    point approaches (the velocity condition, eq. 7 of the paper): the same decision
+    the driver's contact step takes, so a pair separating after an impact runs on.
+    A step ending with a pair below ``overlap`` is rolled back to its start.
+
+    Returns
+    -------
+    (k, status, pair) : the grid index reached, a :class:`~pounding.framework.engine.bundles.Status`
+    (DONE, CONTACT, OVERLAP or HELD), the pair index (or -1).
+    """
+    A, B = tr.A, tr.B
+    L = modes.L
+    dt, ag = ground.dt, ground.ag
+    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
+    tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
+    n = z.shape[0]
+    z0 = np.empty((n, 3))
+    da = np.empty(3)
+    db = np.empty(3)
+    no_force = np.zeros(n)  # no contact force acts in a free stretch
+    free = np.ones(pair_a.shape[0], dtype=np.bool_)  # no pair is held in a free stretch
+    rates = np.full((pair_a.shape[0], 3), -1.0)  # the graze screen's memories (crossing.suspect_step)
+    gaps = np.full((pair_a.shape[0], 7), np.nan)
+    kin = np.empty((pair_a.shape[0], 2, 18))  # the pairs' slab_state at the last two step ends, by k % 2
+    kin_at = np.full((pair_a.shape[0], 2), -1, dtype=np.int64)  # the grid index each slot describes
+    GA, GB, gc, gw, WA1, WA2, WM = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
+    c2, bidx = modes.c2, modes.bidx
+    xw = np.empty(4)
+    for k in range(k0, k1):
+        _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
+        # contact check on the pairs that could touch; a rejected step books no energy.
+        # The cascade of pairs.pair_gap written out: a call per pair and step, with its many
+        # array arguments, costs more than the check itself (0.8 -> 1.4 us/step measured).
+        status = Status.DONE
+        hit = -1
+        for p in range(pair_a.shape[0]):
+            sa = off[pair_a[p, 0]] + pair_a[p, 1]
+            sb = off[pair_b[p, 0]] + pair_b[p, 1]
+            ba = pair_a[p, 0]
+            bb = pair_b[p, 0]
+            if rules is None:
+                # the crossing locator: impacts only where the gap is zero, found by the driver. A cheap
+                # screen first (end positions, speeds and accelerations of the two slabs, no allocation):
+                # the gap cannot reach zero within the step when the clearance bound exceeds twice what
+                # the end speeds and accelerations carry the points in a step; suspect() bounds both ends.
+                # (the slabs' states at the step's end are kept for the next step's start: slot (k + 1) % 2)
+                k1v = kin[p, (k + 1) % 2]
+                slab_state(rows, off, n_modes, ba, pair_a[p, 1], z, k1v, SLAB_A)
+                slab_state(rows, off, n_modes, bb, pair_b[p, 1], z, k1v, SLAB_B)
+                kin_at[p, (k + 1) % 2] = k + 1
+                bound = clearance_bound(rest_gap[p], k1v[0], k1v[1], k1v[2], radii[sa], k1v[9], k1v[10], k1v[11], radii[sb])
+                speed = (np.hypot(k1v[3], k1v[4]) + radii[sa] * abs(k1v[5]) + np.hypot(k1v[12], k1v[13]) + radii[sb] * abs(k1v[14]))
+                acc = (np.hypot(k1v[6], k1v[7]) + radii[sa] * (abs(k1v[8]) + k1v[5] * k1v[5])
+                       + np.hypot(k1v[15], k1v[16]) + radii[sb] * (abs(k1v[17]) + k1v[14] * k1v[14]))
+                reach = 2.0 * (speed + 2.0 * acc * dt) * dt
+                if bound > reach:
+                    continue
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], k1v[0], k1v[1], k1v[2],
+                                   verts[sb, : nvert[sb]], centres[sb], k1v[9], k1v[10], k1v[11], axis[p, 0], axis[p, 1]) > reach:
+                    continue
+                k0v = kin[p, k % 2]
+                if kin_at[p, k % 2] != k:  # not formed at the last step's end (this stretch's first step)
+                    slab_state(rows, off, n_modes, ba, pair_a[p, 1], z0, k0v, SLAB_A)
+                    slab_state(rows, off, n_modes, bb, pair_b[p, 1], z0, k0v, SLAB_B)
+                    kin_at[p, k % 2] = k
+                V, Amax = motion_from(k0v, k1v, radii[sa], radii[sb])
+                for i in range(3):
+                    da[i] = k1v[i]
+                    db[i] = k1v[9 + i]
+                if suspect_given(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps, da, db, V, Amax):
+                    for i in range(n):
+                        z[i, 0] = z0[i, 0]
+                        z[i, 1] = z0[i, 1]
+                        z[i, 2] = z0[i, 2]
+                    return k, Status.OVERLAP, p
+            else:
+                _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
+                _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
+                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+                if bound > tol:
+                    continue
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
+                    continue
+                g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
+                if g < overlap:
+                    for i in range(n):
+                        z[i, 0] = z0[i, 0]
+                        z[i, 1] = z0[i, 1]
+                        z[i, 2] = z0[i, 2]
+                    return k, Status.OVERLAP, p
+                if g <= tol and status == Status.DONE and closing(z[:, 0].copy(), z[:, 1].copy(), p, tol, v_min, n, geo):
+                    # keep checking the other pairs: one of them may overlap in this same step
+                    status = Status.CONTACT
+                    hit = p
+        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
+        if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
+            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
+        held = False
+        if rules is not None:  # (nested: numba prunes a branch on the None test alone)
+            if status == Status.CONTACT:
+                P = pair_a.shape[0]
+                if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
+                    _record(z, k + 1, rec)  # the driver applies the impulses and records again
+                    return k + 1, Status.CONTACT, hit
+                _, held = impulses_at((k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
+        _record(z, k + 1, rec)
+        if held:
+            return k + 1, Status.HELD, -1
+    return k1, Status.DONE, -1
+
+
+@njit
+def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
+    """:func:`advance` without slab pairs (contact off): grid steps k0 -> k1 with the same
+    arithmetic and records, and no contact code compiled or loaded (``geo`` gives only the slabs'
+    Phi rows, for their peaks). Returns (k1, DONE, -1)."""
+    A, B = tr.A, tr.B
+    dt, ag = ground.dt, ground.ag
+    n = z.shape[0]
+    z0 = np.empty((n, 3))
+    no_force = np.zeros(n)
+    xw = np.empty(4)
+    for k in range(k0, k1):
+        _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
+        _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag[k], ag[k + 1], z0, z,
+                    no_force, no_force, rec.E, xw)
+        if rec.every > 1:
+            update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
+        _record(z, k + 1, rec)
+    return k1, Status.DONE, -1
+
+
+@njit
+def _free_step(A, B, L, ag0, ag1, z0, z):
+    """One step of every mode: z0 <- z, then z = A z0 + B[:, :, 0] p0 + B[:, :, 1] p1 with the
+    modal ground loads p0, p1 at the step's ends (ag0, ag1 (c,))."""
+    n = z.shape[0]
+    for i in range(n):
+        z0[i, 0] = z[i, 0]
+        z0[i, 1] = z[i, 1]
+        z0[i, 2] = z[i, 2]
+    for i in range(n):
+        p0 = modal_load(L, i, ag0)
+        p1 = modal_load(L, i, ag1)
+        for r in range(3):
+            z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
+
+
+@njit
+def modal_load(L, i, ag):
+    """Modal ground-motion load of mode i, p_i = -sum_j L[i, j] ag[j], for L (n, c) and ag (c,).
+
+    Written as sum_j L[i, j] (-ag[j]) starting from the first term, so that with one
+    component it is L[i, 0] * -ag[0] to the bit."""
+    p = L[i, 0] * -ag[0]
+    for j in range(1, L.shape[1]):
+        p += L[i, j] * -ag[j]
+    return p
+
+
+@njit
+def impulses_at(t, ag, z, fc, modes, settings, dt, log, geo, candidates):
+    """Newton impulses at time t [s] on every touching, approaching pair among ``candidates``
+    (P,) bool that is not held, solved together: the contact step of a law whose impulses are
+    :func:`~pounding.contact.base.newton_group` with ``settings.restitution``.
+
+    The kernel calls it after a step that ends in contact. ag (c,) is the ground acceleration
+    at t and fc (n,) the modal contact force acting (held pairs), for the equilibrium
+    accelerations of ``after_eq``.
+
+    The features of every touching pair (:func:`~pounding.framework.engine.pairs.touching_features`)
+    are stacked. Touching pairs linked through a shared building (a building struck from both
+    sides, two storeys of one pair) form one Newton problem over all their features, with the
+    Delassus matrix W = Wr Wr^T of their stacked rows
+    (:func:`~pounding.framework.engine.pairs.building_groups`), when one of them approaches (a point
+    closing faster than ``v_min``; slower is rounding); the others take part with their
+    points that only touch (Newton's cradle). Groups share no mode, so they are independent.
+    A group of one pair is the problem of that pair alone, with the same arithmetic as when
+    pairs were solved one by one.
+
+    Each impulse appends a record (:data:`~pounding.framework.engine.bundles.IMPACT_DTYPE`) to
+    ``log.impacts``, in pair order; the state before the impulses at t goes to the log's event
+    states unless the last one recorded (``log.last_t``) is already at t. Returns (acted,
+    zeno): whether an impulse acted, and whether a pair's rebound is too slow to open the
+    tolerance within one step (``log.zeno`` is set for it).
+    """
+    tol, v_min = settings.tol, settings.v_min
+    n = z.shape[0]
+    q = z[:, 0].copy()
+    v = z[:, 1].copy()
+    m, pair, who, vertex, Q, N, Wst = touching_features(q, candidates, tol, n, geo)
+    b, kept, approaching = closing_speeds(Wst, pair, m, v, v_min)
+    if not np.any(approaching):
+        return False, False
+    label = building_groups(kept, geo)
+    # a group is a Newton problem when one of its pairs approaches; its touching pairs that do
+    # not approach take part (a building pushed into its other neighbour: Newton's cradle)
+    live = np.zeros(kept.shape[0], dtype=np.bool_)
+    for j in range(kept.shape[0]):
+        if approaching[j]:
+            live[label[j]] = True
+    I_all = np.zeros(m)
+    after_all = np.zeros(m)
+    in_pair = np.full(candidates.shape[0], -1, dtype=np.int64)
+    for j in range(kept.shape[0]):
+        in_pair[kept[j]] = label[j]
+    for g in range(kept.shape[0]):
+        if label[g] != g or not live[g]:
+            continue
+        idx = group_features(pair, m, in_pair, g)
+        Wg = Wst[idx]
+        bg = b[idx]
+        D = Wg @ Wg.T
+        I = newton_group(D, bg, settings.restitution)
+        after = bg - D @ I
+        for r in range(idx.shape[0]):
+            I_all[idx[r]] = I[r]
+            after_all[idx[r]] = after[r]
+    if not np.any(I_all > 0):
+        return False, False
+    if log.last_t[0] != t:
+        ne = log.n_events[0]
+        log.t[ne] = t
+        for i in range(n):
+            log.q[ne, i] = z[i, 0]
+            log.v[ne, i] = z[i, 1]
+        log.n_events[0] += 1
+        log.last_t[0] = t
+    for g in range(kept.shape[0]):
+        if label[g] != g or not live[g]:
+            continue
+        idx = group_features(pair, m, in_pair, g)
+        Wg = Wst[idx]
+        dv = Wg.T @ I_all[idx]
+        for i in range(n):
+            z[i, 1] += dv[i]
+    if settings.after_eq:
+        for i in range(n):
+            z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
+    held = False
+    for j in range(m):
+        if I_all[j] > 0:
+            r = log.n_impacts[0]
+            rec = log.impacts[r]
+            rec["time"] = t
+            rec["pair"] = pair[j]
+            rec["striker"] = who[j]
+            rec["vertex"] = vertex[j]
+            rec["impulse"] = I_all[j]
+            rec["nx"] = N[j, 0]
+            rec["ny"] = N[j, 1]
+            rec["approach_velocity"] = b[j]
+            rec["energy_loss"] = 0.5 * I_all[j] * (b[j] + after_all[j])
+            rec["px"] = Q[j, 0]
+            rec["py"] = Q[j, 1]
+            log.n_impacts[0] += 1
+    # Zeno: a rebound too slow to open the tolerance within one step starts a sequence
+    # of ever smaller impacts that accumulates in finite time and ends with the points
+    # moving together, all their closing kinetic energy lost. The pair is held: its next
+    # approach is stopped plastically (the sequence's limit), see held.stop_closing.
+    # A touching pair that did not approach is not in such a sequence.
+    s = 0
+    c = 0
+    while s < m:
+        e = s
+        top = -np.inf
+        hit = False
+        while e < m and pair[e] == pair[s]:
+            top = max(top, b[e])
+            hit = hit or I_all[e] > 0
+            e += 1
+        if hit and approaching[c] and top * dt < tol:
+            log.zeno[pair[s]] = True
+            held = True
+        s = e
+        c += 1
+    return True, held
+
+
+@njit
+def closing_speeds(Wst, pair, m, v, v_min):
+    """Closing speeds b (m,) = -Wr v [m/s] of stacked features, computed pair by pair (rows
+    Wst (cap, n) grouped by ``pair``), the touching pairs (k,) in stacked order and whether
+    each approaches (k,) bool: has a point closing faster than ``v_min``. Closing below v_min
+    is rounding, not approach: such speeds are set to 0."""
+    b = np.zeros(m)
+    touching = np.empty(m, dtype=np.int64)
+    approaching = np.zeros(m, dtype=np.bool_)
+    nk = 0
+    s = 0
+    while s < m:
+        e = s
+        while e < m and pair[e] == pair[s]:
+            e += 1
+        bp = -(Wst[s:e].copy() @ v)
+        for j in range(e - s):
+            b[s + j] = 0.0 if (bp[j] > 0.0 and bp[j] <= v_min) else bp[j]
+        touching[nk] = pair[s]
+        approaching[nk] = np.max(bp) > v_min
+        nk += 1
+        s = e
+    return b, touching[:nk].copy(), approaching[:nk].copy()
+
+
+@njit
+def group_features(pair, m, in_pair, g):
+    """Indices (k,) of the stacked features whose pair belongs to group g (``in_pair`` (P,):
+    group of every pair, -1 for a pair left out), in stacked order."""
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            c += 1
+    idx = np.empty(c, dtype=np.int64)
+    c = 0
+    for j in range(m):
+        if in_pair[pair[j]] == g:
+            idx[c] = j
+            c += 1
+    return idx
+
+
+@njit
+def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
+    """peak (S, 3) <- max(peak, max over the step of |(u, v, phi)|) of every slab, from the modal
+    states z0, z1 (n, 3) at the ends of a step of h [s] (z1 before any impulse at its end): the
+    extreme of the cubic Hermite through (q, q') at both ends (:func:`pounding.framework.engine.peaks.cubic_abs_max`)."""
+    d0 = np.empty(3)
+    d1 = np.empty(3)
+    w0 = np.empty(3)
+    w1 = np.empty(3)
+    for s in range(peak.shape[0]):  # the real slabs (rows may hold facade slabs after them)
+        b = slab_building[s]
+        i0, nb = n_modes[b, 0], n_modes[b, 1]
+        r = rows[s, :, :nb]
+        _slab_dofs(r, z0[i0 : i0 + nb, 0], d0)
+        _slab_dofs(r, z1[i0 : i0 + nb, 0], d1)
+        _slab_dofs(r, z0[i0 : i0 + nb, 1], w0)
+        _slab_dofs(r, z1[i0 : i0 + nb, 1], w1)
+        for j in range(3):
+            y = cubic_abs_max(d0[j], d1[j], h * w0[j], h * w1[j])
+            if y > peak[s, j]:
+                peak[s, j] = y
+
+
+@njit
+def _pair_gap(va, ca, da, vb, cb, db):
+    return signed_gap(displaced(va, ca, da[0], da[1], da[2]), displaced(vb, cb, db[0], db[1], db[2]))
+
+
+@njit
+def _record(z, k, rec):
+    if k % rec.every == 0:
+        j = k // rec.every
+        for i in range(z.shape[0]):
+            rec.Q[j, i] = z[i, 0]
+            rec.V[j, i] = z[i, 1]
+
+
+@njit
+def _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E):
+    """Add a step of dt [s] to E (n_buildings, 3): ground-motion work (column 0), damping (1) and
+    the work of the modal contact forces f0 -> f1 (n,) at its ends, linear in between (2). The
+    forces drive the velocity too. ag0, ag1 (c,) are the ground accelerations at the ends.
+
+    Three rules, by what the integrator offers (``tr``): closed-form integrals on its
+    trajectory (WA1, WA2, WM: with x = (q0, q'0, p0, p1), int q' = WA1 x, int s q' = WA2 x,
+    int q'^2 = x WM x), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule on the
+    step-end velocities (no points: average acceleration's exact identity).
+    """
+    _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag0, ag1, z0, z, f0, f1, E,
+                np.empty(4))
+
+
+@njit
+def _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, f0, f1, E, x):
+    """:func:`_accumulate_forces` on the bundles' arrays, x (4,) a work array: for the stretches'
+    every step, where unpacking the bundles at each call cost a tenth of a free step."""
+    n = z.shape[0]
+    nq = gc.shape[0]
+    maps = WA1.shape[0] > 0
+    for i in range(n):
+        g0 = modal_load(L, i, ag0)
+        g1 = modal_load(L, i, ag1)
+        if maps:
+            x[0] = z0[i, 0]
+            x[1] = z0[i, 1]
+            x[2] = g0 + f0[i]
+            x[3] = g1 + f1[i]
+            iv0 = 0.0
+            iv1 = 0.0
+            ivv = 0.0
+            for a in range(4):
+                iv0 += WA1[i, a] * x[a]
+                iv1 += WA2[i, a] * x[a]
+                for b in range(4):
+                    ivv += x[a] * WM[i, a, b] * x[b]
+            E[bidx[i], 0] += g0 * iv0 + (g1 - g0) / dt * iv1
+            E[bidx[i], 1] += c2[i] * max(ivv, 0.0)
+            E[bidx[i], 2] += f0[i] * iv0 + (f1[i] - f0[i]) / dt * iv1
+        elif nq == 0:
+            vm = 0.5 * (z0[i, 1] + z[i, 1])
+            E[bidx[i], 0] += _load_sum(dt * vm * 0.5, L, i, ag0, ag1)
+            E[bidx[i], 1] += dt * c2[i] * vm * vm
+            E[bidx[i], 2] += dt * vm * 0.5 * (f0[i] + f1[i])
+        else:
+            for j in range(nq):
+                pj = _load_between(L, i, ag0, ag1, gc[j])
+                fj = f0[i] + gc[j] * (f1[i] - f0[i])
+                vj = (GA[j, i, 1, 0] * z0[i, 0] + GA[j, i, 1, 1] * z0[i, 1] + GA[j, i, 1, 2] * z0[i, 2]
+                      + GB[j, i, 1, 0] * (g0 + f0[i]) + GB[j, i, 1, 1] * (pj + fj))
+                E[bidx[i], 0] += dt * gw[j] * vj * pj
+                E[bidx[i], 1] += dt * gw[j] * c2[i] * vj * vj
+                E[bidx[i], 2] += dt * gw[j] * vj * fj
+
+
+@njit
+def _load_sum(x, L, i, ag0, ag1):
+    """x (p_i(0) + p_i(1)) written as sum_j (x L[i, j]) (-ag0[j] + -ag1[j]) (with one component,
+    to the bit the trapezoidal rule's x L (p0 + p1))."""
+    s = x * L[i, 0] * (-ag0[0] + -ag1[0])
+    for j in range(1, L.shape[1]):
+        s += x * L[i, j] * (-ag0[j] + -ag1[j])
+    return s
+
+
+@njit
+def _load_between(L, i, ag0, ag1, c):
+    """p_i at the fraction c of a step, sum_j L[i, j] (p0_j + c (p1_j - p0_j)) with p = -ag."""
+    s = L[i, 0] * (-ag0[0] + c * (-ag1[0] - -ag0[0]))
+    for j in range(1, L.shape[1]):
+        s += L[i, j] * (-ag0[j] + c * (-ag1[j] - -ag0[j]))
+    return s

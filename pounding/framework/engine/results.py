@@ -1,0 +1,201 @@
+"""Results of a run: arrays at the output rate, the impact log, energies, timings.
+
+A :class:`Result` holds modal histories and turns them into physical ones on
+demand (one matrix product per building), so a run stores O(n) numbers per
+output step however many storeys there are.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Impact:
+    """One impact: an impulse at one point of one slab pair.
+
+    Attributes
+    ----------
+    time : float
+        [s].
+    pair : int
+        Index of the slab pair in the run's pair list.
+    striker : int
+        0 if a vertex of the pair's first slab hit, 1 if the second's.
+    vertex : int
+        Index of the striking vertex in its slab polygon (scene order), -1 face to face.
+    impulse : float
+        [N s].
+    normal : ndarray (2,)
+        Unit normal from the first slab towards the second.
+    approach_velocity : float
+        Closing speed b before the impact [m/s].
+    energy_loss : float
+        Kinetic energy lost [J].
+    point : ndarray (2,)
+        Contact point in plan [m].
+    """
+
+    time: float
+    pair: int
+    striker: int
+    vertex: int
+    impulse: float
+    normal: np.ndarray
+    approach_velocity: float
+    energy_loss: float
+    point: np.ndarray
+
+    @classmethod
+    def from_record(cls, r) -> "Impact":
+        """From a record of :data:`~pounding.framework.engine.bundles.IMPACT_DTYPE`."""
+        return cls(float(r["time"]), int(r["pair"]), int(r["striker"]), int(r["vertex"]), float(r["impulse"]),
+                   np.array([r["nx"], r["ny"]]), float(r["approach_velocity"]), float(r["energy_loss"]), np.array([r["px"], r["py"]]))
+
+
+@dataclass
+class Result:
+    """Histories and logs of a run (physical arrays via :meth:`cm` and :meth:`vertices`).
+
+    Attributes
+    ----------
+    t : ndarray (nt,)
+        Output times [s].
+    names : list of str
+        Building names, scene order.
+    q, qd : ndarray (nt, n)
+        Stacked modal displacements and velocities.
+    systems : list of System
+    mode_start : ndarray (n_buildings,)
+    pairs : list of (building a, storey a, building b, storey b, rest gap)
+        0-based indices; storey numbers in files are 1-based.
+    impacts : list of Impact
+    energy : dict
+        Per building: ground-motion input, damping, contact-force work, kinetic, strain [J]; with
+        yielding storey springs also hysteretic [J] (strain is then what the springs store).
+    """
+
+    t: np.ndarray
+    names: list[str]
+    q: np.ndarray
+    qd: np.ndarray
+    systems: list
+    mode_start: np.ndarray
+    pairs: list
+    impacts: list[Impact]
+    energy: dict
+    runtime_s: float
+    dt: float
+    steps: int
+    integrator: dict
+    contact: dict
+    ground_motion: dict
+    info: dict = field(default_factory=dict)
+    energy_tolerance: float = 0.02
+    #: the driver's own states at impact instants: times (ne,), q and q' just before the impulses (ne, n)
+    event_t: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    event_q: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    event_qd: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    #: peak |u|, |v|, |phi| of every slab over the continuous trajectory [m, m, rad], shape (slabs, 3),
+    #: slabs numbered building by building (:mod:`pounding.framework.engine.peaks`): tracked during the run when
+    #: the output is thinned, else from the histories, split at the impacts
+    slab_peaks: np.ndarray | None = None
+    #: wall times [s]: loading and compiling the compiled core (``load_and_compile_s``, of which
+    #: ``compile_s`` compiling), and the solve (``solve_s`` = ``runtime_s``)
+    timings: dict = field(default_factory=dict)
+    #: per building with yielding storey springs: :func:`pounding.framework.engine.yielding.spring_record`
+    springs: dict = field(default_factory=dict)
+    #: the integrator's own solution inside a step (:class:`pounding.framework.engine.peaks.ExactIntraStep`) for
+    #: the true peaks, or None (the cubic Hermite through the step ends); not written to files
+    intra_step: object = field(default=None, repr=False)
+    #: the pair geometry of the run (:class:`~pounding.framework.engine.bundles.PairArrays`): the modal
+    #: contact rows of impacts (:func:`pounding.framework.engine.event_record.contact_row`) come from it
+    geo: object = None
+    #: {pair index: :class:`~pounding.framework.model.facade.Facade`} of the pairs where a slab strikes a
+    #: neighbour between its floors
+    facades: dict = field(default_factory=dict)
+    #: the scene's buildings (elements with their plan lines and sections), for the struck element
+    buildings: tuple = ()
+
+    def __post_init__(self) -> None:
+        if self.slab_peaks is None:
+            from pounding.framework.engine.peaks import slab_peaks
+
+            cont = slab_peaks(self) if len(self.t) else None
+            self.slab_peaks = cont if cont is not None else self._step_end_slab_peaks()
+
+    def _step_end_slab_peaks(self) -> np.ndarray:
+        return np.vstack([np.max(np.abs(self.cm(name)), axis=0) for name in self.names]) if len(self.t) else np.zeros((0, 3))
+
+    # ------------------------------------------------------------- physical histories
+    def _index(self, name: str) -> int:
+        return self.names.index(name)
+
+    def modal(self, name: str, velocity: bool = False) -> np.ndarray:
+        i = self._index(name)
+        sl = slice(self.mode_start[i], self.mode_start[i] + self.systems[i].n_dof)
+        return (self.qd if velocity else self.q)[:, sl]
+
+    def cm(self, name: str, velocity: bool = False) -> np.ndarray:
+        """(u, v, phi) of every slab's centre of mass [m, m, rad], shape (nt, storeys, 3)."""
+        s = self.systems[self._index(name)]
+        return (self.modal(name, velocity) @ s.modes.T).reshape(len(self.t), s.n_storeys, 3)
+
+    def vertices(self, name: str, velocity: bool = False) -> np.ndarray:
+        """x, y displacement of every slab vertex, shape (nt, storeys, kmax, 2); NaN pads shorter polygons."""
+        s = self.systems[self._index(name)]
+        x = self.cm(name, velocity)
+        kmax = max(len(sl.vertices) for sl in s.slabs)
+        out = np.full((len(self.t), s.n_storeys, kmax, 2), np.nan)
+        for f, slab in enumerate(s.slabs):
+            r = slab.vertices - slab.centre  # (k, 2)
+            u, v, phi = x[:, f, 0:1], x[:, f, 1:2], x[:, f, 2:3]
+            out[:, f, : len(r), 0] = u - phi * r[:, 1]
+            out[:, f, : len(r), 1] = v + phi * r[:, 0]
+        return out
+
+    def peaks(self, name: str) -> np.ndarray:
+        """Peak |u|, |v|, |phi| per storey over the continuous trajectory (inside the steps too), shape (storeys, 3)."""
+        i = self._index(name)
+        start = sum(s.n_storeys for s in self.systems[:i])
+        return self.slab_peaks[start : start + self.systems[i].n_storeys].copy()
+
+    def step_end_peaks(self, name: str) -> np.ndarray:
+        """Peak |u|, |v|, |phi| per storey over the output steps' ends only, shape (storeys, 3): what a
+        peer that reports step ends (OpenSees) reports, to compare like with like."""
+        return np.max(np.abs(self.cm(name)), axis=0)
+
+    @property
+    def n_impacts(self) -> int:
+        return len(self.impacts)
+
+    def impact_storey(self, imp: Impact) -> int:
+        """1-based storey of an impact (the first slab's storey)."""
+        return self.pairs[imp.pair][1] + 1
+
+    def striking_building(self, imp: Impact) -> str:
+        a, _, b, _, _ = self.pairs[imp.pair]
+        return self.names[a if imp.striker == 0 else b]
+
+    def struck_building(self, imp: Impact) -> str:
+        """The building struck: the pair's other building (for a facade pair, the one whose
+        columns and walls were hit, whichever polygon's vertex touched first)."""
+        a, _, b, _, _ = self.pairs[imp.pair]
+        if imp.pair in self.facades:
+            return self.names[b]
+        return self.names[b if imp.striker == 0 else a]
+
+    def energy_balance(self) -> dict:
+        """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work."""
+        e = self.energy
+        inp = sum(v["input"] for v in e.values())
+        stored = sum(v["kinetic"] + v["strain"] for v in e.values())
+        damp = sum(v["damping"] for v in e.values())
+        contact = sum(v["contact_forces"] for v in e.values())
+        lost = sum(i.energy_loss for i in self.impacts)
+        hyst = sum(v.get("hysteretic", 0.0) for v in e.values())  # yielding storey springs
+        err = inp + contact - stored - damp - lost - hyst
+        rel = err / inp if inp else 0.0
+        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "hysteretic": hyst, "error": err, "relative_error": rel}

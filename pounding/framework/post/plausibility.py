@@ -1,0 +1,195 @@
+"""Plausibility checks: a valid scene whose numbers are unlikely for a real building.
+
+Each check gives warnings, not errors: the number found, the usual range and
+the likely cause (a unit slip, most often). Each has a name, by which it is
+silenced (``[analysis] silence = ["mass_per_area"]`` or ``--silence NAME``).
+
+* ``mass_per_area``: a slab's mass / plan area outside 150-4000 kg/m2 (a factor
+  of two around the usual 300-2000 kg/m2 of floors with finishes and a share
+  of live load). Tonnes entered as kg give ~1 kg/m2.
+* ``period``: the first period per storey, T1 / N, outside 0.01-0.6 s (a factor
+  of two around the usual 0.02-0.3 s: stiff walls to flexible frames; the code
+  rule T ~ 0.1 N s sits inside).
+* ``soft_storey``: a storey whose lateral stiffness, along x or y, is below 60 %
+  of the storey above (ASCE 7-22 Table 12.3-2, extreme soft storey: 60 %).
+  Storey stiffness is V_i / drift_i under forces proportional to mass x height
+  (the equivalent lateral force pattern of a first mode), slabs kept from
+  turning so that x and y are read apart.
+* ``stiff_element``: an element whose lateral stiffness (the largest
+  eigenvalue of its condensed matrix [N/m]) is above 1000x the median of the
+  building's elements. Walls are 10-300x stiffer than frames; a section in mm
+  or E in kPa is 1e3-1e12 off.
+* ``no_common_level``: two buildings with no slabs at a common level. Their
+  slabs can only strike each other's facades between floors
+  (:mod:`pounding.framework.model.facade`), a stronger idealisation than slab against
+  slab (said once for the scene, naming every such pair). Unequal storey
+  heights, or a slip in one of them, are the usual cause.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+
+@dataclass(frozen=True)
+class Check:
+    """One plausibility check: its name, when it warns, and the likely cause (for the reference page)."""
+
+    name: str
+    condition: str
+    cause: str
+
+
+MASS_PER_AREA = (150.0, 4000.0)  # [kg/m2], usual 300-2000
+PERIOD_PER_STOREY = (0.01, 0.6)  # [s], usual 0.02-0.3
+SOFT_RATIO = 0.6  # storey stiffness / the storey above's
+STIFF_RATIO = 1000.0  # element stiffness / the building's median
+
+CHECKS = (
+    Check("mass_per_area", f"a slab's mass per plan area is outside {MASS_PER_AREA[0]:g}-{MASS_PER_AREA[1]:g} kg/m2 (usual 300-2000)",
+          "mass in tonnes instead of kg (1000x too small), or the mass of several floors on one slab"),
+    Check("period", f"the first period per storey, T1 / storeys, is outside {PERIOD_PER_STOREY[0]:g}-{PERIOD_PER_STOREY[1]:g} s (usual 0.02-0.3 s)",
+          "too short: mass too small (tonnes?) or stiffness too large (E or sections in the wrong units); too long: the reverse"),
+    Check("soft_storey", f"a storey's lateral stiffness along x or y is below {100 * SOFT_RATIO:g} % of the storey above",
+          "an element missing or undersized in that storey, a wrong storey height, or an element's `storeys` too small"),
+    Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
+          "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
+    Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
+          "unequal storey heights (intended: see the facade contact in the README), or a slip in a storey height"),
+)
+NAMES = tuple(c.name for c in CHECKS)
+
+
+@dataclass(frozen=True)
+class Finding:
+    """One warning: the check's name and the message (with the number and the likely cause)."""
+
+    check: str
+    message: str
+
+    def __str__(self) -> str:
+        return f"{self.message} [silence with: {self.check}]"
+
+
+def findings(scene, silence=()) -> list[Finding]:
+    """Every plausibility warning of a scene, except the checks named in ``silence`` or ``scene.analysis.silence``."""
+    from pounding.framework.model.assembly import assemble
+
+    off = set(silence) | set(getattr(scene.analysis, "silence", ()))
+    out: list[Finding] = []
+    for b in scene.buildings:
+        if "mass_per_area" not in off:
+            out += _mass_per_area(b)
+        if "period" not in off:
+            out += _period(b, assemble(b))
+        if "soft_storey" not in off:
+            out += _soft_storeys(b)
+        if "stiff_element" not in off:
+            out += _stiff_elements(b)
+    if "no_common_level" not in off:
+        out += _no_common_level(scene.buildings)
+    return out
+
+
+def _no_common_level(buildings) -> list[Finding]:
+    from pounding.framework.model.levels import unchecked_pairs
+
+    pairs = unchecked_pairs(buildings)
+    if not pairs:
+        return []
+    named = ", ".join(f"{a!r} and {b!r}" for a, b in pairs)
+    return [Finding("no_common_level", f"no slabs at a common level between {named}: their slabs can only strike each other's "
+                                       "columns and walls between floors (slab-to-facade impacts; unequal storey heights?)")]
+
+
+def warn(scene, silence=()) -> list[Finding]:
+    """Issue every finding as a :class:`~pounding.errors.PlausibilityWarning`; returns them."""
+    import warnings
+
+    from pounding.errors import PlausibilityWarning
+
+    found = findings(scene, silence)
+    for f in found:
+        warnings.warn(str(f), PlausibilityWarning, stacklevel=2)
+    return found
+
+
+def _mass_per_area(b) -> list[Finding]:
+    from pounding.contact.geometry import polygon_properties
+
+    out = []
+    for f, slab in enumerate(b.slabs):
+        q = slab.mass / polygon_properties(slab.vertices)[0]
+        if not MASS_PER_AREA[0] <= q <= MASS_PER_AREA[1]:
+            cause = "mass in tonnes instead of kg?" if q < MASS_PER_AREA[0] else "the mass of several floors, or kg/m2 in place of kg?"
+            out.append(Finding("mass_per_area", f"building {b.name!r} storey {f + 1}: mass per area {q:.4g} kg/m2 is far from the usual 300-2000 kg/m2 ({cause})"))
+            break  # one per building: the same slip repeats on every storey
+    return out
+
+
+def _period(b, system) -> list[Finding]:
+    T1 = float(system.periods[0])
+    per = T1 / b.n_storeys
+    if PERIOD_PER_STOREY[0] <= per <= PERIOD_PER_STOREY[1]:
+        return []
+    cause = ("mass too small (tonnes instead of kg?) or stiffness too large (E or sections in the wrong units?)" if per < PERIOD_PER_STOREY[0]
+             else "mass too large or stiffness too small (E in MPa or GPa instead of Pa? sections in the wrong units?)")
+    plural = "storey" if b.n_storeys == 1 else "storeys"
+    return [Finding("period", f"building {b.name!r}: first period {T1:.4g} s for {b.n_storeys} {plural} ({per:.3g} s per storey) is far "
+                              f"from the usual 0.02-0.3 s per storey: {cause}")]
+
+
+def storey_stiffness(b, direction) -> np.ndarray:
+    """Lateral stiffness of every storey along a plan direction [N/m], shape (N,).
+
+    V_i / (d_i - d_{i-1}) under floor forces proportional to mass x elevation,
+    with the slabs kept from turning (so the two plan directions are read apart).
+    """
+    from pounding.framework.model.assembly import stiffness
+
+    n = b.n_storeys
+    T = np.zeros((3 * n, n))
+    for f in range(n):
+        T[3 * f, f], T[3 * f + 1, f] = direction
+    K = T.T @ stiffness(b) @ T
+    F = np.array([s.mass for s in b.slabs]) * b.elevations
+    d = np.linalg.solve(K, F)
+    drift = np.diff(np.concatenate([[0.0], d]))
+    shear = np.cumsum(F[::-1])[::-1]
+    return shear / drift
+
+
+def _soft_storeys(b) -> list[Finding]:
+    out = []
+    for axis, direction in (("x", (1.0, 0.0)), ("y", (0.0, 1.0))):
+        try:
+            k = storey_stiffness(b, direction)
+        except np.linalg.LinAlgError:
+            continue  # nothing resists this direction without torsion: the mechanism check speaks for it
+        for f in range(b.n_storeys - 1):
+            if 0 < k[f] < SOFT_RATIO * k[f + 1]:
+                out.append(Finding("soft_storey", f"building {b.name!r} storey {f + 1} along {axis}: lateral stiffness {k[f] / 1e6:.4g} MN/m is "
+                                                  f"{100 * k[f] / k[f + 1]:.0f} % of storey {f + 2}'s ({k[f + 1] / 1e6:.4g} MN/m): an element "
+                                                  "missing or undersized there, or a wrong storey height?"))
+    return out
+
+
+def element_stiffness(element) -> float:
+    """A scalar lateral stiffness of an element [N/m]: the largest eigenvalue of its condensed matrix."""
+    return float(np.linalg.eigvalsh(np.asarray(element.lateral_stiffness(), float))[-1])
+
+
+def _stiff_elements(b) -> list[Finding]:
+    if len(b.elements) < 3:
+        return []
+    k = np.array([element_stiffness(e) for e in b.elements])
+    med = float(np.median(k))
+    out = []
+    for i, e in enumerate(b.elements):
+        if med > 0 and k[i] > STIFF_RATIO * med:
+            out.append(Finding("stiff_element", f"building {b.name!r} element[{i}] ({e.name}): lateral stiffness {k[i]:.3g} N/m is "
+                                                f"{k[i] / med:.3g}x the median of the building's elements ({med:.3g} N/m): "
+                                                "a section in mm instead of m, or E in kPa/MPa mixed with Pa?"))
+    return out

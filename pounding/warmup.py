@@ -1,0 +1,215 @@
+"""The install-time warm-up: compile (or load) the numerical core for the common runs.
+
+It sits above the engine because its tasks run the engine (a whole run of the paper pair);
+the compiler set-up it fills (:mod:`pounding.compiler`) sits below everything it compiles.
+``python -m pounding.warmup --warm --if-needed`` is what ``make demo`` and ``make test`` run.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from pounding.compiler import PACKAGE_ROOT, cache_dir, enabled
+
+
+#: The warm-up tasks (see :func:`_warm_task`). ``--jobs 2`` runs the first in one process and the
+#: rest in a second one, so that the two largest compiled entry points (the free stretch and the
+#: held stretch) compile side by side.
+WARM_TASKS = ("kernel", "shared", "free")
+
+
+def _paper_scene():
+    """The packaged paper pair at a gap of 0.03 m (``pounding demo``'s pounding scene)."""
+    from importlib.resources import files
+
+    from pounding.io.scene import load_scene
+
+    return load_scene(str(files("pounding.io") / "data" / "paper" / "pair_gap_0.03.toml"))
+
+
+def _warm_task(name: str) -> None:
+    """Compile (or load) what one warm-up task needs, in this process.
+
+    The two processes of ``--jobs 2`` share the work without compiling the same function twice:
+    numba caches every compiled function on its own, and a process that needs a function
+    another has already cached loads it, but compiles it itself when the other is still at it.
+    ``kernel``: the polygon geometry (the signed gap and the contact points of two polygons,
+    which everything else calls), then tells the other process (``POUNDING_WARM_SENTINEL``),
+    then the gap of a slab pair and a whole run of the paper pair with pounding. ``shared``: the
+    Newton impulses (no geometry), then, once the geometry is cached, what that run needs later,
+    called from Python with the argument types the compiled code passes: the touching features
+    of a pair and of several pairs, the held stretch (a call over no steps), the selection of a held
+    pair's touching points and the one-off maps and impact search
+    of ``exact`` (the default integrator of elastic scenes). ``free``: the
+    contact-free stretch (the same scene with contact ``none``). Measured in
+    ``benchmarks/bench_compile.py``."""
+    import warnings
+
+    import numpy as np
+
+    from pounding.framework.engine.driver import Driver
+
+    from pounding.framework.post.run import run
+
+    warnings.simplefilter("ignore")
+    scene = _paper_scene()
+    sentinel = os.environ.get("POUNDING_WARM_SENTINEL")
+    if name == "kernel":
+        from pounding.contact.geometry import contact_points, signed_gap
+
+        square = np.array([[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]])
+        signed_gap(square, square + 2.0)
+        contact_points(square, square + np.array([1.0, 0.0]), 1e-4)
+        if sentinel:
+            Path(sentinel).touch()
+        driver = Driver(scene)
+        driver.model.pair_gap(np.zeros(driver.model.n), 0)
+        run(scene)
+    elif name == "shared":
+        from pounding.contact.base import newton_impulses
+
+        import time
+
+        newton_impulses(np.eye(2), np.ones(2), 0.5)
+        waited = 0.0
+        while sentinel and not Path(sentinel).exists() and waited < 900.0:  # the geometry, compiled by `kernel`
+            time.sleep(0.1)
+            waited += 0.1
+        driver = Driver(scene)
+        model = driver.model
+        q = np.zeros(model.n)
+        model.features(q, 0, driver.tol)
+        _, gap, W, _, _ = model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
+        driver.advance_held(0, 0)
+        from pounding.framework.engine.held import rows_where
+
+        rows_where(np.ascontiguousarray(gap <= driver.touch), np.ascontiguousarray(W))  # a held Python step's plastic stop
+        # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
+        # crossing locator builds at every located impact (the packaged paper scene names HHT)
+        from pounding.solvers.exact import Exact
+
+        Exact().partial_transition(model.omega, model.zeta, 1e-3)
+        Exact().partial_work_maps(model.omega, model.zeta, 1e-3)
+        # and its impact search, compiled whole (pounding.framework.engine.event_search), as the driver calls it
+        search = Driver(scene.with_analysis(integrator="exact", integrator_params={}))
+        search.locate(0.0, search.dt, [0], search.trial(search.z, 0.0, search.dt))
+    elif name == "free":
+        run(scene.with_analysis(contact="none"))
+    else:
+        raise ValueError(f"unknown warm-up task {name!r}; expected one of {WARM_TASKS}")
+
+
+def _marker() -> Path | None:
+    """The file that records a finished warm-up of this version of the compiled modules."""
+    if os.environ.get("NUMBA_CACHE_DIR"):
+        return Path(os.environ["NUMBA_CACHE_DIR"]) / "pounding-warmed.json"
+    folder = cache_dir()
+    return None if folder is None else Path(folder) / "warmed.json"
+
+
+def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = False) -> dict:
+    """Fill the compiler cache for the common runs, in ``jobs`` processes at once (default: up to 2).
+
+    Also writes the package's Python bytecode (``compileall``), which an editable install or an
+    environment with ``PYTHONDONTWRITEBYTECODE`` never writes: every process would otherwise compile
+    the package's ~50 modules from source (~0.15 s). After it, the first ``pounding run`` of a scene
+    with pounding loads machine code instead of compiling it (~30 s on 2 cores).
+
+    Parameters
+    ----------
+    jobs : int, optional
+        Processes compiling at once (default ``min(2, cpu count)``); 1 compiles in this process.
+    if_needed : bool
+        Return at once when this version of the compiled modules was already warmed.
+    quiet : bool
+        Print nothing.
+
+    Returns
+    -------
+    dict
+        ``wall_s`` [s], ``jobs``, ``tasks`` (task name -> wall time [s] of its process),
+        ``skipped`` (True when ``if_needed`` found the cache warm).
+    """
+    import compileall
+    import json
+    import subprocess
+    import sys
+    import time
+
+    say = (lambda m: None) if quiet else (lambda m: print(m, file=sys.stderr, flush=True))
+    marker = _marker() if enabled() else None
+    if if_needed and (marker is None or marker.exists()):
+        return {"skipped": True, "wall_s": 0.0, "jobs": 0, "tasks": {}}
+    t0 = time.perf_counter()
+    compileall.compile_dir(str(PACKAGE_ROOT), quiet=1)  # bytecode; a read-only install is left as it is
+    if marker is None:  # no numba, or NUMBA_DISABLE_JIT: nothing to compile
+        return {"skipped": False, "wall_s": time.perf_counter() - t0, "jobs": 0, "tasks": {}}
+    jobs = max(1, min(len(WARM_TASKS), jobs or min(2, os.cpu_count() or 1)))
+    say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; once per version of the code, about 40 s of CPU) ...")
+    groups: list[list[str]] = [[WARM_TASKS[0]], list(WARM_TASKS[1:])] if jobs > 1 else [list(WARM_TASKS)]
+    times: dict[str, float] = {}
+    import tempfile
+
+    procs = {}
+    scratch = tempfile.TemporaryDirectory(prefix="pounding-warm-")
+    env = dict(os.environ, POUNDING_WARM_SENTINEL=str(Path(scratch.name) / "geometry-compiled"))
+    for group in groups:
+        cmd = [sys.executable, "-m", "pounding.warmup", "--task", ",".join(group)]
+        procs[",".join(group)] = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, text=True, env=env)
+    failed = []
+    while procs:
+        for name, proc in list(procs.items()):
+            if proc.poll() is None:
+                continue
+            times[name] = time.perf_counter() - t0
+            if proc.returncode != 0:
+                failed.append(f"{name}: {proc.stderr.read().strip()[-600:]}")
+                for other in procs.values():  # a worker may be waiting for the failed one
+                    if other is not proc and other.poll() is None:
+                        other.terminate()
+            proc.stderr.close()
+            del procs[name]
+        time.sleep(0.05)
+    scratch.cleanup()
+    wall = time.perf_counter() - t0
+    if failed:
+        raise RuntimeError("pounding: compiling the numerical core failed\n" + "\n".join(failed))
+    info = {"skipped": False, "wall_s": wall, "jobs": jobs, "tasks": times}
+    try:
+        marker.write_text(json.dumps(info) + "\n")
+    except OSError:  # pragma: no cover - a read-only cache: the runs compile as they go
+        pass
+    say(f"pounding: compiled in {wall:.1f} s")
+    return info
+
+
+def _main(argv=None) -> int:
+    import argparse
+    import json
+
+    ap = argparse.ArgumentParser(prog="python -m pounding.warmup", description="Fill the compiler cache (run once after installing).")
+    ap.add_argument("--warm", action="store_true", help="compile the numerical core for the common runs")
+    ap.add_argument("--jobs", type=int, default=None, help="processes compiling at once (default: up to 2)")
+    ap.add_argument("--if-needed", action="store_true", help="do nothing when this version was already compiled")
+    ap.add_argument("--quiet", action="store_true")
+    ap.add_argument("--json", action="store_true", help="print the timings as JSON")
+    ap.add_argument("--task", help=argparse.SUPPRESS)  # internal: one worker's tasks, comma-separated
+    args = ap.parse_args(argv)
+    if args.task:
+        for name in args.task.split(","):
+            _warm_task(name)
+        return 0
+    if not args.warm:
+        ap.print_help()
+        return 2
+    info = warm(args.jobs, if_needed=args.if_needed, quiet=args.quiet)
+    if args.json:
+        print(json.dumps(info))
+    return 0
+
+
+if __name__ == "__main__":
+    # run the package's own module (not this __main__ copy), whose state the compiled functions share
+    from pounding.warmup import _main as _package_main
+
