@@ -43,7 +43,6 @@ import os
 import sys
 from pathlib import Path
 
-import numpy as np
 
 from pounding import compiler, warmup
 from pounding.compiler.prebuilt import MODULE, _MANIFEST, _manifest, _state, _to_json, enabled, environment, fingerprint, folder  # noqa: F401

@@ -213,3 +213,4 @@ if __name__ == "__main__":
     # run the package's own module (not this __main__ copy), whose state the compiled functions share
     from pounding.warmup import _main as _package_main
 
+    raise SystemExit(_package_main())

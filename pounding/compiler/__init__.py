@@ -38,12 +38,8 @@ is compiling).
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import importlib.util
 import os
-import re
-from pathlib import Path
-
 from pounding.compiler.cache import PACKAGE_ROOT, cache_dir, cache_key, compiled_modules, enabled  # noqa: F401 - the set-up's public names
 
 #: the package's root folder (``pounding/``)
@@ -262,9 +258,6 @@ def load_seconds() -> float:
 def on_first_compile(callback) -> None:
     """Run ``callback()`` once, just before this process first compiles (not on cache loads)."""
     _first_compile_hooks.append(callback)
-
-
-    raise SystemExit(_package_main())
 
 
 def generated_module(folder: str, stem: str, text: str):
