@@ -88,7 +88,8 @@ class HertzDamp(PointwiseLaw):
     restitution : float
         Coefficient of restitution e: in (0, 1] for ``"ye"`` (which divides by it), [0, 1] otherwise.
     damping : {"ye", "lankarani_nikravesh"}
-        The calibration of xi from e (see the module docstring).
+        The calibration of xi from e: "ye", 8 (1 - e) / (5 e) (Ye, Li and Zhu 2009), or
+        "lankarani_nikravesh", 3 (1 - e^2) / 4, for nearly elastic impact (docs/contact-laws.md).
     tolerance : float
         Contact length tolerance [m] (a pair within it is watched).
     """
