@@ -18,6 +18,7 @@ first step, as in pounding's stepping (:mod:`two_bodies`) from a zero gap.
   bracket turns negative (delta' < -v_i / xiNorm), which hertzdamp clamps; with Ye's xi that needs
   e < 3/8, so the comparison is at e = 0.5 and 0.8, where neither pulls.
 - ``JankowskiImpact Kh xi mEff gap n``: jankowski, given xi (from e by Jankowski's formula) and m_eff.
+- OpenSees has no elastic Hertz material: hertz is compared with ``Hertzdamp`` with xiNorm = 0.
 
 pounding: the same bodies stepped by the same Newmark scheme with the law's own end-of-step solve
 (:meth:`pounding.contact.pointwise.PointwiseLaw.forces`, :func:`two_bodies.step_two_bodies`).
@@ -27,7 +28,7 @@ force 1st; hertzdamp 2nd; jankowski ~1.25), so in their asymptotic range each is
 |x(h) - x(h/2)| of its limit at h/2 (error(h/2) = change / (2^p - 1) <= change for p >= 1); the
 two therefore agree at h/2 within the sum of their changes, whatever their common limit (the
 converged two-body contact of tests/test_contact_laws.py). Measured (relative, 400 -> 800 steps a
-contact, e = 0.5 and 0.8): kelvin and jankowski agree to 9e-10 and 6e-11 (they solve the same
+contact, e = 0.5 and 0.8): kelvin, hertz and jankowski agree to 9e-10, 1e-12 and 6e-11 (they solve the same
 discrete equations, to OpenSees' Newton tolerance), against bounds of 7e-6 to 2e-3; hertzdamp to
 1.1e-6 in the rebound and 2e-7 in the peak force (its impact velocity differs, above), against
 bounds of 6e-6 and 1e-5. Runtime: ~0.1 s an OpenSees run.
@@ -38,6 +39,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from pounding.contact.hertz import Hertz
 from pounding.contact.hertzdamp import HertzDamp
 from pounding.contact.jankowski import Jankowski
 from pounding.contact.kelvin import Kelvin
@@ -57,6 +59,8 @@ def material(law) -> tuple:
         return ("ViscoelasticGap", 1, p[0], p[1], -GAP)  # K, C = 2 xi sqrt(K m_eff)
     if law.name == "hertzdamp":
         return ("Hertzdamp", 1, p[0], p[2], -GAP, p[1])  # Kh, xiNorm, gap, n
+    if law.name == "hertz":
+        return ("Hertzdamp", 1, p[0], 0.0, -GAP, p[1])  # Hertz: Hertzdamp without damping
     return ("JankowskiImpact", 1, p[0], p[1], M_EFF, -GAP, 1.5)  # Kh, xi, mEff, gap, n
 
 
@@ -93,7 +97,7 @@ def pounding_collision(law, h: float) -> tuple[float, float]:
     return s.rebound(), float(s.force.max())
 
 
-LAWS = [Kelvin(restitution=e, tension=True) for e in (0.5, 0.8)] + [HertzDamp(restitution=e) for e in (0.5, 0.8)] \
+LAWS = [Kelvin(restitution=e, tension=True) for e in (0.5, 0.8)] + [Hertz()] + [HertzDamp(restitution=e) for e in (0.5, 0.8)] \
     + [Jankowski(restitution=e) for e in (0.5, 0.8)]
 
 
