@@ -74,10 +74,9 @@ class Penalty(ContactLaw):
         k = self.restitution
         if self.dashpot == "no_tension":
             return no_tension_damping_ratio(k)
-        if k <= 0.0:
-            return 1.0  # the limit of the formula as k -> 0
-        ln = math.log(k)
-        return -ln / math.sqrt(math.pi**2 + ln**2)
+        from pounding.contact.kelvin import anagnostopoulos_damping_ratio
+
+        return anagnostopoulos_damping_ratio(k)
 
     def forces(self, gap, rate, S_q, S_v, W, stiffness=None):
         """End-of-step forces (see :meth:`ContactLaw.forces`); ``stiffness`` (m,) [N/m], when given,

@@ -68,8 +68,8 @@ def plugin_schema(cls) -> dict:
 
 
 _UNIT = r"(?:m|s|N|kg|Pa|rad|deg|g|J|Hz|mm|kN|MN|GPa|MPa)"
-#: A unit in square brackets inside a parameter's description: [m], [N/m], [kg m^2], [N s/m].
-UNIT_IN_TEXT = re.compile(rf"\[({_UNIT}(?:[ /*^]?(?:{_UNIT}|\d))*)\]")
+#: A unit in square brackets inside a parameter's description: [m], [N/m], [kg m^2], [N s/m], [N/m^1.5], [N/m^n].
+UNIT_IN_TEXT = re.compile(rf"\[({_UNIT}(?:[ /*^]?(?:{_UNIT}|\d+(?:\.\d+)?|n))*)\]")
 
 
 def numpydoc_parameters(doc: str) -> dict[str, tuple[str, str]]:

@@ -1,0 +1,71 @@
+"""Hertz contact: an elastic force growing as a power of the penetration.
+
+    F = k_h delta^n,    n = 1.5 by default (two elastic spheres; Goldsmith 1960)
+
+No energy is lost in the contact (the rebound is 1 for any restitution): the law is the
+elastic limit of :mod:`pounding.contact.hertzdamp` and :mod:`pounding.contact.jankowski`.
+For two free bodies of effective mass m_eff meeting at v0 the largest penetration is
+(5 m_eff v0^2 / (4 k_h))^(2/5) and the contact lasts 2.943 delta_max / v0 (n = 1.5).
+
+Glossary: delta the penetration [m] (> 0 in contact), k_h [N/m^n], n [-]. The face rule and the
+solve with the step are :mod:`pounding.contact.pointwise`'s.
+
+References
+----------
+Goldsmith, W. (1960). Impact: the theory and physical behaviour of colliding solids. Arnold, London.
+Jankowski, R. (2005). Non-linear viscoelastic modelling of earthquake-induced structural pounding.
+    Earthquake Engineering and Structural Dynamics 34, 595-611 (k_h = 2.75e9 N/m^1.5 for concrete).
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+
+from pounding.compiler import njit
+from pounding.contact.pointwise import CONCRETE_HERTZ_STIFFNESS, PointwiseLaw, check_exponent, check_stiffness
+
+
+@njit
+def hertz_force(delta, rate, approach_rate, params):
+    """Hertz force of one contact: (F [N], dF/d delta [N/m], dF/d rate = 0).
+
+    params = (k_h [N/m^n], n); rate and approach_rate unused.
+    """
+    k, n = params[0], params[1]
+    if delta <= 0.0:
+        return 0.0, 0.0, 0.0
+    f = k * delta**n
+    return f, n * f / delta, 0.0
+
+
+class Hertz(PointwiseLaw):
+    """Elastic Hertz contact F = k_h delta^n.
+
+    Parameters
+    ----------
+    stiffness : float
+        k_h [N/m^n] (default 2.75e9 N/m^1.5, concrete: Jankowski 2005).
+    exponent : float
+        n in (0, 3] (default 1.5).
+    restitution : float
+        Accepted (as by every contact law) and unused: the law is elastic.
+    tolerance : float
+        Contact length tolerance [m] (a pair within it is watched).
+    """
+
+    name: ClassVar[str] = "hertz"
+    law_force = staticmethod(hertz_force)
+
+    def __init__(self, *, stiffness: float = CONCRETE_HERTZ_STIFFNESS, exponent: float = 1.5, restitution: float = 1.0,
+                 tolerance: float = 1e-4):
+        super().__init__(restitution=restitution, tolerance=tolerance)
+        self.stiffness = check_stiffness(stiffness, "N/m^n")
+        self.exponent = check_exponent(exponent)
+
+    def params(self, m_eff: np.ndarray) -> np.ndarray:
+        """(k_h, n) at each of m points (m, 2)."""
+        out = np.empty((np.asarray(m_eff).shape[0], 2))
+        out[:, 0], out[:, 1] = self.stiffness, self.exponent
+        return out

@@ -1,0 +1,104 @@
+"""Kelvin (linear viscoelastic) contact: a spring and a dashpot in parallel.
+
+    F = k delta + c delta',    c = 2 xi sqrt(k m_eff),    xi = -ln e / sqrt(pi^2 + ln^2 e)
+
+The damping ratio xi makes the free vibration of m_eff on the spring and dashpot lose, in the
+half period of contact, the energy a collision of restitution e loses: with a dashpot that may
+pull at the end of the contact (``tension = true``, Anagnostopoulos' original model) the two
+bodies separate with exactly e times their approach speed, for any k and m_eff. Komodromos et
+al. noted that the pull is unphysical and drop it (``tension = false``, the default: F >= 0);
+the contact then ends where the force returns to zero, before the spring is back to its length,
+and the rebound is larger than e (0.55 for e = 0.5; see docs/contact-laws.md).
+
+Glossary: delta the penetration [m] (> 0 in contact), delta' its rate [m/s] (> 0 approaching),
+m_eff the contact's effective mass [kg] (:mod:`pounding.contact.pointwise`), k [N/m], c [N s/m],
+e the coefficient of restitution [-]. The face rule and the solve with the step are
+:mod:`pounding.contact.pointwise`'s.
+
+References
+----------
+Anagnostopoulos, S. A. (1988). Pounding of buildings in series during earthquakes. Earthquake
+    Engineering and Structural Dynamics 16, 443-456.
+Komodromos, P., Polycarpou, P. C., Papaloizou, L. and Phocas, M. C. (2007). Response of seismically
+    isolated buildings considering poundings. Earthquake Engineering and Structural Dynamics 36,
+    1605-1622.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+
+from pounding.compiler import njit
+from pounding.contact.pointwise import PointwiseLaw, check_stiffness
+from pounding.errors import InputError
+
+#: default stiffness [N/m]: the package's penalty default (a stiff slab edge, no literature source:
+#: choose it for the structure, e.g. the slab's axial stiffness over a bay)
+DEFAULT_STIFFNESS = 1e9
+
+
+def anagnostopoulos_damping_ratio(e: float) -> float:
+    """Damping ratio xi [-] of a Kelvin contact that rebounds with restitution e when its dashpot
+    may pull: -ln e / sqrt(pi^2 + ln^2 e) (1 at e = 0, the limit)."""
+    if e <= 0.0:
+        return 1.0
+    ln = math.log(e)
+    return -ln / math.sqrt(math.pi**2 + ln**2)
+
+
+@njit
+def kelvin_force(delta, rate, approach_rate, params):
+    """Kelvin force of one contact: (F [N], dF/d delta [N/m], dF/d rate [N s/m]).
+
+    params = (k [N/m], c [N s/m], tension (1.0: may pull, 0.0: never)); approach_rate unused.
+    """
+    k, c, tension = params[0], params[1], params[2]
+    if delta <= 0.0:
+        return 0.0, 0.0, 0.0
+    f = k * delta + c * rate
+    if f < 0.0 and tension == 0.0:
+        return 0.0, 0.0, 0.0
+    return f, k, c
+
+
+class Kelvin(PointwiseLaw):
+    """Linear spring and dashpot, damping from the restitution (Anagnostopoulos 1988).
+
+    Parameters
+    ----------
+    stiffness : float
+        Spring stiffness k [N/m] (default 1e9).
+    restitution : float
+        Coefficient of restitution e in [0, 1] giving the dashpot.
+    tension : bool
+        True: the dashpot may pull while the slabs overlap (Anagnostopoulos; rebound exactly e).
+        False (default): the force never pulls (Komodromos et al. 2007).
+    tolerance : float
+        Contact length tolerance [m] (a pair within it is watched).
+    """
+
+    name: ClassVar[str] = "kelvin"
+    law_force = staticmethod(kelvin_force)
+    #: the spring's power of delta (linear)
+    exponent: ClassVar[float] = 1.0
+
+    def __init__(self, *, stiffness: float = DEFAULT_STIFFNESS, restitution: float = 0.5, tension: bool = False,
+                 tolerance: float = 1e-4):
+        super().__init__(restitution=restitution, tolerance=tolerance)
+        self.stiffness = check_stiffness(stiffness, "N/m")
+        if not isinstance(tension, bool):
+            raise InputError(f"expected true or false, got {tension!r}", field="tension")
+        self.tension = tension
+        self.damping_ratio = anagnostopoulos_damping_ratio(self.restitution)
+
+    def params(self, m_eff: np.ndarray) -> np.ndarray:
+        """(k, c = 2 xi sqrt(k m_eff), tension) at each of m points (m, 3)."""
+        m_eff = np.asarray(m_eff, dtype=float)
+        out = np.empty((m_eff.shape[0], 3))
+        out[:, 0] = self.stiffness
+        out[:, 1] = 2.0 * self.damping_ratio * np.sqrt(self.stiffness * m_eff)
+        out[:, 2] = 1.0 if self.tension else 0.0
+        return out

@@ -1,0 +1,219 @@
+"""Force laws of one contact point, and the implicit solve of the end-of-step forces.
+
+A *pointwise* law gives the force of a contact from that contact's own state: its penetration
+delta [m] (> 0 in contact), the penetration's rate delta' [m/s] (> 0 approaching), the rate when
+the contact began delta'_0 [m/s], and the law's parameters. Each law is one compiled leaf kernel
+
+    force, d_force_d_delta, d_force_d_rate = law_force(delta, rate, approach_rate, params)
+
+(``params`` a float64 array, built per point by the law class from its stiffness, exponent,
+restitution and the point's effective mass), and one :class:`PointwiseLaw` subclass that says how
+to build ``params``. The force is zero for delta <= 0 and never negative unless the law says it may
+pull (Kelvin's ``tension = true``).
+
+Glossary (units)
+----------------
+delta
+    Penetration, -gap [m]: how far the slabs overlap along the contact normal.
+rate
+    delta' [m/s]; > 0 while the slabs approach, < 0 while they separate.
+approach_rate
+    delta'_0 [m/s], the closing speed when the contact began (> 0 for an impact).
+m_eff
+    Effective mass of the contact [kg], 1 / a with a = w.w the Delassus entry of the point's
+    modal row (m1 m2 / (m1 + m2) for two floors moving along the normal).
+k, k_h
+    Contact stiffness [N/m] (linear) or [N/m^n] (Hertz-type, n the exponent).
+
+The face rule
+-------------
+The law gives the force of one *contact*: two slabs pressed together at one storey. Where they
+meet face to face the geometry gives several points (the ends of the common facade), each with
+its own penetration; the m points of one slab pair pressed in a step share the law equally,
+
+    lambda_i = F(delta_i, delta'_i, delta'_0; m_eff,i) / m,     m_eff,i = 1 / W_ii,
+
+so that a uniform penetration of a face of m points (all points with the same row, W_ii = a)
+gives the law's force F(delta; 1 / a), as one point would. With rotation the points'
+penetrations differ and each carries its share of the law at its own penetration. A corner
+(m = 1) carries the whole law. The share changes when a point of a face starts or stops
+pressing (from 1/2 to 1 as one end of a face lifts off): the force is continuous there for the
+elastic part of every law (F(0) = 0 at the lifting point) but not in the other point's share.
+
+The solve
+---------
+The engine gives, at the end of a trial step, the penetrations delta_0 and rates delta'_0 the
+points would have without contact forces, and their compliances S_q, S_v (m, m) to end-of-step
+forces (a force vector lambda moves the gaps by S_q lambda, so delta = delta_0 - S_q lambda).
+:func:`solve_point_forces` finds lambda with lambda_i = s_i F_i(delta(lambda), delta'(lambda))
+by Newton's method on that residual with the law's tangent, backtracking on its norm: the
+residual is monotone (every law's force grows with delta and delta', and S_q, S_v are positive
+semidefinite), so the solution is unique.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import ClassVar
+
+import numpy as np
+
+from pounding.contact.base import ContactLaw
+from pounding.errors import InputError
+
+#: default Hertz stiffness of two concrete slabs [N/m^1.5]: Jankowski (2005), fitted to impact
+#: tests of concrete members (Earthquake Eng. Struct. Dyn. 34, 595-611)
+CONCRETE_HERTZ_STIFFNESS = 2.75e9
+#: Newton on the end-of-step forces: relative residual at which it stops
+NEWTON_RTOL = 1e-12
+#: and the most iterations it makes (quadratic convergence needs < 10 from lambda = 0)
+NEWTON_ITERATIONS = 60
+
+
+def check_stiffness(value, unit: str) -> float:
+    """``value`` as a float if it is a finite positive stiffness, else :class:`InputError` on ``stiffness``."""
+    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value) and value > 0):
+        raise InputError(f"expected a positive contact stiffness [{unit}], got {value!r}", field="stiffness")
+    return float(value)
+
+
+def check_exponent(value) -> float:
+    """``value`` as a float if it is an exponent in (0, 3], else :class:`InputError` on ``exponent``."""
+    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and 0.0 < value <= 3.0):
+        raise InputError(f"expected a force exponent n in (0, 3] (1.5 for Hertz), got {value!r}", field="exponent")
+    return float(value)
+
+
+def check_positive_restitution(value: float) -> float:
+    """``value`` if it is a restitution in (0, 1] (a law whose damping divides by it), else :class:`InputError`."""
+    if not value > 0.0:
+        raise InputError(f"expected a coefficient of restitution in (0, 1] (this law's damping divides by it), got {value!r}",
+                         field="restitution")
+    return value
+
+
+def check_tolerance(value) -> float:
+    """``value`` as a float if it is a length tolerance in (0, 1) m, else :class:`InputError` on ``tolerance``."""
+    if not (isinstance(value, (int, float)) and not isinstance(value, bool) and 0 < value < 1):
+        raise InputError(f"expected a length tolerance in (0, 1) m, got {value!r}", field="tolerance")
+    return float(value)
+
+
+class PointwiseLaw(ContactLaw):
+    """A force law given point by point (see the module docstring).
+
+    A subclass provides:
+
+    1. ``law_force``: the compiled leaf kernel ``(delta, rate, approach_rate, params) ->
+       (force, d_force_d_delta, d_force_d_rate)``, wrapped in ``staticmethod``;
+    2. :meth:`params`: the (m, p) float64 parameters of m points from their effective masses;
+    3. keyword-only parameters validated in ``__init__`` (:class:`~pounding.errors.InputError`
+       naming the field).
+
+    The engine asks :meth:`forces` for the end-of-step forces of the pressed points, given the
+    contact state of the contact-law contract (an object with ``gap``, ``rate`` (m,), ``S_q``,
+    ``S_v``, ``W`` (m, m), ``pair`` (m,) and ``approach`` (m,): see the module docstring).
+    """
+
+    kind: ClassVar[str] = "force"
+    #: the compiled point law (a subclass sets it, as staticmethod(kernel))
+    law_force = None
+
+    def __init__(self, *, restitution: float = 0.5, tolerance: float = 1e-4):
+        super().__init__(restitution=restitution)
+        self.tolerance = check_tolerance(tolerance)
+
+    def params(self, m_eff: np.ndarray) -> np.ndarray:
+        """Parameters (m, p) [float64] of the law at m points of effective masses ``m_eff`` (m,) [kg]."""
+        raise NotImplementedError
+
+    def point_force(self, delta: float, rate: float, approach_rate: float, m_eff: float) -> tuple[float, float, float]:
+        """(force [N], d force / d delta [N/m], d force / d rate [N s/m]) of one whole contact of
+        effective mass ``m_eff`` [kg] at penetration ``delta`` [m], rate ``rate`` [m/s], begun at
+        ``approach_rate`` [m/s]."""
+        p = self.params(np.array([float(m_eff)]))[0]
+        f, fd, fr = self.law_force(float(delta), float(rate), float(approach_rate), p)
+        return float(f), float(fd), float(fr)
+
+    def forces(self, contact, *legacy) -> np.ndarray:
+        """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact
+        state: ``gap``, ``rate`` (m,) without contact forces, ``S_q``, ``S_v``, ``W`` (m, m),
+        ``pair``, ``approach`` (m,)), shared by the face rule and solved with the step
+        (:func:`solve_point_forces`)."""
+        if legacy:
+            raise InputError(f"contact law {self.name!r} needs each contact's pair and approach velocity, which this "
+                             "engine's force-law path does not give yet (the contact-state contract of issue 27); "
+                             "use 'penalty' or 'impulse' meanwhile", field="contact")
+        gap = np.asarray(contact.gap, dtype=float)
+        W = np.asarray(contact.W, dtype=float)
+        m_eff = 1.0 / np.diag(W)
+        return solve_point_forces(self.law_force, -gap, -np.asarray(contact.rate, dtype=float),
+                                  np.asarray(contact.approach, dtype=float), self.params(m_eff),
+                                  face_shares(np.asarray(contact.pair)), np.asarray(contact.S_q, dtype=float),
+                                  np.asarray(contact.S_v, dtype=float))
+
+
+def face_shares(pair: np.ndarray) -> np.ndarray:
+    """Share (m,) of the law each of m points carries: 1 / (number of points of its slab pair)
+    (the face rule of the module docstring)."""
+    _, inverse, counts = np.unique(pair, return_inverse=True, return_counts=True)
+    return 1.0 / counts[inverse]
+
+
+def evaluate(law_force, delta: np.ndarray, rate: np.ndarray, approach: np.ndarray, params: np.ndarray):
+    """Force, d/d delta and d/d rate (each (m,)) of ``law_force`` at m points."""
+    m = delta.shape[0]
+    f, fd, fr = np.empty(m), np.empty(m), np.empty(m)
+    for i in range(m):
+        f[i], fd[i], fr[i] = law_force(float(delta[i]), float(rate[i]), float(approach[i]), params[i])
+    return f, fd, fr
+
+
+def solve_point_forces(law_force, delta0: np.ndarray, rate0: np.ndarray, approach: np.ndarray, params: np.ndarray,
+                       share: np.ndarray, S_q: np.ndarray, S_v: np.ndarray) -> np.ndarray:
+    """End-of-step forces lambda (m,) [N] of m points solved with the step.
+
+    Solves ``lambda_i = share_i F(delta_i, delta'_i, approach_i, params_i)`` with
+    ``delta = delta0 - S_q lambda`` and ``delta' = rate0 - S_v lambda`` by Newton's method,
+    Jacobian ``I + diag(share F_delta) S_q + diag(share F_rate) S_v``, halving a step that does
+    not lower the residual's norm.
+
+    Parameters
+    ----------
+    law_force : compiled point law (see the module docstring)
+    delta0, rate0 : ndarray (m,)
+        Penetrations [m] and their rates [m/s] at the step's end without contact forces.
+    approach : ndarray (m,)
+        Closing speed when each point's contact began [m/s].
+    params : ndarray (m, p)
+        The law's parameters at each point.
+    share : ndarray (m,)
+        The share of the law each point carries (:func:`face_shares`).
+    S_q, S_v : ndarray (m, m)
+        Compliances of the end-of-step gaps [m/N] and rates [m/(N s)] to the forces.
+    """
+    m = delta0.shape[0]
+    lam = np.zeros(m)
+
+    def residual(lam):
+        f, fd, fr = evaluate(law_force, delta0 - S_q @ lam, rate0 - S_v @ lam, approach, params)
+        return lam - share * f, f, fd, fr
+
+    r, f, fd, fr = residual(lam)
+    scale = max(float(np.max(np.abs(share * f), initial=0.0)), 1e-300)
+    for _ in range(NEWTON_ITERATIONS):
+        norm = float(np.max(np.abs(r), initial=0.0))
+        if norm <= NEWTON_RTOL * scale:
+            break
+        J = np.eye(m) + (share * fd)[:, None] * S_q + (share * fr)[:, None] * S_v
+        step = np.linalg.solve(J, -r)
+        t = 1.0
+        for _ in range(40):  # backtrack: the residual's kinks (contact lost, force clamped) can overshoot
+            r_new, f_new, fd_new, fr_new = residual(lam + t * step)
+            if float(np.max(np.abs(r_new), initial=0.0)) < norm:
+                break
+            t *= 0.5
+        lam = lam + t * step
+        r, f, fd, fr = r_new, f_new, fd_new, fr_new
+        scale = max(scale, float(np.max(np.abs(lam), initial=0.0)))
+    return lam
