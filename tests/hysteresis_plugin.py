@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.geometry import njit
+from pounding.compiler import njit
 from pounding.hysteresis.base import HysteresisLaw
 
 

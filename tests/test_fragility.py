@@ -372,7 +372,7 @@ def test_spectral_measures_are_the_ground_motion_modules_own():
     at T1 of the taller building unless a period is given."""
     from pounding.framework.studies import fragility_inputs as fi
     from pounding.framework.post.intensity import intensity
-    from pounding.io.ground_motion import G
+    from pounding.framework.model.units import G
     from pounding.io.records import first_period_of_taller
 
     scene = load_scene(PAPER)

@@ -796,14 +796,15 @@ def test_plastic_stop_of_many_held_storeys_is_solved_pair_by_pair():
             assert np.array_equal(b[rows], b0[rows])
 
 
-def _held_pair_with_an_arriving_corner(closing: float, use_kernel: bool, widths=(10.0, 12.0), opening: float = 1e-6) -> Driver:
+def _held_pair_with_an_arriving_corner(closing: float, use_kernel: bool, widths=(10.0, 12.0), opening: float = 1e-6,
+                                       turn: float = -5e-6) -> Driver:
     """Two single-storey boxes 10 m deep face to face (gap 0), held: the right slab is turned
-    clockwise by 5e-6 rad about its corner A = (w0, 0), which touches, so its corner B = (w0, 10) is
+    clockwise by 5e-6 rad (``-turn``) about its corner A = (w0, 0), which touches, so its corner B = (w0, 10) is
     5e-5 m away (inside the 1e-4 m tolerance), and turns back about A so that B closes at ``closing``
     [m/s]; a slight translation opens A at about ``opening`` [m/s] (default: no touching point closes)."""
     sc = scene(side_by_side(0.0, widths=widths))
     d = Driver(sc, use_kernel=use_kernel)
-    phi, w = -5e-6, closing / 10.0
+    phi, w = turn, closing / 10.0
     arm = widths[1] / 2.0  # centre (w0 + w1 / 2, 5): a turn about A moves it by phi x (arm, 5)
     right = {(1, 0): np.array([-phi * 5.0, phi * arm, phi])}
     rates = {(1, 0): np.array([-w * 5.0 + opening, w * arm, w])}
@@ -872,3 +873,44 @@ def test_an_arriving_corner_that_would_reach_contact_is_stopped_by_a_push_not_a_
     assert np.allclose(start - v, impulse * W[b_], rtol=1e-12, atol=1e-12 * np.abs(impulse * W[b_]).max())
     assert W[a_] @ start == pytest.approx(b * (W[a_] @ W[b_]) / (W[b_] @ W[b_]), rel=1e-12)
     assert W[a_] @ start > 0.0
+
+
+def test_a_corner_arriving_after_its_pair_was_struck_is_located_and_struck_where_it_touches():
+    """Corner A touches and opens (0.1 m/s, as just after an impact), corner B of the same face is
+    1.02e-4 m away (beyond the 1e-4 m tolerance) and closes at 0.4 m/s: it reaches contact about
+    0.25 ms into the 5 ms step, before the search's first sample (h / 17). The search goes past A's contact at the step's start (issue 27, item 4:
+    the paper pair's +14.3 kJ at 12.04 s) and strikes B there with the law: where B's gap is zero to
+    the geometry's rounding, with the single-point Newton impulse (1 + k) b / a (a = w_B . w_B; on
+    30 x 30 m slabs striking B opens A further), and no contact force acts in the step (no contact
+    work). Before, the step ended at its start, the pair was held as pressed and B pushed back by the
+    held step's end force. Instant within 10 % of gap / b (the step's accelerations change b by 1e-3
+    relative); impulse to 1e-12 (a few flops)."""
+    d = _held_pair_with_an_arriving_corner(0.5, use_kernel=False, widths=(30.0, 30.0), opening=0.1, turn=-1.02e-5)
+    d.sustained = set()
+
+    def corner_b():  # the gap [m] and closing speed [m/s] at B's end of the face, beyond the tolerance too
+        f = min((f for f in d.model.features(d.z[:, 0], 0, 1e-3) if f.point[1] > 5.0), key=lambda f: f.gap)
+        return f.gap, float(-(f.w @ d.z[:, 1]))
+
+    gap0, closing = corner_b()
+    assert gap0 == pytest.approx(1.02e-4, rel=1e-3) and gap0 > d.tol and closing * d.dt > gap0
+    seen = []
+    contact_at = d.contact_at
+
+    def watch(t, pairs=None):  # B's gap and closing speed at every strike, before it
+        seen.append((t, *corner_b()))
+        return contact_at(t, pairs)
+
+    d.contact_at = watch
+    d.python_step(0)
+    assert len(d.impacts) == 1 and d.sustained == set()
+    imp = d.impacts[0]
+    t, gap, b = next(x for x in seen if x[0] == imp.time)
+    assert 0.9 * gap0 / closing < imp.time < 1.1 * gap0 / closing
+    assert abs(gap) <= d.eps
+    q = d.event_states[0][1]  # at the impact
+    wb = min((f for f in d.model.features(q, 0, 1e-3) if f.point[1] > 5.0), key=lambda f: f.gap).w
+    k = d.law.restitution
+    assert imp.approach_velocity == pytest.approx(b, rel=1e-12)
+    assert imp.impulse == pytest.approx((1 + k) * b / (wb @ wb), rel=1e-12)
+    assert np.all(d.E[:, 2] == 0.0)

@@ -105,7 +105,7 @@ def describe(scene, path: Path | None = None) -> str:
         title = tomllib.loads(Path(path).read_text()).get("title", "")
     lines.append(f"scene {path}" + (f": {title}" if title else ""))
     gm, an = scene.ground_motion, scene.analysis
-    from pounding.io.ground_motion import G
+    from pounding.framework.model.units import G
 
     gdt = f"{gm.dt:g} s" if gm.dt is not None else "non-uniform steps"
     lines.append(f"ground motion: {gm.name} ({gm.source}), {len(gm.t)} samples at {gdt}, {gm.duration:g} s, "

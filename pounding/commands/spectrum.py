@@ -62,7 +62,7 @@ def cmd_spectrum(args: argparse.Namespace) -> int:
     import numpy as np
 
     from pounding.framework.post.intensity import default_periods, spectra
-    from pounding.io.ground_motion import G
+    from pounding.framework.model.units import G
     from pounding.framework.studies.sweep import parse_values
     from pounding.io.outputs import check_target, write_folder
     from pounding.io.spectra import plot_spectra, spectra_dict, write_spectra_csv

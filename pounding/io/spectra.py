@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding.framework.post.intensity import Spectra
-from pounding.io.ground_motion import G
+from pounding.framework.model.units import G
 
 __all__ = ["spectra_table", "spectra_dict", "write_spectra_csv", "plot_spectra"]
 

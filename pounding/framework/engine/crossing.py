@@ -300,6 +300,10 @@ def hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, checked, plist, geo):
 #: the regula falsi's most iterations (the bracket reaches xtol long before: bisection halves it)
 ILLINOIS_ITERATIONS = 200
 
+#: the most halvings back from a step's end towards a pair touching at its start, looking for where it
+#: has left contact (:func:`pounding.framework.engine.driver._leave_contact`): 2^-60 of a step is below xtol
+LEAVE_HALVINGS = 60
+
 
 @njit
 def illinois_point(lo, hi, flo, fhi):

@@ -937,7 +937,14 @@ class Driver:
         if gmin(hi) >= -eps:
             hi = h if gh < -eps else hi
         if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
-            return lo
+            # struck there and opening, it may close again later in the step (another corner, or the
+            # same one coming back): the zero sought is the first after the pair has left contact
+            left = _leave_contact(gmin, lo, hi, eps, xtol) if gmin(hi) < -eps else None
+            if left is None:  # it stays in contact (pressed): the start is the event
+                return lo
+            lo, hi, fhi = left
+            if fhi >= -eps:
+                return hi
         if gmin(hi) >= -eps:
             return None
         return _polish(gmin, lo, hi, hermite_zero(*herm, float(lo), float(hi), eps, xtol, True, plist, geo_), eps, xtol, slope)
@@ -1087,6 +1094,29 @@ def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
             return x
         lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
     return lo
+
+
+def _leave_contact(f, lo: float, hi: float, eps: float, xtol: float):
+    """Where a pair touching at lo (f(lo) <= eps [m]) that overlaps at hi (f(hi) < -eps) has left contact
+    in between: halving back from hi [s], the first x with f(x) > eps and the point before it, prev [s],
+    with f(prev) <= eps. Returns (x, prev, f(prev)), or None when f stays within eps of contact or below it
+    down to xtol [s] past lo (the pair stays in contact: pressed together, not struck and opening).
+
+    A pair struck at lo that opens there (its struck corner rebounds) while another of its corners
+    closes has its next zero where that corner arrives; the gap at lo is the struck corner's zero, not it.
+    The compiled search repeats it (:func:`pounding.framework.engine.event_search._leave_contact`)."""
+    from pounding.framework.engine.crossing import LEAVE_HALVINGS
+
+    prev, fprev, x = hi, f(hi), hi
+    for _ in range(LEAVE_HALVINGS):
+        x = lo + 0.5 * (x - lo)
+        if x - lo <= xtol:
+            break
+        fx = f(x)
+        if fx > eps:
+            return x, prev, fprev
+        prev, fprev = x, fx
+    return None
 
 
 def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=None) -> float:

@@ -31,7 +31,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
+from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
 from pounding.solvers.exact_partial import exact_transition
@@ -146,7 +146,15 @@ def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, grid_dt, A_dt, B_dt, ome
             hi = h
             ghi = gh
     if stepped_gap(lo, sol) <= eps:
-        return True, lo
+        # touching at the start: struck there and opening, the zero sought is after it has left contact
+        if ghi >= -eps:
+            return True, lo
+        left, x, prev, fprev = _leave_contact(lo, hi, eps, xtol, sol)
+        if not left:
+            return True, lo
+        if fprev >= -eps:
+            return True, prev
+        lo, hi, ghi = x, prev, fprev
     if ghi >= -eps:
         return False, 0.0
     x = hermite_zero(*herm, lo, hi, eps, xtol, _CHECKED, plist, geo)
@@ -168,6 +176,25 @@ def _polish(lo, hi, x, eps, xtol, sol, herm):
         if not more:
             break
     return _first_zero(lo, hi, eps, xtol, sol)
+
+
+@njit
+def _leave_contact(lo, hi, eps, xtol, sol):
+    """:func:`pounding.framework.engine.driver._leave_contact` on ``exact``'s solution: (left, x, prev, f(prev)),
+    left False when the pair stays in contact down to xtol past lo."""
+    prev = hi
+    fprev = stepped_gap(hi, sol)
+    x = hi
+    for _ in range(LEAVE_HALVINGS):
+        x = lo + 0.5 * (x - lo)
+        if x - lo <= xtol:
+            break
+        fx = stepped_gap(x, sol)
+        if fx > eps:
+            return True, x, prev, fprev
+        prev = x
+        fprev = fx
+    return False, x, prev, fprev
 
 
 @njit

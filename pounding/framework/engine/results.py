@@ -188,14 +188,16 @@ class Result:
         return self.names[b if imp.striker == 0 else a]
 
     def energy_balance(self) -> dict:
-        """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work."""
-        e = self.energy
-        inp = sum(v["input"] for v in e.values())
-        stored = sum(v["kinetic"] + v["strain"] for v in e.values())
-        damp = sum(v["damping"] for v in e.values())
-        contact = sum(v["contact_forces"] for v in e.values())
-        lost = sum(i.energy_loss for i in self.impacts)
-        hyst = sum(v.get("hysteretic", 0.0) for v in e.values())  # yielding storey springs
-        err = inp + contact - stored - damp - lost - hyst
-        rel = err / inp if inp else 0.0
-        return {"tolerance": self.energy_tolerance, "ok": bool(abs(rel) <= self.energy_tolerance), "input": inp, "kinetic_plus_strain": stored, "damping": damp, "impact_loss": lost, "contact_force_work": contact, "hysteretic": hyst, "error": err, "relative_error": rel}
+        """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work [J].
+
+        ``ok`` when the balance closes within ``energy_tolerance`` of the input and no term breaks the sign
+        physics fixes (``sign_violations``, :func:`pounding.framework.post.energy_account.sign_violations`)."""
+        from pounding.framework.post.energy_account import pair_terms, sign_violations
+
+        out = pair_terms(self)
+        err = out["input"] + out["contact_force_work"] - out["kinetic_plus_strain"] - out["damping"] - out["impact_loss"] - out["hysteretic"]
+        out.update(tolerance=self.energy_tolerance, error=err, relative_error=err / out["input"] if out["input"] else 0.0)
+        # a run that breaks a sign is not ok, however well its account closes
+        out["sign_violations"] = sign_violations(self, out)
+        out["ok"] = bool(abs(out["relative_error"]) <= self.energy_tolerance) and not out["sign_violations"]
+        return out

@@ -33,7 +33,7 @@ SPECTRAL = {"sa": "Sa", "geomean": "Sa geomean", "rotd50": "Sa RotD50", "rotd100
 
 
 def _pga(motion) -> float:
-    from pounding.io.ground_motion import G
+    from pounding.framework.model.units import G
 
     return motion.pga / G
 
@@ -64,7 +64,7 @@ def intensity_measure(name: str, scene):
         raise InputError(f"expected {key}:T with a period T in seconds, got {name!r}", field="--im") from None
     if not T > 0:
         raise InputError(f"expected a period > 0 s, got {T:g}", field="--im")
-    from pounding.io.ground_motion import G
+    from pounding.framework.model.units import G
 
     return f"{SPECTRAL[key]}({T:.3g} s)", "g", lambda m: intensity(m, key, T) / G
 
