@@ -27,7 +27,8 @@ from typing import Callable, NamedTuple
 
 from pounding.errors import InputError
 
-__all__ = ["INTENSITY_MEASURES", "Measure", "describe_measure", "intensity_measure", "record_set", "spectral_period"]
+__all__ = ["INTENSITY_MEASURES", "Measure", "describe_measure", "intensity_measure", "record_set", "scene_measure",
+           "spectral_period"]
 
 #: Intensity measures built in: name -> (label, unit).
 INTENSITY_MEASURES = {"pga": ("PGA", "g")}
@@ -92,10 +93,15 @@ def spectral_period(scene, period: float | None = None) -> dict:
 
 
 def describe_measure(about: dict) -> str:
-    """One line saying what a measure is: its label, definition, and for a spectral one the period and damping."""
+    """One line saying what a measure is: its label, definition, for a spectral one the period and damping, and the target
+    or factor of a scene's scaling (:func:`scene_measure`)."""
     text = f"{about['label']} [{about['unit']}]: {about['definition']}"
     if "period_s" in about:
         text += f", at T = {about['period_s']:.4g} s ({about['period_of']}), {100.0 * about['damping']:g} % damping"
+    if "target_g" in about:
+        text += f"; scaled to {about['target_g']:g} g"
+    if "factor" in about:
+        text += f" {about['factor']:g}"
     return text
 
 
@@ -132,6 +138,40 @@ def intensity_measure(name: str, scene) -> Measure:
     label = f"{SPECTRAL[key]}({T:.3g} s)"
     about = {"name": key, "label": label, "unit": "g", "definition": DEFINITIONS[key]} | where
     return Measure(label, "g", lambda m: intensity(m, key, T, where["damping"]) / G, about)
+
+
+def scene_measure(table, scene) -> dict:
+    """What a scene's ``[ground_motion]`` table scales its record to, as :class:`Measure` ``about`` plus the target.
+
+    Parameters
+    ----------
+    table : mapping
+        The scene file's ``[ground_motion]`` table (:mod:`pounding.io.records`).
+    scene : Scene
+        The scene it loads (for the default period of a spectral target).
+
+    Returns
+    -------
+    dict
+        ``name, label, unit, definition`` (and ``period_s, period_of, damping`` for a
+        spectral target) with ``target_g``; ``{"name": "scale", "factor": f, ...}`` for
+        ``scale = f``; ``{"name": "none", ...}`` for a record used as read.
+    """
+    if "target" in table:
+        name = str(table["intensity"])
+        if name != "pga":
+            period = table.get("period")
+            about = {"name": name, "label": f"{SPECTRAL[name]}", "unit": "g", "definition": DEFINITIONS[name]}
+            about |= spectral_period(scene, None if period is None else float(period))
+            about["label"] += f"({about['period_s']:.3g} s)"
+            return about | {"target_g": float(table["target"])}
+        return intensity_measure("pga", scene).about | {"target_g": float(table["target"])}
+    if "pga" in table:
+        return intensity_measure("pga", scene).about | {"target_g": float(table["pga"])}
+    if "scale" in table:
+        return {"name": "scale", "label": "factor", "unit": "-", "definition": "the record as read times a factor",
+                "factor": float(table["scale"])}
+    return {"name": "none", "label": "none", "unit": "-", "definition": "the record as read, unscaled"}
 
 
 def record_set(spec, scene) -> list[tuple[str, object]]:
