@@ -31,6 +31,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
 ELCENTRO = ROOT / "pounding" / "io" / "data" / "elcentro_1940_ns.at2"
 SHORT = {"duration": 6.0}
+# The runs are short on purpose (El Centro's strong motion lasts to 25.5 s): the window's warning is
+# tested in tests/test_study_window.py, and said here for every study.
+pytestmark = pytest.mark.filterwarnings("ignore::pounding.framework.studies.window.WindowWarning")
 LEVELS = [0.2, 0.4]
 
 

@@ -113,4 +113,4 @@ def window_warning(checks, scaled_by: str, table: str) -> str | None:
     need = max(c.needed for c in cut)
     return (f"the analysis window ends before the strong motion of {len(cut)} of {len(checks)} records, scaled by "
             f"{scaled_by}: {names}. Their runs miss part of the shaking ({table} marks them in window_cut); "
-            f"a duration of at least {math.ceil(need * 10.0) / 10.0:g} s holds every record's")
+            f"a duration of at least {math.ceil(need * 10.0) / 10.0:g} s holds every record's strong motion and peak")
