@@ -211,3 +211,15 @@ def test_bad_sweep_input_exits_2(tmp_path, capsys, extra, field):
     err = capsys.readouterr()
     assert code == 2 and field in err.err and err.out == ""
     assert not (tmp_path / "o").exists()  # nothing is written before the inputs are checked
+
+
+def test_a_relative_out_folder_lists_every_file_it_wrote(tmp_path, monkeypatch):
+    """With --out given relative to the working folder, the manifest lists the table, sweep.json, the Parquet copy
+    and the plots by their names in the folder, so nothing there counts as foreign and a rerun is not refused."""
+    from pounding.io.outputs import foreign, read_manifest
+
+    monkeypatch.chdir(tmp_path)
+    res = run_sweep(PAPER, Path("rel"), gaps=[0.05, 0.1], overrides={"duration": 0.5}, serial=True)
+    assert foreign(Path("rel")) == [] and len(res.plots) == 2
+    assert set(read_manifest(Path("rel"))["sweep"]) == {"sweep.csv", "sweep.json", "sweep.parquet", "impacts_vs_gap.png",
+                                                         "drift_vs_gap.png"}
