@@ -205,7 +205,8 @@ def test_sweep_names_the_cut_record_marks_its_rows_and_states_the_scaling(pulses
 
 def test_a_spectral_target_in_the_scene_is_stated_with_its_period(tmp_path):
     """A scene scaled by ``intensity = "sa"`` without a period: the sweep states T1 of the taller building (checked by
-    another eigensolver), whose it is, and the 5 % damping; with ``period = 1.2`` it states 1.2 s, given."""
+    another eigensolver), whose it is, and the 5 % damping; with ``period = 1.2`` it states 1.2 s, given; with
+    ``scale = 1.5``, the factor."""
     from pounding.framework.studies.sweep import prepare
 
     text = PAPER.read_text().replace("pga = 0.32          # g", 'intensity = "sa"\ntarget = 0.5')
@@ -220,3 +221,6 @@ def test_a_spectral_target_in_the_scene_is_stated_with_its_period(tmp_path):
     path.write_text(text.replace("target = 0.5", "target = 0.5\nperiod = 1.2"))
     about = prepare(path)[0]["intensity"]
     assert (about["period_s"], about["period_of"]) == (1.2, "given")
+    path.write_text(text.replace('intensity = "sa"\ntarget = 0.5', "scale = 1.5"))
+    assert prepare(path)[0]["intensity"] | {"definition": None} == {"name": "scale", "label": "factor", "unit": "-",
+                                                                     "factor": 1.5, "definition": None}

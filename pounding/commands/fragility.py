@@ -21,7 +21,8 @@ def add_parser(sub) -> None:
             "gap at once. Writes OUT/runs.csv (one row per record and level, appended as runs finish), OUT/fragility.csv "
             "(P(pounding) per gap and level, and the lognormal fragility per gap fitted by maximum likelihood over the levels, "
             "with Wald bounds), OUT/target_gap.csv (the gap for each target probability per level beside the mean ABS, SRSS "
-            "and DDC estimates), plots, and with --consequences runs with contact for the drift (and, for yielding storeys, ductility) amplification. A rerun with the "
+            "and DDC estimates), OUT/study.json (the intensity measure with the period it used, and each record against the analysis "
+            "window: a record whose strong motion comes after --duration is named in a warning), plots, and with --consequences runs with contact for the drift (and, for yielding storeys, ductility) amplification. A rerun with the "
             "same OUT resumes: finished runs are read back, failed ones run again. Runs execute on a local Dask cluster "
             "unless --scheduler or --serial is given."
         ),

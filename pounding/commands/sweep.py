@@ -90,7 +90,7 @@ def cmd_sweep(args: argparse.Namespace) -> int:
     from pounding.framework.studies.fragility_inputs import describe_measure
 
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
-    print(f"records scaled to {describe_measure(res.intensity)}" + (", then by --pga-scale" if scales else ""))
+    print(f"scaling of the records: {describe_measure(res.intensity)}" + ("; then times each --pga-scale" if scales else ""))
     cut = [c.record for c in res.window if c.cut]
     if cut:
         print(f"window: {len(cut)} of {len(res.window)} records cut short ({', '.join(cut)}): see window_cut in {res.csv}")

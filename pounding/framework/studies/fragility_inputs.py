@@ -94,14 +94,12 @@ def spectral_period(scene, period: float | None = None) -> dict:
 
 def describe_measure(about: dict) -> str:
     """One line saying what a measure is: its label, definition, for a spectral one the period and damping, and the target
-    or factor of a scene's scaling (:func:`scene_measure`)."""
+    of a scene's scaling (:func:`scene_measure`)."""
     text = f"{about['label']} [{about['unit']}]: {about['definition']}"
     if "period_s" in about:
         text += f", at T = {about['period_s']:.4g} s ({about['period_of']}), {100.0 * about['damping']:g} % damping"
     if "target_g" in about:
         text += f"; scaled to {about['target_g']:g} g"
-    if "factor" in about:
-        text += f" {about['factor']:g}"
     return text
 
 
@@ -169,8 +167,8 @@ def scene_measure(table, scene) -> dict:
     if "pga" in table:
         return intensity_measure("pga", scene).about | {"target_g": float(table["pga"])}
     if "scale" in table:
-        return {"name": "scale", "label": "factor", "unit": "-", "definition": "the record as read times a factor",
-                "factor": float(table["scale"])}
+        return {"name": "scale", "label": "factor", "unit": "-", "factor": float(table["scale"]),
+                "definition": f"the record as read times {float(table['scale']):g}"}
     return {"name": "none", "label": "none", "unit": "-", "definition": "the record as read, unscaled"}
 
 

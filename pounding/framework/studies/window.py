@@ -60,14 +60,19 @@ class WindowCheck:
     peak_time: float
 
     @property
-    def cut(self) -> str | None:
-        """What the window misses, in words (None when it holds both times)."""
+    def missed(self) -> list[str]:
+        """The times after the window's end, in words (empty when it holds both)."""
         missed = []
         if self.window < self.arias95_time:
             missed.append(f"95 % Arias intensity at {self.arias95_time:.3g} s")
         if self.window < self.peak_time:
             missed.append(f"peak at {self.peak_time:.3g} s")
-        return None if not missed else f"window {self.window:.3g} s ends before the " + " and the ".join(missed)
+        return missed
+
+    @property
+    def cut(self) -> str | None:
+        """What the window misses, in words (None when it holds both times): a row's ``window_cut``."""
+        return f"window {self.window:.3g} s ends before the " + " and the ".join(self.missed) if self.missed else None
 
     @property
     def needed(self) -> float:
@@ -106,11 +111,12 @@ def window_warning(checks, scaled_by: str, table: str) -> str | None:
         The file whose ``window_cut`` column marks the runs.
     """
     checks = list(checks)
-    cut = [c for c in checks if c.cut]
+    cut = [c for c in checks if c.missed]
     if not cut:
         return None
-    names = "; ".join(f"{c.record} ({c.cut})" for c in cut)
+    windows = ", ".join(f"{w:.3g} s" for w in sorted({c.window for c in cut}))
+    names = "; ".join(f"{c.record} ({', '.join(c.missed)})" for c in cut)
     need = max(c.needed for c in cut)
-    return (f"the analysis window ends before the strong motion of {len(cut)} of {len(checks)} records, scaled by "
-            f"{scaled_by}: {names}. Their runs miss part of the shaking ({table} marks them in window_cut); "
-            f"a duration of at least {math.ceil(need * 10.0) / 10.0:g} s holds every record's strong motion and peak")
+    return (f"the analysis window ({windows}) ends before the strong motion or the peak of {len(cut)} of {len(checks)} "
+            f"records, scaled by {scaled_by}: {names}. Their runs miss part of the shaking ({table} marks them in "
+            f"window_cut); a duration of at least {math.ceil(need * 10.0) / 10.0:g} s holds every record's strong motion and peak")
