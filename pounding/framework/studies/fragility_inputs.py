@@ -92,6 +92,15 @@ def spectral_period(scene, period: float | None = None) -> dict:
             "period_of": f"the first period of building {taller_building(scene.buildings).name!r}, the taller"}
 
 
+def _about(key: str, where: dict | None = None) -> dict:
+    """A measure's ``about`` (:class:`Measure`): name, label (with the period of a spectral one), unit, definition,
+    and for a spectral one ``where`` (:func:`spectral_period`)."""
+    if key in INTENSITY_MEASURES:
+        label, unit = INTENSITY_MEASURES[key]
+        return {"name": key, "label": label, "unit": unit, "definition": DEFINITIONS[key]}
+    return {"name": key, "label": f"{SPECTRAL[key]}({where['period_s']:.3g} s)", "unit": "g", "definition": DEFINITIONS[key]} | where
+
+
 def describe_measure(about: dict) -> str:
     """One line saying what a measure is: its label, definition, for a spectral one the period and damping, and the target
     of a scene's scaling (:func:`scene_measure`)."""
@@ -117,8 +126,8 @@ def intensity_measure(name: str, scene) -> Measure:
     """
     key, _, period = str(name).strip().lower().partition(":")
     if key in INTENSITY_MEASURES and not period:
-        label, unit = INTENSITY_MEASURES[key]
-        return Measure(label, unit, _pga, {"name": key, "label": label, "unit": unit, "definition": DEFINITIONS[key]})
+        about = _about(key)
+        return Measure(about["label"], about["unit"], _pga, about)
     if key not in SPECTRAL:
         known = list(INTENSITY_MEASURES) + list(SPECTRAL)
         raise InputError(f"unknown intensity measure {name!r}; expected one of: {', '.join(known)}", field="--im")
@@ -133,9 +142,8 @@ def intensity_measure(name: str, scene) -> Measure:
         raise InputError(f"expected a period > 0 s, got {T:g}", field="--im")
     from pounding.io.ground_motion import G
 
-    label = f"{SPECTRAL[key]}({T:.3g} s)"
-    about = {"name": key, "label": label, "unit": "g", "definition": DEFINITIONS[key]} | where
-    return Measure(label, "g", lambda m: intensity(m, key, T, where["damping"]) / G, about)
+    about = _about(key, where)
+    return Measure(about["label"], about["unit"], lambda m: intensity(m, key, T, where["damping"]) / G, about)
 
 
 def scene_measure(table, scene) -> dict:
@@ -156,16 +164,11 @@ def scene_measure(table, scene) -> dict:
         ``scale = f``; ``{"name": "none", ...}`` for a record used as read.
     """
     if "target" in table:
-        name = str(table["intensity"])
-        if name != "pga":
-            period = table.get("period")
-            about = {"name": name, "label": f"{SPECTRAL[name]}", "unit": "g", "definition": DEFINITIONS[name]}
-            about |= spectral_period(scene, None if period is None else float(period))
-            about["label"] += f"({about['period_s']:.3g} s)"
-            return about | {"target_g": float(table["target"])}
-        return intensity_measure("pga", scene).about | {"target_g": float(table["target"])}
+        name, period = str(table["intensity"]), table.get("period")
+        where = None if name in INTENSITY_MEASURES else spectral_period(scene, None if period is None else float(period))
+        return _about(name, where) | {"target_g": float(table["target"])}
     if "pga" in table:
-        return intensity_measure("pga", scene).about | {"target_g": float(table["pga"])}
+        return _about("pga") | {"target_g": float(table["pga"])}
     if "scale" in table:
         return {"name": "scale", "label": "factor", "unit": "-", "factor": float(table["scale"]),
                 "definition": f"the record as read times {float(table['scale']):g}"}
