@@ -96,8 +96,8 @@ __all__ = [
 
 def run_columns(names: list[str]) -> list[str]:
     """Columns of ``runs.csv`` for buildings ``names``."""
-    cols = ["record", "level", "im", "record_im", "scale", "window_cut", "window_s", "arias95_s", "peak_time_s", "arias_m_s", "status", "error", "required_gap_m", "required_gap_grid_m",
-            "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
+    cols = ["record", "level", "im", "record_im", "scale", "window_cut", "window_s", "arias95_s", "peak_time_s", "arias_m_s",
+            "status", "error", "required_gap_m", "required_gap_grid_m", "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
     return cols + [f"{n}_peak_drift" for n in names] + [f"{n}_peak_ductility" for n in names] + ["warnings", "runtime_s"]
 
 
@@ -618,8 +618,7 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
     identity = dict(study.identity)
     if sj.exists():  # keep the hashes of records run before and not in this call
         identity["records"] = {**json.loads(sj.read_text()).get("records", {}), **identity["records"]}
-    identity["window"] = [{"record": c.record, "window_s": c.window, "arias95_s": c.arias95_time, "peak_time_s": c.peak_time,
-                           "cut": c.cut} for c in study.window]
+    identity["window"] = [c.as_dict() for c in study.window]
     tmp = sj.with_name(f".{sj.name}.tmp-{os.getpid()}")
     tmp.write_text(json.dumps(identity, indent=1) + "\n")
     os.replace(tmp, sj)

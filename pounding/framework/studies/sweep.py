@@ -573,8 +573,7 @@ def record_checks(spec: dict, cases: list[Case], texts: dict) -> list:
 def write_description(spec: dict, cases: list[Case], checks: list, path: Path) -> Path:
     """``sweep.json``: what the records were scaled to, the factors on top, and every record against the window."""
     body = {"intensity": spec["intensity"], "pga_scale": sorted({c.pga_scale for c in cases}),
-            "window": [{"record": c.record, "window_s": c.window, "arias95_s": c.arias95_time, "peak_time_s": c.peak_time,
-                        "cut": c.cut} for c in checks]}
+            "window": [c.as_dict() for c in checks]}
     tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
     tmp.write_text(json.dumps(body, indent=1) + "\n")
     os.replace(tmp, path)

@@ -74,6 +74,11 @@ class WindowCheck:
         """What the window misses, in words (None when it holds both times): a row's ``window_cut``."""
         return f"window {self.window:.3g} s ends before the " + " and the ".join(self.missed) if self.missed else None
 
+    def as_dict(self) -> dict:
+        """The check as a study's JSON file states it (times in s)."""
+        return {"record": self.record, "window_s": self.window, "arias95_s": self.arias95_time, "peak_time_s": self.peak_time,
+                "cut": self.cut}
+
     @property
     def needed(self) -> float:
         """The shortest window that holds both times [s]."""
