@@ -31,6 +31,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
 ELCENTRO = ROOT / "pounding" / "io" / "data" / "elcentro_1940_ns.at2"
 SHORT = {"duration": 6.0}
+# The runs are short on purpose (El Centro's strong motion lasts to 25.5 s): the window's warning is
+# tested in tests/test_study_window.py, and said here for every study.
+pytestmark = pytest.mark.filterwarnings("ignore::pounding.framework.studies.window.WindowWarning")
 LEVELS = [0.2, 0.4]
 
 
@@ -378,12 +381,14 @@ def test_spectral_measures_are_the_ground_motion_modules_own():
     scene = load_scene(PAPER)
     motion = scene.ground_motion
     T1 = first_period_of_taller(scene.buildings)
-    label, unit, fn = fi.intensity_measure("sa", scene)
+    label, unit, fn, about = fi.intensity_measure("sa", scene)
     assert (label, unit) == (f"Sa({T1:.3g} s)", "g")
     assert fn(motion) == intensity(motion, "sa", T1) / G
-    label, _, fn = fi.intensity_measure("rotd50:1.2", scene)
+    assert (about["period_s"], about["damping"]) == (T1, 0.05)
+    label, _, fn, about = fi.intensity_measure("rotd50:1.2", scene)
     assert label == "Sa RotD50(1.2 s)" and fn(motion) == intensity(motion, "rotd50", 1.2) / G
-    assert fi.intensity_measure("pga", scene)[0] == "PGA"
+    assert (about["period_s"], about["period_of"]) == (1.2, "given")
+    assert fi.intensity_measure("pga", scene).label == "PGA"
 
 
 def test_a_named_set_gives_the_22_far_field_pairs_at_the_scene_angle():

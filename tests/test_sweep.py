@@ -23,6 +23,9 @@ ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
 ELCENTRO = ROOT / "pounding" / "io" / "data" / "elcentro_1940_ns.at2"
 SHORT = {"duration": 2.0}
+# The runs are short on purpose (El Centro's strong motion lasts to 25.5 s): the window's warning is
+# tested in tests/test_study_window.py, and said here for every study.
+pytestmark = pytest.mark.filterwarnings("ignore::pounding.framework.studies.window.WindowWarning")
 GAPS = [0.0, 0.02, 0.05, 0.1]
 
 
@@ -208,3 +211,15 @@ def test_bad_sweep_input_exits_2(tmp_path, capsys, extra, field):
     err = capsys.readouterr()
     assert code == 2 and field in err.err and err.out == ""
     assert not (tmp_path / "o").exists()  # nothing is written before the inputs are checked
+
+
+def test_a_relative_out_folder_lists_every_file_it_wrote(tmp_path, monkeypatch):
+    """With --out given relative to the working folder, the manifest lists the table, sweep.json, the Parquet copy
+    and the plots by their names in the folder, so nothing there counts as foreign and a rerun is not refused."""
+    from pounding.io.outputs import foreign, read_manifest
+
+    monkeypatch.chdir(tmp_path)
+    res = run_sweep(PAPER, Path("rel"), gaps=[0.05, 0.1], overrides={"duration": 0.5}, serial=True)
+    assert foreign(Path("rel")) == [] and len(res.plots) == 2
+    assert set(read_manifest(Path("rel"))["sweep"]) == {"sweep.csv", "sweep.json", "sweep.parquet", "impacts_vs_gap.png",
+                                                         "drift_vs_gap.png"}

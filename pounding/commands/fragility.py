@@ -21,7 +21,8 @@ def add_parser(sub) -> None:
             "gap at once. Writes OUT/runs.csv (one row per record and level, appended as runs finish), OUT/fragility.csv "
             "(P(pounding) per gap and level, and the lognormal fragility per gap fitted by maximum likelihood over the levels, "
             "with Wald bounds), OUT/target_gap.csv (the gap for each target probability per level beside the mean ABS, SRSS "
-            "and DDC estimates), plots, and with --consequences runs with contact for the drift (and, for yielding storeys, ductility) amplification. A rerun with the "
+            "and DDC estimates), OUT/study.json (the intensity measure with the period it used, and each record against the analysis "
+            "window: a record whose strong motion comes after --duration is named in a warning), plots, and with --consequences runs with contact for the drift (and, for yielding storeys, ductility) amplification. A rerun with the "
             "same OUT resumes: finished runs are read back, failed ones run again. Runs execute on a local Dask cluster "
             "unless --scheduler or --serial is given."
         ),
@@ -29,7 +30,12 @@ def add_parser(sub) -> None:
     p.add_argument("scene", type=Path, help="scene file (TOML) with two buildings")
     p.add_argument("--records", type=Path, default=None, metavar="SET",
                    help="a folder of .AT2 records (default: the scene's own record), each shaken along the scene's angle")
-    p.add_argument("--im", default="pga", metavar="IM", help="intensity measure the records are scaled to: pga [g] (default)")
+    from pounding.framework.studies.fragility_inputs import INTENSITY_MEASURES, SPECTRAL
+
+    p.add_argument("--im", default="pga", metavar="IM",
+                   help=f"intensity measure of the whole record that the levels scale it to [g]: {', '.join(INTENSITY_MEASURES)} "
+                        f"(default), or the 5 %%-damped spectral {', '.join(SPECTRAL)} at T1 of the taller building (NAME:T at "
+                        "T seconds); printed, and written to OUT/study.json with the period used")
     p.add_argument("--levels", required=True, metavar="LIST", help="intensity levels in the measure's unit: 0.1,0.2 or a range a:b:n")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the scene's name + '_fragility', beside it)")
     p.add_argument("--gaps", default=None, metavar="LIST", help="gap grid of fragility.csv [m] (default: 0 to the largest required gap, round step)")
@@ -39,7 +45,9 @@ def add_parser(sub) -> None:
                    help="also run every record and level with contact at these gaps [m]: drift (and ductility) amplification per level")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
-    p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
+    p.add_argument("--duration", type=float, default=None,
+                   help="override the scene's duration [s]; records whose strong motion (95 %% Arias intensity) or peak "
+                        "comes later are named in a warning and marked in runs.csv (window_cut)")
     add_cluster_options(p)
     p.add_argument("--no-plots", action="store_true", help="do not draw the plots")
     p.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -79,7 +87,13 @@ def cmd_fragility(args: argparse.Namespace) -> int:
     finally:
         if bar is not None:
             bar.close()
+    from pounding.framework.studies.fragility_inputs import describe_measure
+
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
+    print(f"intensity measure: {describe_measure(res.measure)}")
+    cut = [c.record for c in res.window if c.cut]
+    if cut:
+        print(f"window: {len(cut)} of {len(res.window)} records cut short ({', '.join(cut)}): see window_cut in {res.files['runs']}")
     print(f"{res.n_run} runs on {where} in {res.runtime_s:.1f} s ({res.n_resumed} read back from {res.files['runs']}); "
           f"{len(res.failed)} failed")
     print(format_target(res.target))

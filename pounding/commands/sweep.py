@@ -19,7 +19,9 @@ def add_parser(sub) -> None:
             "Run a grid of analyses of a scene (the Cartesian product of the lists given; the scene's own value for a "
             "parameter not given) and write one table, OUT/sweep.csv (a row appended as each run completes, rewritten "
             "in run order at the end) and OUT/sweep.parquet (with pyarrow), with per run the parameters, the number of "
-            "impacts, impacts per storey, peak responses of both buildings, the largest impulse and the energy lost; "
+            "impacts, impacts per storey, peak responses of both buildings, the largest impulse and the energy lost, and "
+            "whether the analysis window holds the record's strong motion; OUT/sweep.json (what the records were scaled to, "
+            "with the period of a spectral target); "
             "plus OUT/impacts_vs_gap.png and OUT/drift_vs_gap.png. A failing run is reported in its row. Runs execute "
             "on a local Dask cluster of worker processes (one per core) unless --scheduler or --serial is given. "
             "Lists: 0,0.01,0.05 or a range a:b:n (n values from a to b), or both, comma-separated."
@@ -43,7 +45,9 @@ def add_parser(sub) -> None:
     p.add_argument("--restitution", default=None, metavar="LIST", help="coefficients of restitution in [0, 1]")
     p.add_argument("--integrator", default=None, metavar="NAMES", help="integrator names, comma-separated (default parameters)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
-    p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
+    p.add_argument("--duration", type=float, default=None,
+                   help="override the scene's duration [s]; records whose strong motion (95 %% Arias intensity) or peak "
+                        "comes later are named in a warning and marked in sweep.csv (window_cut)")
     p.add_argument("--keep", action="store_true", help="also write every run's result folder (OUT/runs/run_NNNN)")
     add_cluster_options(p)
     p.add_argument("--no-plots", action="store_true", help="do not draw the plots")
@@ -83,7 +87,13 @@ def cmd_sweep(args: argparse.Namespace) -> int:
                     direction=args.direction, overrides=overrides, keep=args.keep, workers=args.workers, scheduler=args.scheduler,
                     serial=args.serial, plots=not args.no_plots, progress=progress, angles=angles,
                     min_gap=True if args.min_gap else None)
+    from pounding.framework.studies.fragility_inputs import describe_measure
+
     where = "serial" if not res.workers else f"{res.workers} Dask worker(s)"
+    print(f"scaling of the records: {describe_measure(res.intensity)}" + ("; then times each --pga-scale" if scales else ""))
+    cut = [c.record for c in res.window if c.cut]
+    if cut:
+        print(f"window: {len(cut)} of {len(res.window)} records cut short ({', '.join(cut)}): see window_cut in {res.csv}")
     print(f"{plural(len(res.rows), 'run')} ({len(res.failed)} failed) on {where} in {res.runtime_s:.1f} s")
     print(f"table: {res.csv}" + (f", {res.parquet}" if res.parquet else " (no Parquet: pyarrow missing)"))
     if angles:

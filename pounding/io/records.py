@@ -44,7 +44,7 @@ from pounding.io import ground_motion as gmio
 from pounding.io.ground_motion import GroundMotion, load_record
 from pounding.io.motion_pair import BASELINES, GroundMotionPair, baseline_corrected
 
-__all__ = ["KEYS", "load_ground_motion", "record_set", "folder_pairs", "first_period_of_taller", "RECORD_SETS", "P695_PREFIX"]
+__all__ = ["KEYS", "load_ground_motion", "record_set", "folder_pairs", "first_period_of_taller", "taller_building", "RECORD_SETS", "P695_PREFIX"]
 
 #: Keys of the ``[ground_motion]`` table.
 KEYS = ("record", "components", "format", "dt", "units", "baseline", "pga", "scale", "intensity", "target",
@@ -267,13 +267,16 @@ def record_set(name: str) -> list[tuple[str, GroundMotionPair]]:
     return out
 
 
+def taller_building(buildings):
+    """The building of largest total height (the first listed on a tie): whose T1 spectral measures use."""
+    return max(buildings, key=lambda b: float(np.sum(b.storey_heights)))
+
+
 def first_period_of_taller(buildings) -> float:
-    """T1 [s] of the taller building (largest total height; the first listed on a tie): the
-    default period of spectral intensity measures."""
+    """T1 [s] of the taller building (:func:`taller_building`): the default period of spectral intensity measures."""
     from pounding.framework.model.assembly import assemble
 
-    tallest = max(buildings, key=lambda b: float(np.sum(b.storey_heights)))
-    return float(assemble(tallest).periods[0])
+    return float(assemble(taller_building(buildings)).periods[0])
 
 
 # NGA-West2 file names: RSN<number>_<event>_<station><component>.AT2

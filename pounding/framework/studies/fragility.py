@@ -30,6 +30,15 @@ dt = 0.005 s). ``required_gap_grid_m`` is the maximum over the steps, the
 distance below which a run with contact (which checks for overlap after each
 step) finds an impact.
 
+A record is scaled by its whole record's measure but shakes the scene only
+for the analysis window (``--duration``). A record whose strong motion (95 % of
+its Arias intensity) or peak comes after the window's end is named in a
+warning before the runs start and marked in ``runs.csv`` (``window_cut``, with
+``window_s``, ``arias95_s``, ``peak_time_s`` and the Arias intensity of the
+record as scaled, ``arias_m_s``): :mod:`pounding.framework.studies.window`.
+``study.json`` states the measure (for a spectral one: the period, which
+building's it is, and the damping) and every record's check.
+
 Runs with contact (``consequences``) at chosen gaps give what pounding does:
 the peak inter-storey drift of each building against the contact-free run's.
 
@@ -63,7 +72,8 @@ FRAGILITY_CSV = "fragility.csv"
 TARGET_CSV = "target_gap.csv"
 CONSEQUENCES_SUMMARY_CSV = "consequences_summary.csv"
 STUDY_JSON = "study.json"
-STUDY_VERSION = 1
+#: 2: runs.csv has the window columns (window_s ... window_cut) and study.json the measure's definition
+STUDY_VERSION = 2
 
 __all__ = [
     "FragilityResult",
@@ -86,8 +96,8 @@ __all__ = [
 
 def run_columns(names: list[str]) -> list[str]:
     """Columns of ``runs.csv`` for buildings ``names``."""
-    cols = ["record", "level", "im", "record_im", "scale", "status", "error", "required_gap_m", "required_gap_grid_m",
-            "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
+    cols = ["record", "level", "im", "record_im", "scale", "window_cut", "window_s", "arias95_s", "peak_time_s", "arias_m_s",
+            "status", "error", "required_gap_m", "required_gap_grid_m", "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
     return cols + [f"{n}_peak_drift" for n in names] + [f"{n}_peak_ductility" for n in names] + ["warnings", "runtime_s"]
 
 
@@ -140,11 +150,13 @@ def contact_free_run(scene, motion, scale: float, direction, row: dict) -> dict:
     Returns
     -------
     dict
-        One row of ``runs.csv`` (lengths in m, time in s). Never raises: a
-        failure is a row with ``status = "error"`` and the message.
+        One row of ``runs.csv`` (lengths in m, time in s), with the record as
+        scaled against the analysis window (:func:`pounding.framework.studies.window.window_columns`).
+        Never raises: a failure is a row with ``status = "error"`` and the message.
     """
     from pounding.framework.post.run import run
     from pounding.framework.studies.gap import gap_from_result, no_contact
+    from pounding.framework.studies.window import check_window, window_columns
 
     t0 = time.perf_counter()
     row = dict(row, scale=scale)
@@ -152,6 +164,7 @@ def contact_free_run(scene, motion, scale: float, direction, row: dict) -> dict:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             s = scene.with_ground_motion(motion.scaled(scale))
+            row.update(window_columns(check_window(row["record"], s)))
             result = run(no_contact(s))
             rep = gap_from_result(s, result, direction, full=False)
         # min_gap: over the continuous trajectory (pounding.framework.engine.peaks); min_gap_grid: over the steps
@@ -342,7 +355,7 @@ def summarise_consequences(free_rows: list[dict], rows: list[dict], names: list[
 # Tables on disk: appended row by row, read back on resume
 # =============================================================================
 
-_TEXT = {"record", "im", "status", "error", "striking", "struck", "warnings", "fit", "building"}
+_TEXT = {"record", "im", "window_cut", "status", "error", "striking", "struck", "warnings", "fit", "building"}
 
 
 def _parse(key: str, v: str):
@@ -425,6 +438,16 @@ class Study:
     names: list[str]
     identity: dict
     consequence_gaps: list[float] = field(default_factory=list)
+    #: the measure's definition (:class:`pounding.framework.studies.fragility_inputs.Measure` ``about``)
+    measure: dict = field(default_factory=dict)
+    #: every record against the analysis window (unscaled: the times do not depend on the scale)
+    window: list = field(default_factory=list)
+
+    def window_warning(self) -> str | None:
+        """The warning naming the records whose strong motion or peak the window cuts (None if none)."""
+        from pounding.framework.studies.window import window_warning
+
+        return window_warning(self.window, f"their whole-record {self.im}", RUNS_CSV)
 
 
 def _motion_hash(motion) -> str:
@@ -453,6 +476,7 @@ def prepare_study(scene_path, *, records=None, im: str = "pga", levels, directio
     """
     from pounding.framework.studies.fragility_inputs import intensity_measure, record_set
     from pounding.framework.studies.gap import direction_vector, rest_gap
+    from pounding.framework.studies.window import check_window
     from pounding.io.scene import load_scene
 
     scene_path = Path(scene_path)
@@ -472,7 +496,7 @@ def prepare_study(scene_path, *, records=None, im: str = "pga", levels, directio
     cg = [float(g) for g in (consequence_gaps or [])]
     if any(not (math.isfinite(g) and g >= 0) for g in cg):
         raise InputError(f"expected gaps >= 0 m, got {cg}", field="--consequences")
-    label, unit, fn = intensity_measure(im, scene)
+    label, unit, fn, about = intensity_measure(im, scene)
     recs = record_set(records, scene)
     record_im = {}
     for name, motion in recs:
@@ -488,8 +512,11 @@ def prepare_study(scene_path, *, records=None, im: str = "pga", levels, directio
         "direction": [float(d[0]), float(d[1])],
         "overrides": overrides,
         "records": {name: _motion_hash(m) for name, m in recs},
+        "intensity_measure": about,
     }
-    return Study(scene, scene_path, recs, record_im, label, unit, levels, d, [b.name for b in scene.buildings], identity, cg)
+    window = [check_window(name, scene.with_ground_motion(m)) for name, m in recs]
+    return Study(scene, scene_path, recs, record_im, label, unit, levels, d, [b.name for b in scene.buildings], identity, cg,
+                 about, window)
 
 
 def _check_folder(out: Path, identity: dict) -> None:
@@ -532,6 +559,10 @@ class FragilityResult:
     n_resumed: int
     runtime_s: float
     workers: int
+    #: the intensity measure's definition (study.json's ``intensity_measure``)
+    measure: dict = field(default_factory=dict)
+    #: every record against the analysis window (:class:`pounding.framework.studies.window.WindowCheck`)
+    window: list = field(default_factory=list)
 
     @property
     def failed(self) -> list[dict]:
@@ -576,12 +607,18 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
     if gaps is not None and any(not (math.isfinite(g) and g >= 0) for g in gaps):
         raise InputError(f"expected gaps >= 0 m, got {list(gaps)}", field="--gaps")
     _check_folder(out, study.identity)
+    message = study.window_warning()
+    if message:  # said before the runs start: a long study can be stopped and rerun with a longer duration
+        from pounding.framework.studies.window import WindowWarning
+
+        warnings.warn(message, WindowWarning, stacklevel=2)
     fresh = not out.exists() or not any(out.iterdir())
     out.mkdir(parents=True, exist_ok=True)
     sj = out / STUDY_JSON
     identity = dict(study.identity)
     if sj.exists():  # keep the hashes of records run before and not in this call
         identity["records"] = {**json.loads(sj.read_text()).get("records", {}), **identity["records"]}
+    identity["window"] = [c.as_dict() for c in study.window]
     tmp = sj.with_name(f".{sj.name}.tmp-{os.getpid()}")
     tmp.write_text(json.dumps(identity, indent=1) + "\n")
     os.replace(tmp, sj)
@@ -677,7 +714,8 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
         paths = plot_fragility(out, ordered, fragility, target, study.levels, f"{study.im} [{study.im_unit}]",
                                plot_gaps=plot_gaps, confidence=confidence)
     return FragilityResult(ordered, fragility, target, cordered, csum, files, paths, total,
-                           len([k for k in order if k in old_runs]), time.perf_counter() - t0, n_workers)
+                           len([k for k in order if k in old_runs]), time.perf_counter() - t0, n_workers, study.measure,
+                           study.window)
 
 
 def _dispatch(kind: str, *args) -> dict:

@@ -20,6 +20,12 @@ a sweep on any number of workers gives the same table as a serial one. A run
 that fails gives a row with ``status = "error"`` and the error message; the
 others go on.
 
+Each row also says whether the analysis window holds the record's strong
+motion (``window_cut``, empty when it does; :mod:`pounding.framework.studies.window`),
+and ``sweep.json`` what the records were scaled to (the scene's ``pga``,
+``scale`` or ``intensity``/``target``, with the period of a spectral target)
+before the sweep's factors.
+
 The CSV table is written as runs complete (a row appended and flushed for each,
 so an interrupted sweep keeps what finished), then rewritten in run order when
 all are done, with a Parquet copy if pyarrow is installed and the plots of
@@ -52,8 +58,14 @@ import numpy as np
 from pounding.errors import InputError
 
 PARAMETERS = ["run", "gap", "pga_scale", "record", "angle", "restitution", "integrator"]
+#: The record against the analysis window (:func:`pounding.framework.studies.window.window_columns`; units in the names).
+WINDOW = ["window_cut", "window_s", "arias95_s", "peak_time_s", "arias_m_s"]
+#: Columns that hold text.
+TEXT_COLUMNS = ("record", "integrator", "status", "error", "warnings", "window_cut")
 TABLE_CSV = "sweep.csv"
 TABLE_PARQUET = "sweep.parquet"
+#: What the sweep scaled the records to and every record against the window.
+SWEEP_JSON = "sweep.json"
 
 __all__ = ["Case", "SweepResult", "build_cases", "columns", "parse_values", "plot_sweep", "prepare", "read_table", "run_case", "run_sweep"]
 
@@ -123,7 +135,7 @@ def build_cases(gaps=None, pga_scales=None, records=None, restitutions=None, int
 
 def columns(storeys: list[int], names: list[str]) -> list[str]:
     """Table columns for impact storeys ``storeys`` (1-based) and buildings ``names``."""
-    cols = PARAMETERS + ["status", "error", "warnings", "n_impacts", "min_gap"] + [f"impacts_storey_{s}" for s in storeys]
+    cols = PARAMETERS + WINDOW + ["status", "error", "warnings", "n_impacts", "min_gap"] + [f"impacts_storey_{s}" for s in storeys]
     for n in names:
         cols += [f"{n}_peak_u", f"{n}_peak_v", f"{n}_peak_phi", f"{n}_peak_drift"]
     return cols + ["max_impulse", "energy_loss", "runtime_s"]
@@ -234,6 +246,11 @@ def _cm_drift_rows(system) -> np.ndarray:
     return rel / np.asarray(system.storey_heights, dtype=float)[:, None, None]
 
 
+def _record_label(spec: dict, scene) -> str:
+    """The name of the scene's own record in the table: its file's stem, or the built-in record's name."""
+    return scene.ground_motion.name if spec.get("scene_record") is None else Path(spec["scene_record"]).stem
+
+
 def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
     """Run one case and return its table row (a plain dict). Never raises: a failure is a row with its error.
 
@@ -241,6 +258,7 @@ def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
     same in this process, in a local worker process or on a remote worker.
     """
     from pounding.framework.post.run import run
+    from pounding.framework.studies.window import check_window, window_columns
 
     t0 = time.perf_counter()
     row = {k: case.get(k) for k in PARAMETERS}
@@ -248,6 +266,7 @@ def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             scene = _scene_for(spec, case, record_text)
+            row.update(window_columns(check_window(case["record"] or _record_label(spec, scene), scene)))
             result = run(scene)
         if caught:
             row["warnings"] = "; ".join(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
@@ -261,7 +280,7 @@ def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
         row["restitution"] = result.contact.get("restitution", case["restitution"])
         row["integrator"] = result.integrator.get("name", case["integrator"])
         if row["record"] is None:
-            row["record"] = scene.ground_motion.name if spec.get("scene_record") is None else Path(spec["scene_record"]).stem
+            row["record"] = _record_label(spec, scene)
         row.update(status="ok", error=None)
         row.update(_measures(result, scene, spec["storeys"]))
         if spec.get("min_gap"):
@@ -369,6 +388,8 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
         record_paths[""] = str(p)
         scene_record = p.name
 
+    from pounding.framework.studies.fragility_inputs import scene_measure
+
     storeys = sorted({fa + 1 for i, a in enumerate(scene.buildings) for b in scene.buildings[i + 1:]
                       for fa, _ in common_levels(a, b)})
     spec = {
@@ -382,6 +403,7 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
         "storeys": storeys,
         "names": [b.name for b in scene.buildings],
         "keep": None if not keep else str(Path(keep).resolve()),
+        "intensity": scene_measure(gm_table, scene),
     }
     if angles and any(not math.isfinite(a) for a in angles):
         raise InputError(f"expected finite angles in degrees, got {list(angles)}", field="--angles")
@@ -468,7 +490,7 @@ def write_parquet(rows: list[dict], cols: list[str], path: Path) -> Path | None:
     types = {}
     for c, vals in data.items():
         present = [v for v in vals if v is not None]
-        if c in ("record", "integrator", "status", "error", "warnings"):
+        if c in TEXT_COLUMNS:
             types[c] = pa.string()
         elif present and all(isinstance(v, int) and not isinstance(v, bool) for v in present):
             types[c] = pa.int64()
@@ -492,7 +514,7 @@ def read_table(path) -> list[dict]:
                 k = k.split(" [", 1)[0]
                 if v == "":
                     row[k] = None
-                elif k in ("record", "integrator", "status", "error", "warnings"):
+                elif k in TEXT_COLUMNS:
                     row[k] = v
                 else:
                     try:
@@ -514,10 +536,48 @@ class SweepResult:
     plots: list[Path] = field(default_factory=list)
     runtime_s: float = 0.0
     workers: int = 0  # 0: serial
+    #: what the records were scaled to (:func:`pounding.framework.studies.fragility_inputs.scene_measure`), before ``pga_scale``
+    intensity: dict = field(default_factory=dict)
+    #: every record against the analysis window (:class:`pounding.framework.studies.window.WindowCheck`)
+    window: list = field(default_factory=list)
+    #: ``sweep.json``: the two above
+    description: Path | None = None
 
     @property
     def failed(self) -> list[dict]:
         return [r for r in self.rows if r["status"] != "ok"]
+
+
+def record_checks(spec: dict, cases: list[Case], texts: dict) -> list:
+    """Each record of the sweep against the analysis window, on the scene its first run builds.
+
+    The times checked do not depend on the gap, angle, scale or contact, so one scene per record
+    answers for all its runs. A record that does not load is left out: its runs report the error.
+    """
+    from pounding.framework.studies.window import check_window
+
+    checks: dict = {}
+    for case in cases:
+        if case.record in checks:
+            continue
+        key = _record_key(spec, case)
+        try:
+            scene = _scene_for(spec, asdict(case), None if key is None else texts[key])
+        except InputError:
+            checks[case.record] = None
+            continue
+        checks[case.record] = check_window(case.record or _record_label(spec, scene), scene)
+    return [c for c in checks.values() if c is not None]
+
+
+def write_description(spec: dict, cases: list[Case], checks: list, path: Path) -> Path:
+    """``sweep.json``: what the records were scaled to, the factors on top, and every record against the window."""
+    body = {"intensity": spec["intensity"], "pga_scale": sorted({c.pga_scale for c in cases}),
+            "window": [c.as_dict() for c in checks]}
+    tmp = path.with_name(f".{path.name}.tmp-{os.getpid()}")
+    tmp.write_text(json.dumps(body, indent=1) + "\n")
+    os.replace(tmp, path)
+    return path
 
 
 def _error_row(spec: dict, case: Case, exc: BaseException) -> dict:
@@ -529,7 +589,13 @@ def _error_row(spec: dict, case: Case, exc: BaseException) -> dict:
 def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, restitutions=None, integrators=None, direction=None,
               overrides=None, keep: bool = False, workers: int | None = None, scheduler: str | None = None, serial: bool = False,
               plots: bool = True, progress=None, angles=None, min_gap: bool | None = None) -> SweepResult:
-    """Run the grid and write ``out/sweep.csv`` (incrementally), ``out/sweep.parquet`` and the plots.
+    """Run the grid and write ``out/sweep.csv`` (incrementally), ``out/sweep.parquet``, ``out/sweep.json`` and the plots.
+
+    Before the runs start, every record is checked against the analysis window
+    (:mod:`pounding.framework.studies.window`): a :class:`~pounding.framework.studies.window.WindowWarning`
+    names the records whose strong motion or peak comes after its end, and their rows say so
+    in ``window_cut``. ``sweep.json`` states what the records were scaled to (for a spectral
+    target: the period, whose it is, and the damping) and every record's check.
 
     Parameters
     ----------
@@ -560,9 +626,15 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     spec, cases, texts = prepare(scene_path, gaps=gaps, pga_scales=pga_scales, records=records, restitutions=restitutions,
                                  integrators=integrators, direction=direction, overrides=overrides, keep=(out / "runs") if keep else None,
                                  angles=angles, min_gap=min_gap)
+    from pounding.framework.studies.window import WindowWarning, window_warning
     from pounding.io.outputs import record
 
-    record(out, "sweep", [TABLE_CSV])  # claimed before the first row: an interrupted sweep's table is pounding's
+    checks = record_checks(spec, cases, texts)
+    message = window_warning(checks, _scaled_by(spec["intensity"]), TABLE_CSV)
+    if message:  # said before the runs start: a long sweep can be stopped and rerun with a longer duration
+        warnings.warn(message, WindowWarning, stacklevel=2)
+    record(out, "sweep", [TABLE_CSV, SWEEP_JSON])  # claimed before the first row: an interrupted sweep's table is pounding's
+    description = write_description(spec, cases, checks, out / SWEEP_JSON)
     cols = columns(spec["storeys"], spec["names"])
     table = _Table(out / TABLE_CSV, cols)
     rows: dict[int, dict] = {}
@@ -590,8 +662,17 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     paths = plot_sweep(ordered, spec["names"], out) if plots else []
     if plots and angles:
         paths += plot_sweep_angles(ordered, out)
-    record(out, "sweep", [p for p in [out / TABLE_CSV, parquet, *paths] if p is not None])
-    return SweepResult(ordered, cols, out / TABLE_CSV, parquet, paths, time.perf_counter() - t0, n_workers)
+    # names relative to out: the manifest keeps a relative path as given, and out may itself be relative
+    record(out, "sweep", [Path(p).relative_to(out) for p in [out / TABLE_CSV, description, parquet, *paths] if p is not None])
+    return SweepResult(ordered, cols, out / TABLE_CSV, parquet, paths, time.perf_counter() - t0, n_workers, spec["intensity"],
+                       checks, description)
+
+
+def _scaled_by(intensity: dict) -> str:
+    """How a sweep's records were scaled, for the window warning."""
+    if "target_g" in intensity:
+        return f"their whole-record {intensity['label']} (to {intensity['target_g']:g} g)"
+    return "a factor" if intensity["name"] == "scale" else "nothing (used as read)"
 
 
 def _run_dask(spec, cases, texts, done, *, workers=None, scheduler=None) -> int:
