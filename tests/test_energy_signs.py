@@ -24,6 +24,7 @@ from pounding.io.results import summary
 from pounding.io.scene import load_scene
 
 from scenes_for_tests import scene, side_by_side
+from pounding.framework.post.energy_account import energy_balance
 
 PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"
 
@@ -56,7 +57,7 @@ def test_a_contact_that_injects_energy_is_reported_by_name():
     the contact term: the run warns naming ``contact_force_work``, and summary.json says ``ok: false``
     with that term in ``sign_violations``, although the account itself closes (it books the work)."""
     result, messages = _run(_pounding_pair(EnergyInjectingPenalty))
-    eb = result.energy_balance()
+    eb = energy_balance(result)
     assert eb["contact_force_work"] > rounding_bound(result) > 0.0
     assert abs(eb["relative_error"]) <= eb["tolerance"]  # the balance closes: only the sign tells
     assert eb["ok"] is False
@@ -70,7 +71,7 @@ def test_a_passive_contact_law_takes_energy_out():
     """The same pair with the passive spring-dashpot (positive damping ratio) does negative work on the
     pair over the run: no term breaks its sign, and the run is ok."""
     result, messages = _run(_pounding_pair(Penalty))
-    eb = result.energy_balance()
+    eb = energy_balance(result)
     assert eb["contact_force_work"] < 0.0 and eb["damping"] > 0.0
     assert eb["sign_violations"] == [] and eb["ok"] is True
     assert not any("energy account" in m for m in messages)
@@ -94,7 +95,7 @@ def test_the_paper_pair_with_every_default_does_no_positive_contact_work(paper_r
     energy out: the contact work of the whole run is <= 0 to the account's rounding."""
     coarse, _ = paper_runs
     assert coarse.dt == 0.01 and coarse.integrator["name"] == "exact" and coarse.contact["locate"] == "crossing"
-    eb = coarse.energy_balance()
+    eb = energy_balance(coarse)
     assert eb["contact_force_work"] <= rounding_bound(coarse)
     assert eb["ok"] is True
 

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from pounding.framework.post.energy_account import energy_balance
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
@@ -92,7 +93,7 @@ def test_energy_histories_end_at_the_run_totals(runs):
 
     scene, result, _ = runs
     h = energy_histories(result, scene)
-    bal = result.energy_balance()
+    bal = energy_balance(result)
     assert h["kinetic_plus_strain"][-1] == pytest.approx(bal["kinetic_plus_strain"], rel=1e-9)
     assert h["impact_loss"][-1] == pytest.approx(bal["impact_loss"], rel=1e-12)
     assert h["impact_loss"][0] == 0.0 and np.all(np.diff(h["impact_loss"]) >= 0)

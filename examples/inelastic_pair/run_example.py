@@ -16,6 +16,7 @@ import numpy as np
 
 from pounding import load_scene, run
 from pounding.io.results import write_results
+from pounding.framework.post.energy_account import energy_balance
 
 HERE = Path(__file__).resolve().parent
 
@@ -51,7 +52,7 @@ def main(out: Path) -> None:
         print(f"plots skipped: {exc}")
     pounded, free = storey_table(runs["pounding"]), storey_table(runs["no_contact"])
     r = runs["pounding"]
-    print(f"{r.n_impacts} impacts; energy balance error {r.energy_balance()['relative_error']:.1e} of the input")
+    print(f"{r.n_impacts} impacts; energy balance error {energy_balance(r)['relative_error']:.1e} of the input")
     print("| building | storey | peak drift ratio [%] no contact / pounding | ductility no contact / pounding "
           "| residual drift ratio [%] no contact / pounding |")
     print("|---|---|---|---|---|")

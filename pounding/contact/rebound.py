@@ -114,7 +114,6 @@ def _peak_force(path, force, v0: float, params: np.ndarray, t_end: float) -> flo
     lo, hi = t[max(j - 1, 0)], t[min(j + 1, t.size - 1)]
     best = minimize_scalar(lambda x: -f(x), bounds=(lo, hi), method="bounded", options={"xatol": 1e-12 * t_end})
     return float(max(values[j], -best.fun))
-    return Rebound(-v_end / v0, float(d.max()), float(f.max()), t_end)
 
 
 def table_laws(e: float) -> dict:

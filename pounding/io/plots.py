@@ -33,6 +33,7 @@ from typing import Sequence
 import numpy as np
 
 from pounding.io.plot_style import COLOURS, DPI, MARKERS, _figure, _save  # noqa: F401 - the figures' common look
+from pounding.framework.post.energy_account import energy_balance
 
 def _bindex(result, building) -> int:
     return int(building) if isinstance(building, (int, np.integer)) else result.names.index(building)
@@ -339,7 +340,7 @@ def plot_energy(result, path, *, scene=None) -> Path:
     ax1.legend(fontsize=8, loc="upper left")
     ax1.grid(True, lw=0.3, alpha=0.6)
 
-    bal = result.energy_balance()
+    bal = energy_balance(result)
     e = result.energy
     terms = [("input", "input"), ("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"), ("contact_forces", "contact-force work")]
     x = np.arange(len(terms) + 2)

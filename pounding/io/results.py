@@ -40,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding.framework.engine.results import Result
+from pounding.framework.post.energy_account import energy_balance
 
 IMPACT_COLUMNS = [
     "time [s]", "storey", "striking_building", "vertex", "impulse [N s]", "normal_x", "normal_y", "approach_velocity [m/s]",
@@ -81,7 +82,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             "floor_acceleration_includes_contact_forces": not contact_forces,
             "energy": balances[s.name],
         }
-    balance = result.energy_balance()
+    balance = energy_balance(result)
     balance["energy_creating_rule"] = energy_creating_rule(result)
     return {
         "steps": result.steps,

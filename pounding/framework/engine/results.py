@@ -187,17 +187,3 @@ class Result:
             return self.names[b]
         return self.names[b if imp.striker == 0 else a]
 
-    def energy_balance(self) -> dict:
-        """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work [J].
-
-        ``ok`` when the balance closes within ``energy_tolerance`` of the input and no term breaks the sign
-        physics fixes (``sign_violations``, :func:`pounding.framework.post.energy_account.sign_violations`)."""
-        from pounding.framework.post.energy_account import pair_terms, sign_violations
-
-        out = pair_terms(self)
-        err = out["input"] + out["contact_force_work"] - out["kinetic_plus_strain"] - out["damping"] - out["impact_loss"] - out["hysteretic"]
-        out.update(tolerance=self.energy_tolerance, error=err, relative_error=err / out["input"] if out["input"] else 0.0)
-        # a run that breaks a sign is not ok, however well its account closes
-        out["sign_violations"] = sign_violations(self, out)
-        out["ok"] = bool(abs(out["relative_error"]) <= self.energy_tolerance) and not out["sign_violations"]
-        return out

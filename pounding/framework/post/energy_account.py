@@ -80,7 +80,7 @@ def energy_creating_rule(result) -> dict | None:
         return None
     for key, value, why in ENERGY_CREATING_RULES:
         if result.contact.get(key) == value:
-            eb = result.energy_balance()
+            eb = energy_balance(result)
             return {"rule": f"{key} = {value!r}", "why": why, "energy_created": -eb["error"], "relative": -eb["relative_error"]}
     return None
 
@@ -131,6 +131,20 @@ def rounding_bound(result) -> float:
     bookings = int(result.steps) + 2 * len(getattr(result, "event_t", ()))
     scale = sum(abs(eb[k]) for k in ("input", "damping", "contact_force_work", "impact_loss", "hysteretic", "kinetic_plus_strain"))
     return float(bookings * (17 + n) * np.finfo(float).eps * scale)
+
+
+def energy_balance(result) -> dict:
+    """Balance of the pair: input - (kinetic + strain + damping + impact losses) + contact-force work [J].
+
+    ``ok`` when the balance closes within ``energy_tolerance`` of the input and no term breaks the sign
+    physics fixes (``sign_violations``, :func:`sign_violations`)."""
+    out = pair_terms(result)
+    err = out["input"] + out["contact_force_work"] - out["kinetic_plus_strain"] - out["damping"] - out["impact_loss"] - out["hysteretic"]
+    out.update(tolerance=result.energy_tolerance, error=err, relative_error=err / out["input"] if out["input"] else 0.0)
+    # a run that breaks a sign is not ok, however well its account closes
+    out["sign_violations"] = sign_violations(result, out)
+    out["ok"] = bool(abs(out["relative_error"]) <= result.energy_tolerance) and not out["sign_violations"]
+    return out
 
 
 def pair_terms(result) -> dict[str, float]:

@@ -13,6 +13,7 @@ import numpy as np
 from pounding.framework.engine.driver import Driver
 from pounding.framework.engine.results import Result
 from pounding.framework.model.scene import Scene
+from pounding.framework.post.energy_account import energy_balance
 
 
 def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
@@ -26,7 +27,7 @@ def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
     from pounding.errors import AnalysisWarning
 
     result = Driver(scene, progress=progress, use_kernel=use_kernel).run()
-    eb = result.energy_balance()
+    eb = energy_balance(result)
     if abs(eb["relative_error"]) > eb["tolerance"]:
         warnings.warn(
             f"energy balance error {eb['relative_error']:.2e} of the input exceeds the tolerance "
