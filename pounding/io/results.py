@@ -27,7 +27,10 @@ are kept.
   element (:func:`pounding.framework.facade.impact_sites`).
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
-  instants) for ``pounding plot`` and ``pounding render``.
+  instants) for ``pounding plot`` and ``pounding render``. scene.toml is the scene
+  file's text when given, else the run's scene written back
+  (:func:`pounding.io.scene_writer.write_scene`, with its ground motion in
+  ``scene.ground_motion.txt``), so every run folder can be plotted.
 """
 
 from __future__ import annotations
@@ -168,6 +171,10 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
     )
     if scene_text is not None:
         (folder / "scene.toml").write_text(scene_text)
+    elif getattr(result, "scene", None) is not None:  # a run from Python: its scene, written back (and its record)
+        from pounding.io.scene_writer import write_scene
+
+        write_scene(result.scene, folder / "scene.toml")
 
 
 def load_result(folder: str | Path):
