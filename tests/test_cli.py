@@ -11,7 +11,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper"
-HEAVY = ("vtk", "pyvista", "matplotlib")
+HEAVY = ("vtk", "pyvista", "matplotlib", "pandas", "xarray")
 
 
 def pounding(*args, check=True):
