@@ -9,7 +9,8 @@ relative stiffness perturbation of that size moves periods and histories by the 
 (measured there: 1e-9 to 2e-9 of the peaks), plus the Newton tolerance (1e-12 m, against peaks of
 centimetres: 1e-10 relative). Every comparison below allows 1e-6 relative, three orders above
 both, and far below what a wrong mass, stiffness, damping or load would change (the checks that
-the comparisons discriminate are in the transient cross-check).
+the comparisons discriminate are in the transient cross-check). Measured: periods 2.4e-10,
+contact-free histories 0.9e-9 to 2.2e-9, the pounding pair 3.3e-9 (of the peaks).
 """
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ def _run_script(scene, folder: Path, modes: int = MODES) -> tuple[np.ndarray, di
     done = subprocess.run([sys.executable, str(script), "--history", str(history), "--modes", str(modes)],
                           capture_output=True, text=True, timeout=600, cwd=folder)
     assert done.returncode == 0, done.stderr[-2000:]
-    periods = next(json.loads(line) for line in done.stdout.splitlines() if line.startswith("{"))["periods [s]"]
+    printed = [json.loads(line)["periods [s]"] for line in done.stdout.splitlines() if line.startswith("{")]
+    periods = printed[0] if modes > 0 else []
     with open(history, newline="") as fh:
         rows = list(csv.reader(fh))
     header, data = rows[0], np.array(rows[1:], dtype=float)
