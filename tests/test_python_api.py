@@ -163,3 +163,17 @@ def test_misspelt_keywords_say_did_you_mean():
         pounding.run(scene, progres=None)
     with pytest.raises(TypeError, match=r"did you mean 'scene_text'"):
         pounding.write_results(None, "nowhere", scene_txt="")
+
+
+def test_sweep_drift_column_is_summary_json_drift(session):
+    """One name, one definition: sweep.csv's B_peak_drift_ratio_cm is the largest of summary.json's per-storey
+    peak_drift_ratio_cm (the same rows over the same continuous trajectory: equal to rounding, 4 eps)."""
+    from pounding.framework.sweep import _measures
+    from pounding.io.results import summary
+
+    _, ns = session
+    result, scene = ns["result"], ns["scene"]
+    row, s = _measures(result, scene, []), summary(result)
+    for b in scene.buildings:
+        expected = max(s["buildings"][b.name]["peak_drift_ratio_cm"])
+        assert row[f"{b.name}_peak_drift_ratio_cm"] == pytest.approx(expected, rel=4 * np.finfo(float).eps)

@@ -28,9 +28,9 @@ PEAK_UNITS = {
     "peak_floor_acceleration": "m/s2", "peak_floor_velocity_jump": "m/s", "peak_floor_acceleration_impact": "m/s2",
 }
 
-#: what the storey forces hold, stated next to every storey shear and moment
+#: what the storey forces hold, stated next to every storey shear and moment (summary.json: ``storey_forces``)
 STOREY_FORCES_NOTE = ("storey shears and overturning moments are the elements' elastic forces: viscous damping forces "
-                      "and P-Delta shears of gravity loads are not in them")
+                      "and P-Delta shears of gravity loads are not included")
 
 #: response.npz histories (per building) in the Dataset: name -> (extra dimension or None, its labels, units, description)
 HISTORIES = {

@@ -82,6 +82,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             **_true_drift_peaks(result, s.name, response_peaks(histories[s.name])),
             # the smooth part omits forces of sustained/penalty contact, which a run does not record
             "floor_acceleration_includes_contact_forces": not contact_forces,
+            # said next to every storey shear (pounding.io.frames.STOREY_FORCES_NOTE)
+            "storey_forces": "elastic forces of the elements: viscous damping forces and P-Delta shears are not included",
             "energy": balances[s.name],
         }
     balance = result.energy_balance()
@@ -174,7 +176,14 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
     elif getattr(result, "scene", None) is not None:  # a run from Python: its scene, written back (and its record)
         from pounding.io.scene_writer import write_scene
 
-        write_scene(result.scene, folder / "scene.toml")
+        try:
+            write_scene(result.scene, folder / "scene.toml")
+        except NotImplementedError as exc:  # a plugin element without to_table: the results are still written
+            import warnings
+
+            from pounding.errors import AnalysisWarning
+
+            warnings.warn(f"scene.toml not written ({exc}): `pounding plot` cannot read this folder", AnalysisWarning, stacklevel=3)
 
 
 def load_result(folder: str | Path):

@@ -19,7 +19,8 @@ The model an OpenSees user would build for :class:`~pounding.elements.storey_spr
 * damping C = a0 M + a1 K_initial per building (``region`` with ``-rayleigh``,
   links with ``-doRayleigh``): the classical damping of the initial elastic model.
 
-Only storey-spring buildings are modelled (frames and walls: :mod:`pounding.peer.opensees`).
+:func:`build_spring_building` models buildings of storey springs only; :func:`storey_links` is also
+what :mod:`pounding.peer.opensees` places for storey springs in a building of frames and walls.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
     element tag, and the link tags of the yielding springs in the order of
     :func:`pounding.framework.inelastic.spring_set`.
     """
-    from pounding.peer.opensees import _Tags
+    from pounding.peer.opensees import _elements_by_kind, _Tags
 
     tags = _Tags(tag_offset)
     nodes, elements, yielding = [], [], []
@@ -72,9 +73,9 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
         masters.append(tag)
         nodes.append(tag)
     slaves: list[list[int]] = [[] for _ in building.slabs]
-    for e in building.elements:
-        if not hasattr(e, "yields"):
-            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {type(e).__name__}")
+    for kind, e in _elements_by_kind(building):
+        if kind != "springs":
+            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {kind}")
         links = storey_links(ops, e, tags, slaves, nodes, boucwen_tol)
         elements.extend(links)
         if e.yields:
