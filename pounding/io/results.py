@@ -237,7 +237,7 @@ def load_result(folder: str | Path):
     from pounding.framework.analysis import Model
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
-    result.geo, result.facades, result.buildings = model.geo, model.facades, scene.buildings
+    result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene
     return scene, result
 
 

@@ -78,7 +78,7 @@ def opensees_script(scene, *, out_of_plane: float = OUT_OF_PLANE) -> tuple[str, 
 
     transient_analysis(analysis, integrator, TOLERANCE, MAX_ITERATIONS)
     dt, steps = _time_grid(scene)
-    return _render(scene, ops, analysis, masters, dt, steps, notes), notes
+    return _render(scene, ops, analysis, masters, dt, steps, notes, integrator), notes
 
 
 # --------------------------------------------------------------------------- the model
@@ -212,19 +212,23 @@ if __name__ == "__main__":
 '''
 
 
-def _render(scene, ops: ScriptOps, analysis: ScriptOps, masters: dict, dt: float, steps: int, notes: list[str]) -> str:
+def _render(scene, ops: ScriptOps, analysis: ScriptOps, masters: dict, dt: float, steps: int, notes: list[str],
+            integrator: tuple) -> str:
     from pounding.peer.opensees import eigen_periods, load_opensees
 
     import pounding
 
+    import textwrap
+
     title = f"{scene.source.name}" if scene.source is not None else "a scene built in Python"
-    left_out = "".join(f"\nLeft out: {n}" for n in notes)
+    left_out = "".join("\n" + textwrap.fill(f"Left out: {n}", 100) for n in notes)
     head = f'''"""OpenSeesPy model of {title}, written by pounding {pounding.__version__} (`pounding export opensees`).
 
 Units: m, N, kg, s. Every floor is a rigid diaphragm (a master node at the slab's centre of mass
 carrying its mass and polar inertia; ux, uy, rz free); frames are planar frames of elastic
 beam-columns, walls Timoshenko beams, storey springs twoNodeLink elements; each building has
-its own Rayleigh damping; the ground motion is a UniformExcitation; dt = {dt!r} s, {steps} steps.
+its own Rayleigh damping; the ground motion is a UniformExcitation; the analysis is
+integrator{integrator!r}, dt = {dt!r} s, {steps} steps.
 {left_out}
 Run: python {{this file}} [--history FILE] [--modes N] [--steps N]
 """
