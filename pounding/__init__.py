@@ -1,12 +1,18 @@
-"""pounding: seismic response and slab pounding of two adjacent non-symmetric buildings.
+"""pounding: earthquake response of adjacent multistorey buildings and the pounding between their slabs.
 
-The public Python API is small:
+The Python API (docs/python.md):
 
->>> from pounding import load_scene, assemble, run      # doctest: +SKIP
->>> scene = load_scene("examples/paper/pair_gap_0.03.toml")  # doctest: +SKIP
->>> result = run(scene)                                 # doctest: +SKIP
+>>> import pounding                                                      # doctest: +SKIP
+>>> scene = pounding.load_scene("examples/paper/pair_gap_0.03.toml")     # doctest: +SKIP
+>>> scene = scene.with_gap(0.05).with_analysis(duration=10.0)            # doctest: +SKIP
+>>> result = pounding.run(scene)                                         # doctest: +SKIP
+>>> pounding.storey_peaks(result)            # pandas DataFrame, units in the names   # doctest: +SKIP
+>>> pounding.impact_table(result)            # one row per impact                     # doctest: +SKIP
+>>> pounding.histories(result)               # xarray Dataset, time x building x storey x dof   # doctest: +SKIP
+>>> pounding.write_results(result, "out")    # the files `pounding run` writes; `pounding plot out` draws them   # doctest: +SKIP
+>>> pounding.write_scene(scene, "mine.toml") # loads back equal                      # doctest: +SKIP
 
-Heavy modules (vtk, pyvista, matplotlib) are never imported from here.
+Heavy modules (vtk, pyvista, matplotlib, pandas, xarray) are never imported from here.
 """
 
 from pounding.errors import InputError
@@ -24,7 +30,9 @@ def __getattr__(name):
             return "0.0.0+src"
     raise AttributeError(name)
 
-__all__ = ["InputError", "__version__", "load_scene", "assemble", "run"]
+
+__all__ = ["InputError", "__version__", "load_scene", "assemble", "run", "storey_peaks", "impact_table", "histories",
+           "write_results", "load_result", "write_scene"]
 
 
 def load_scene(path):
@@ -35,14 +43,67 @@ def load_scene(path):
 
 
 def assemble(building):
-    """Assemble one building; see :func:`pounding.framework.model.assembly.assemble`."""
+    """Assemble one building (mass, stiffness, damping, modes); see :func:`pounding.framework.model.assembly.assemble`."""
     from pounding.framework.model.assembly import assemble as _assemble
 
     return _assemble(building)
 
 
 def run(scene, **options):
-    """Run the time-history analysis; see :func:`pounding.framework.post.run.run`."""
-    from pounding.framework.post.run import run as _run
+    """Run the time-history analysis; see :func:`pounding.framework.post.run.run` (options: ``progress``).
 
+    A misspelt option raises :class:`~pounding.framework.model.scene.KeywordError` (a TypeError) with the closest name.
+    """
+    import inspect
+
+    from pounding.framework.post.run import run as _run
+    from pounding.framework.model.scene import check_keywords
+
+    check_keywords(options, [p for p in inspect.signature(_run).parameters if p != "scene"], "pounding.run")
     return _run(scene, **options)
+
+
+def storey_peaks(result):
+    """Per-storey peaks as a pandas DataFrame; see :func:`pounding.io.frames.storey_peaks`."""
+    from pounding.io.frames import storey_peaks as _peaks
+
+    return _peaks(result)
+
+
+def impact_table(result):
+    """The impacts as a pandas DataFrame; see :func:`pounding.io.frames.impact_table`."""
+    from pounding.io.frames import impact_table as _impacts
+
+    return _impacts(result)
+
+
+def histories(result):
+    """The histories as an xarray Dataset; see :func:`pounding.io.frames.histories`."""
+    from pounding.io.frames import histories as _histories
+
+    return _histories(result)
+
+
+def write_results(result, out, **options):
+    """Write a run folder (response.npz, summary.json, impacts.csv, scene.toml...); see :func:`pounding.io.results.write_results`."""
+    import inspect
+
+    from pounding.framework.model.scene import check_keywords
+    from pounding.io.results import write_results as _write
+
+    check_keywords(options, [p for p in inspect.signature(_write).parameters if p not in ("result", "out")], "pounding.write_results")
+    return _write(result, out, **options)
+
+
+def load_result(folder):
+    """(scene, result) of a run folder; see :func:`pounding.io.results.load_result`."""
+    from pounding.io.results import load_result as _load
+
+    return _load(folder)
+
+
+def write_scene(scene, path):
+    """Write a scene file that loads back equal; see :func:`pounding.io.scene_writer.write_scene`."""
+    from pounding.io.scene_writer import write_scene as _write
+
+    return _write(scene, path)

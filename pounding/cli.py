@@ -62,7 +62,7 @@ def format_info(name: str, s: dict) -> str:
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="pounding",
-        description="Earthquake response of two adjacent non-symmetric buildings and the pounding between their slabs.",
+        description="Earthquake response of adjacent multistorey buildings (non-symmetric in plan) and the pounding between their slabs.",
     )
     p.add_argument("--version", action=_Version, nargs=0, help="show the version and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")

@@ -11,7 +11,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 PAPER = ROOT / "examples" / "paper"
-HEAVY = ("vtk", "pyvista", "matplotlib")
+HEAVY = ("vtk", "pyvista", "matplotlib", "pandas", "xarray")
 
 
 def pounding(*args, check=True):
@@ -21,7 +21,7 @@ def pounding(*args, check=True):
     return proc
 
 
-@pytest.mark.parametrize("command", ["info", "run", "demo", "plot", "render", "gap", "sweep", "template", "check", "reference"])
+@pytest.mark.parametrize("command", ["info", "run", "demo", "plot", "render", "gap", "sweep", "template", "check", "reference", "export"])
 def test_every_command_explains_its_options(command):
     proc = pounding(command, "--help")
     assert "usage: pounding " + command in proc.stdout

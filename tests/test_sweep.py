@@ -95,7 +95,7 @@ def test_csv_parquet_and_plots_are_written(serial_sweep):
     assert comparable(rows) == comparable(serial_sweep.rows)
     header = next(csv.reader(open(serial_sweep.csv)))
     for col in ("run", "gap [m]", "pga_scale [-]", "record", "restitution [-]", "integrator", "status", "error", "n_impacts",
-                "impacts_storey_1", "impacts_storey_3", "low_peak_u [m]", "high_peak_phi [rad]", "high_peak_drift [-]",
+                "impacts_storey_1", "impacts_storey_3", "low_peak_u [m]", "high_peak_phi [rad]", "high_peak_drift_ratio_cm [-]",
                 "max_impulse [N s]", "energy_loss [J]", "runtime_s"):
         assert col in header
     import pyarrow.parquet as pq

@@ -13,4 +13,5 @@ MODULES = (
     "pounding.commands.draw",
     "pounding.commands.spectrum",
     "pounding.commands.fragility",
+    "pounding.commands.export",
 )

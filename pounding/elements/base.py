@@ -80,6 +80,12 @@ class PlanarElement(ABC):
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         """Plan extent (start, end), each shape (2,) [m]."""
 
+    def to_table(self) -> dict[str, Any]:
+        """The element's scene table (without ``type``): :meth:`from_table` of it, with the building's storey
+        heights, gives this element back (plan directions to rounding). Used to write a scene
+        (:func:`pounding.io.scene_writer.write_scene`); an element type without it cannot be written."""
+        raise NotImplementedError(f"element type {self.name!r} cannot be written to a scene file (it has no to_table)")
+
     def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
         """Drawing in the element plane: ``{"lines": [(s0, z0, s1, z1)], "panels": [(s0, s1, z0, z1)]}``.
 
@@ -100,6 +106,11 @@ def point_compliance(E: float, I: float, L: float, a: float, GAs: float = np.inf
     member of length L [m]: a^3 b^3 / (3 E I L^3) + a b / (G A_s L), b = L - a."""
     b = L - a
     return a**3 * b**3 / (3.0 * E * I * L**3) + (a * b / (GAs * L) if np.isfinite(GAs) else 0.0)
+
+
+def line_table(point: np.ndarray, direction: np.ndarray) -> dict[str, Any]:
+    """``start`` and ``angle`` [deg] of an element line (the inverse of ``frame.line_from_table``)."""
+    return {"start": [float(point[0]), float(point[1])], "angle": float(np.degrees(np.arctan2(direction[1], direction[0])))}
 
 
 def section_properties(sec: Mapping[str, float]) -> tuple[float, float, float]:

@@ -154,6 +154,19 @@ class Frame(PlanarElement):
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point + self.columns[0] * self.direction, self.point + self.columns[-1] * self.direction
 
+    def to_table(self) -> dict[str, Any]:
+        from pounding.elements.base import line_table
+
+        def sections(per_storey):  # one table for all storeys when they agree, as a scene is usually written
+            tables = [{"E": E, "A": A, "I": I} for E, A, I in per_storey]
+            return tables[0] if all(t == tables[0] for t in tables) else tables
+
+        table = {**line_table(self.point, self.direction), "columns": list(self.columns), "storeys": len(self.heights),
+                 "column": sections(self.column_sections)}
+        if len(self.columns) > 1:
+            table["beam"] = sections(self.beam_sections)
+        return table
+
     def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
         z = np.concatenate([[0.0], np.cumsum(self.heights)])
         lines = [(s, z[i], s, z[i + 1]) for i in range(len(self.heights)) for s in self.columns]

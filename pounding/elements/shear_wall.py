@@ -134,6 +134,11 @@ class ShearWall(PlanarElement):
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point, self.point + self.length * self.direction
 
+    def to_table(self) -> dict[str, Any]:
+        end = self.point + self.length * self.direction
+        return {"start": [float(c) for c in self.point], "end": [float(c) for c in end], "thickness": self.thickness,
+                "E": self.E, "G": self.G, "shear_area": self.shear_area, "storeys": len(self.heights)}
+
     def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
         z = np.concatenate([[0.0], np.cumsum(self.heights)])
         return {"lines": [], "panels": [(0.0, self.length, z[i], z[i + 1]) for i in range(len(self.heights))]}

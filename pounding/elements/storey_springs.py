@@ -162,6 +162,14 @@ class StoreySprings(PlanarElement):
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point, self.point + self.length * self.direction
 
+    def to_table(self) -> dict[str, Any]:
+        end = self.point + self.length * self.direction
+        table = {"start": [float(c) for c in self.point], "end": [float(c) for c in end], "storeys": len(self.heights),
+                 "stiffness": list(self.stiffness)}
+        if self.yield_force is not None:
+            table.update(yield_force=list(self.yield_force), hardening=self.hardening, hysteresis=self.law.describe())
+        return table
+
     def outline(self) -> dict[str, list[tuple[float, float, float, float]]]:
         z = np.concatenate([[0.0], np.cumsum(self.heights)])
         # a zig-zag per storey: the spring symbol

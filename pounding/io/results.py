@@ -27,7 +27,10 @@ are kept.
   element (:func:`pounding.framework.model.facade.impact_sites`).
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
-  instants) for ``pounding plot`` and ``pounding render``.
+  instants) for ``pounding plot`` and ``pounding render``. scene.toml is the scene
+  file's text when given, else the run's scene written back
+  (:func:`pounding.io.scene_writer.write_scene`, with its ground motion in
+  ``scene.ground_motion.txt``), so every run folder can be plotted.
 """
 
 from __future__ import annotations
@@ -80,6 +83,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             **_true_drift_peaks(result, s.name, response_peaks(histories[s.name])),
             # the smooth part omits forces of sustained/penalty contact, which a run does not record
             "floor_acceleration_includes_contact_forces": not contact_forces,
+            # said next to every storey shear (pounding.io.frames.STOREY_FORCES_NOTE)
+            "storey_forces": "elastic forces of the elements: viscous damping forces and P-Delta shears are not included",
             "energy": balances[s.name],
         }
     balance = energy_balance(result)
@@ -169,6 +174,17 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
     )
     if scene_text is not None:
         (folder / "scene.toml").write_text(scene_text)
+    elif getattr(result, "scene", None) is not None:  # a run from Python: its scene, written back (and its record)
+        from pounding.io.scene_writer import write_scene
+
+        try:
+            write_scene(result.scene, folder / "scene.toml")
+        except NotImplementedError as exc:  # a plugin element without to_table: the results are still written
+            import warnings
+
+            from pounding.errors import AnalysisWarning
+
+            warnings.warn(f"scene.toml not written ({exc}): `pounding plot` cannot read this folder", AnalysisWarning, stacklevel=3)
 
 
 def load_result(folder: str | Path):
@@ -222,7 +238,7 @@ def load_result(folder: str | Path):
     from pounding.framework.engine.driver import Model
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
-    result.geo, result.facades, result.buildings = model.geo, model.facades, scene.buildings
+    result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene
     return scene, result
 
 

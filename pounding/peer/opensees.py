@@ -72,16 +72,19 @@ class _Tags:
 def _elements_by_kind(building):
     from pounding.elements.frame import Frame
     from pounding.elements.shear_wall import ShearWall
+    from pounding.elements.storey_springs import StoreySprings
 
     for e in building.elements:
         if isinstance(e, Frame):
             yield "frame", e
         elif isinstance(e, ShearWall):
             yield "wall", e
+        elif isinstance(e, StoreySprings):
+            yield "springs", e
         else:
             raise NotImplementedError(
-                f"building {building.name!r}: no OpenSees model for element type {type(e).__name__!r} "
-                "(only frame and shear_wall are modelled)"
+                f"building {building.name!r}: no OpenSees model for element type {getattr(e, 'name', '') or type(e).__name__!r} "
+                "(frame, shear_wall and storey_springs are modelled)"
             )
 
 
@@ -96,6 +99,11 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
     elements: list[int] = []
 
     for kind, e in _elements_by_kind(building):
+        if kind == "springs":
+            from pounding.peer.opensees_links import storey_links
+
+            elements.extend(storey_links(ops, e, tags, slaves, nodes))
+            continue
         p = np.asarray(e.point, dtype=float)
         d = np.asarray(e.direction, dtype=float)
         d = d / np.hypot(*d)
@@ -312,15 +320,7 @@ def run_transient(
     ops.wipe()
     built = _build_all(ops, buildings, out_of_plane)
 
-    pairs = _rayleigh_pairs(buildings, rayleigh)
-    if all(pq == pairs[0] for pq in pairs):
-        a0, a1 = pairs[0]
-        ops.rayleigh(a0, 0.0, a1, 0.0)
-    else:
-        for k, (b, (a0, a1)) in enumerate(zip(buildings, pairs), start=1):
-            _, nodes, elements = built[b.name]
-            ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, a1, 0.0)
-            ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", a0, 0.0, 0.0, 0.0)
+    rayleigh_damping(ops, [built[b.name][1:3] for b in buildings], _rayleigh_pairs(buildings, rayleigh))
 
     uniform_excitation(ops, ground_motion)
 
@@ -362,6 +362,30 @@ def uniform_excitation(ops, ground_motion) -> int:
     return pattern
 
 
+def rayleigh_damping(ops, parts, pairs) -> None:
+    """Classical damping C = a0 M + a1 K_initial of each building.
+
+    ``parts[k]`` = (node tags, element tags) of building k, ``pairs[k]`` = its (a0 [1/s], a1 [s]).
+    One pair for all: ``rayleigh(a0, 0, a1, 0)`` on the whole domain. Otherwise per building, two
+    ``region``s: its elements with ``-rayleigh 0 0 a1 0`` (elements of the storey-spring links
+    take it with ``-doRayleigh``) and its nodes with ``-nodeOnly -rayleigh a0 0 0 0`` (only the
+    diaphragm masters carry mass). Gap elements belong to no region and get no damping.
+    """
+    pairs = [(float(a0), float(a1)) for a0, a1 in pairs]
+    if all(pq == pairs[0] for pq in pairs):
+        a0, a1 = pairs[0]
+        ops.rayleigh(a0, 0.0, a1, 0.0)
+        return
+    for k, ((nodes, elements), (a0, a1)) in enumerate(zip(parts, pairs), start=1):
+        ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, a1, 0.0)
+        ops.region(len(parts) + k, "-nodeOnly", *nodes, "-rayleigh", a0, 0.0, 0.0, 0.0)
+
+
+def building_rayleigh(buildings) -> list[tuple[float, float]]:
+    """Each building's own (a0 [1/s], a1 [s]) from its ``damping`` (Rayleigh kind only, else ValueError)."""
+    return _rayleigh_pairs(buildings, None)
+
+
 def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
     if rayleigh is None:
         from pounding.framework.model.assembly import assemble, rayleigh_coefficients
@@ -384,46 +408,69 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
     """Two buildings side by side along x pounding through zero-length gap springs, in OpenSees.
 
     The pair as tests/test_opensees_pounding.py describes it: the full 3-D model of
-    :func:`build_building` for each, and at every common storey two ``zeroLength``
-    springs in x with ``ElasticPPGap`` (stiffness ``stiffness`` [N/m], the clear distance
-    as its gap) at the ends of the common facade, each end a slave of its building's
-    diaphragm; Newmark average acceleration, Newton, ``n_steps`` steps of ``dt`` [s].
-    The facades must be collinear (face-to-face contact) and the motion along x.
+    :func:`build_building` for each, each building's own Rayleigh damping, and the gap
+    springs of :func:`face_gap_springs` (``ElasticPPGap`` of stiffness ``stiffness`` [N/m]);
+    Newmark average acceleration, Newton, ``n_steps`` steps of ``dt`` [s]. The facades must
+    be collinear (face-to-face contact) and the motion along x.
 
     Returns (ux, forces, iterations, clear): ux dict name -> (n_steps + 1, storeys)
     master-node x displacements [m]; forces (n_steps + 1, common storeys, 2) basic force
     of the springs [N] (negative in compression); the total Newton iterations; the
     clear distance [m].
     """
-    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
-
-    low, high = scene.buildings
     ops.wipe()
-    masters, nodes, elements = {}, {}, {}
-    for i, b in enumerate(scene.buildings):
-        n0, e0 = set(ops.getNodeTags()), set(ops.getEleTags())
-        masters[b.name] = build_building(ops, b, out_of_plane=out_of_plane, tag_offset=100_000 * i)
-        nodes[b.name] = sorted(set(ops.getNodeTags()) - n0)
-        elements[b.name] = sorted(set(ops.getEleTags()) - e0)
+    tags = _Tags(0)
+    built = {b.name: _build(ops, b, out_of_plane, tags) for b in scene.buildings}
     # each building's own Rayleigh damping C = a0 M + a1 K_initial, as pounding's (and run_transient's)
-    for k, b in enumerate(scene.buildings, start=1):
-        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
-        ops.region(k, "-ele", *elements[b.name], "-rayleigh", 0.0, 0.0, float(a1), 0.0)
-        ops.region(2 + k, "-nodeOnly", *nodes[b.name], "-rayleigh", float(a0), 0.0, 0.0, 0.0)
+    rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
+    masters = {name: parts[0] for name, parts in built.items()}
+    springs, clear = face_gap_springs(ops, scene.buildings, masters, stiffness, tags)
 
-    # the gap springs: at both ends of the common facade, on every common storey
+    newmark_along_x(ops, scene.ground_motion, "run_gap_pounding", 1e-12, 50)
+
+    ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
+    forces = np.zeros((n_steps + 1, len(springs), 2))
+    iterations = 0
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        iterations += ops.testIter()
+        for name, tags_ in masters.items():
+            ux[name][k] = [ops.nodeDisp(t, 1) for t in tags_]
+        for f, row in enumerate(springs):
+            forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
+    ops.wipe()
+    return ux, forces, iterations, clear
+
+
+def face_gap_springs(ops, buildings, masters: dict, stiffness: float, tags) -> tuple[list[list[int]], float]:
+    """Compression-only contact springs between two buildings whose facing slab edges are collinear, along x.
+
+    At both ends of the common facade, on every common storey, a ``zeroLength`` element in x
+    between two coincident nodes, each a slave of its building's diaphragm
+    (``rigidDiaphragm 3``, restrained in uz, rx, ry, which nothing stiffens), with
+    ``ElasticPPGap(stiffness, -1e30, -clear, 0, "noDamage")``: no force while the clear
+    distance stays open, ``stiffness`` [N/m] times the penetration once it closes (OpenSees'
+    gap materials take the gap as a negative number; the huge negative yield force keeps it
+    elastic). ``buildings`` = (the one on the -x side, the one on the +x side); ``masters`` maps
+    a building's name to its master tags per floor; ``tags()`` gives the next free tag.
+
+    Returns (springs, clear): springs[f] = the two element tags of common storey f + 1; the
+    clear distance [m].
+
+    Raises ValueError when the facades are not collinear or a common storey is not at one level.
+    """
+    low, high = buildings
     x_low = max(float(v[0]) for v in low.slabs[0].vertices)
     x_high = min(float(v[0]) for v in high.slabs[0].vertices)
     clear = x_high - x_low
-    common = min(low.n_storeys, high.n_storeys)
     ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
     if ends_y != sorted({float(v[1]) for v in high.slabs[0].vertices}):
-        raise ValueError("run_gap_pounding needs collinear facades (face-to-face contact)")
-    tag = 1_000_000
-    ops.uniaxialMaterial("ElasticPPGap", tag, float(stiffness), -1e30, -clear, 0.0, "noDamage")
-    material = tag
-    springs = []  # springs[f] = [element tags]
-    for f in range(common):
+        raise ValueError("gap springs need collinear facades (face-to-face contact)")
+    material = tags()
+    ops.uniaxialMaterial("ElasticPPGap", material, float(stiffness), -1e30, -clear, 0.0, "noDamage")
+    springs = []
+    for f in range(min(low.n_storeys, high.n_storeys)):
         z = float(low.slabs[f].elevation)
         if abs(z - float(high.slabs[f].elevation)) > 1e-9:
             raise ValueError(f"storey {f + 1} is not at the same level in both buildings")
@@ -431,31 +478,16 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
         for y in ends_y:
             ends = []
             for b in (low, high):  # i = low, j = high: deformation u_high - u_low, compression when < -clear
-                tag += 1
+                tag = tags()
                 ops.node(tag, 0.5 * (x_low + x_high), y, z)
-                ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry carry no stiffness here; ux, uy, rz follow the diaphragm
+                ops.fix(tag, *MASTER_FIX)  # uz, rx, ry carry no stiffness here; ux, uy, rz follow the diaphragm
                 ops.rigidDiaphragm(3, masters[b.name][f], tag)
                 ends.append(tag)
-            tag += 1
+            tag = tags()
             ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
             row.append(tag)
         springs.append(row)
-
-    newmark_along_x(ops, scene.ground_motion, "run_gap_pounding", 1e-12, 50)
-
-    ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
-    forces = np.zeros((n_steps + 1, common, 2))
-    iterations = 0
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
-        iterations += ops.testIter()
-        for name, tags in masters.items():
-            ux[name][k] = [ops.nodeDisp(t, 1) for t in tags]
-        for f, row in enumerate(springs):
-            forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
-    ops.wipe()
-    return ux, forces, iterations, clear
+    return springs, clear
 
 
 # --------------------------------------------------------------------------- P-Delta peer
@@ -465,12 +497,19 @@ def newmark_along_x(ops, gm, who: str, tol: float, max_iter: int) -> None:
     if len(gm.components) != 1 or tuple(gm.direction()) != (1.0, 0.0):
         raise ValueError(f"{who} shakes with one component along x only")
     uniform_excitation(ops, gm)
+    transient_analysis(ops, ("Newmark", 0.5, 0.25), tol, max_iter)
+
+
+def transient_analysis(ops, integrator: Sequence[Any], tol: float, max_iter: int) -> None:
+    """A Newton transient analysis: ``constraints('Transformation')`` (rigid diaphragms), RCM numbering,
+    ``UmfPack``, ``NormDispIncr`` ``tol`` [m] in at most ``max_iter`` iterations, ``integrator`` the
+    arguments of ``ops.integrator`` (``("Newmark", gamma, beta)``, ``("HHT_TP", 1 + Hilber's alpha)``)."""
     ops.constraints("Transformation")
     ops.numberer("RCM")
     ops.system("UmfPack")
     ops.test("NormDispIncr", float(tol), int(max_iter))
     ops.algorithm("Newton")
-    ops.integrator("Newmark", 0.5, 0.25)
+    ops.integrator(*integrator)
     ops.analysis("Transient")
 
 

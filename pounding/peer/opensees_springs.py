@@ -19,7 +19,8 @@ The model an OpenSees user would build for :class:`~pounding.elements.storey_spr
 * damping C = a0 M + a1 K_initial per building (``region`` with ``-rayleigh``,
   links with ``-doRayleigh``): the classical damping of the initial elastic model.
 
-Only storey-spring buildings are modelled (frames and walls: :mod:`pounding.peer.opensees`).
+:func:`build_spring_building` models buildings of storey springs only; :func:`storey_links` is also
+what :mod:`pounding.peer.opensees` places for storey springs in a building of frames and walls.
 """
 
 from __future__ import annotations
@@ -28,26 +29,10 @@ from typing import Any, Sequence
 
 import numpy as np
 
+from pounding.peer.opensees_links import _material, storey_links  # noqa: F401 - the storey springs' links
+
 #: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
 MASTER_FIX = (0, 0, 1, 1, 1, 0)
-
-
-def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
-    k0 = float(element.stiffness[storey])
-    if not element.yields:
-        ops.uniaxialMaterial("Elastic", tag, k0)
-        return
-    fy = float(element.yield_force[storey])
-    b = float(element.hardening)
-    law = element.law.name
-    if law == "bilinear":
-        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
-    elif law == "bouc_wen":
-        uy = fy / k0
-        n, beta, gamma = element.law.n, element.law.beta, element.law.gamma
-        ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)
-    else:
-        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}")
 
 
 def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1e-13):
@@ -59,46 +44,26 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
     element tag, and the link tags of the yielding springs in the order of
     :func:`pounding.framework.engine.inelastic.spring_set`.
     """
-    from pounding.elements.storey_springs import StoreySprings
+    from pounding.peer.opensees import _elements_by_kind, _Tags
 
-    tag = int(tag_offset)
+    tags = _Tags(tag_offset)
     nodes, elements, yielding = [], [], []
     masters = []
     for slab in building.slabs:
-        tag += 1
+        tag = tags()
         ops.node(tag, float(slab.centre[0]), float(slab.centre[1]), float(slab.elevation))
         ops.fix(tag, *MASTER_FIX)
         ops.mass(tag, slab.mass, slab.mass, 0.0, 0.0, 0.0, slab.polar_inertia)
         masters.append(tag)
         nodes.append(tag)
     slaves: list[list[int]] = [[] for _ in building.slabs]
-    z = np.concatenate([[0.0], np.cumsum(building.storey_heights)])
-    for e in building.elements:
-        if not isinstance(e, StoreySprings):
-            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {type(e).__name__}")
-        d = np.asarray(e.direction, dtype=float)
-        x, y = (float(c) for c in e.point)
-        for f in range(len(e.heights)):
-            ends = []
-            for level in (f, f + 1):
-                tag += 1
-                ops.node(tag, x, y, float(z[level]))
-                if level == 0:
-                    ops.fix(tag, 1, 1, 1, 1, 1, 1)
-                else:
-                    ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry: no stiffness here
-                    slaves[level - 1].append(tag)
-                nodes.append(tag)
-                ends.append(tag)
-            tag += 1
-            _material(ops, tag, e, f, boucwen_tol)
-            mat = tag
-            tag += 1
-            ops.element("twoNodeLink", tag, *ends, "-mat", mat, "-dir", 1,
-                        "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0, "-doRayleigh")
-            elements.append(tag)
-            if e.yields:
-                yielding.append(tag)
+    for kind, e in _elements_by_kind(building):
+        if kind != "springs":
+            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {kind}")
+        links = storey_links(ops, e, tags, slaves, nodes, boucwen_tol)
+        elements.extend(links)
+        if e.yields:
+            yielding.extend(links)
     for master, sl in zip(masters, slaves):
         if sl:
             ops.rigidDiaphragm(3, master, *sl)
@@ -130,31 +95,17 @@ def run_springs_transient(
     (ux [m], uy [m], rz [rad]); dict name -> (n_steps + 1, ns) basic force of the
     yielding links [N] (spring_set order); the total Newton iterations.
     """
-    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
-
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     built = {}
     for i, b in enumerate(buildings):
         built[b.name] = build_spring_building(ops, b, 100_000 * i, boucwen_tol)
-    for k, b in enumerate(buildings, start=1):
-        if b.damping.kind != "rayleigh":
-            raise ValueError(f"building {b.name!r}: the peer model takes Rayleigh damping only")
-        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
-        _, nodes, elements, _ = built[b.name]
-        ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, float(a1), 0.0)
-        ops.region(len(buildings) + k, "-nodeOnly", *nodes, "-rayleigh", float(a0), 0.0, 0.0, 0.0)
+    from pounding.peer.opensees import building_rayleigh, rayleigh_damping, transient_analysis, uniform_excitation
 
-    from pounding.peer.opensees import uniform_excitation
+    rayleigh_damping(ops, [built[b.name][1:3] for b in buildings], building_rayleigh(buildings))
 
     uniform_excitation(ops, ground_motion)
-    ops.constraints("Transformation")
-    ops.numberer("RCM")
-    ops.system("UmfPack")
-    ops.test("NormDispIncr", float(tol), int(max_iter))
-    ops.algorithm("Newton")
-    ops.integrator(*integrator)
-    ops.analysis("Transient")
+    transient_analysis(ops, integrator, tol, max_iter)
 
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in buildings}
     forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in buildings}
@@ -191,42 +142,14 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
     (n_steps + 1, common storeys, 2) gap springs' basic force [N] (negative in compression);
     total Newton iterations.
     """
-    from pounding.framework.model.assembly import assemble, rayleigh_coefficients
+    from pounding.peer.opensees import _Tags, building_rayleigh, face_gap_springs, rayleigh_damping
 
-    low, high = scene.buildings
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     built = {b.name: build_spring_building(ops, b, 100_000 * i) for i, b in enumerate(scene.buildings)}
-    for k, b in enumerate(scene.buildings, start=1):
-        a0, a1 = rayleigh_coefficients(b.damping, assemble(b).omega, b.name)
-        _, nodes, elements, _ = built[b.name]
-        ops.region(k, "-ele", *elements, "-rayleigh", 0.0, 0.0, float(a1), 0.0)
-        ops.region(2 + k, "-nodeOnly", *nodes, "-rayleigh", float(a0), 0.0, 0.0, 0.0)
-    x_low = max(float(v[0]) for v in low.slabs[0].vertices)
-    x_high = min(float(v[0]) for v in high.slabs[0].vertices)
-    clear = x_high - x_low
-    ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
-    if ends_y != sorted({float(v[1]) for v in high.slabs[0].vertices}):
-        raise ValueError("run_springs_gap_pounding needs collinear facades (face-to-face contact)")
-    tag = 1_000_000
-    ops.uniaxialMaterial("ElasticPPGap", tag, float(stiffness), -1e30, -clear, 0.0, "noDamage")
-    material = tag
-    gaps = []
-    for f in range(min(low.n_storeys, high.n_storeys)):
-        z = float(low.slabs[f].elevation)
-        row = []
-        for y in ends_y:
-            ends = []
-            for b in (low, high):  # deformation u_high - u_low: compression when below -clear
-                tag += 1
-                ops.node(tag, 0.5 * (x_low + x_high), y, z)
-                ops.fix(tag, *MASTER_FIX)
-                ops.rigidDiaphragm(3, built[b.name][0][f], tag)
-                ends.append(tag)
-            tag += 1
-            ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
-            row.append(tag)
-        gaps.append(row)
+    rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
+    masters = {name: parts[0] for name, parts in built.items()}
+    gaps, _ = face_gap_springs(ops, scene.buildings, masters, stiffness, _Tags(1_000_000))
     from pounding.peer.opensees import newmark_along_x
 
     newmark_along_x(ops, scene.ground_motion, "run_springs_gap_pounding", tol, max_iter)

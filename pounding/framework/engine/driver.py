@@ -567,6 +567,7 @@ class Driver:
             geo=m.geo,
             facades=m.facades,
             buildings=self.scene.buildings,
+            scene=self.scene,
             energy=self.energy(),
             runtime_s=runtime,
             dt=self.dt,

@@ -118,6 +118,9 @@ class Result:
     facades: dict = field(default_factory=dict)
     #: the scene's buildings (elements with their plan lines and sections), for the struck element
     buildings: tuple = ()
+    #: the Scene that was run (None when unknown): :func:`pounding.io.results.write_results` writes it
+    #: back as the run folder's scene.toml, so a folder written from Python can be plotted
+    scene: object = field(default=None, repr=False)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:

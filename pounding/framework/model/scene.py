@@ -6,7 +6,7 @@ modes, results) live in their own objects. ``with_*`` methods return copies.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -14,6 +14,24 @@ import numpy as np
 
 if TYPE_CHECKING:  # the model holds elements; it never needs their classes to run
     from pounding.elements.base import PlanarElement
+from pounding.errors import InputError
+
+
+class KeywordError(InputError, TypeError):
+    """A misspelt or unknown keyword argument of the Python API (a TypeError, as Python raises for one,
+    with the command line's "did you mean")."""
+
+
+def check_keywords(given, accepted, where: str) -> None:
+    """Raise :class:`KeywordError` for the first keyword of ``given`` not in ``accepted``, naming the closest
+    accepted one (``unknown keyword 'dtt' (did you mean 'dt'?)``) or listing them."""
+    import difflib
+
+    for key in given:
+        if key not in accepted:
+            close = difflib.get_close_matches(str(key), list(accepted), n=1, cutoff=0.6)
+            hint = f"did you mean {close[0]!r}?" if close else f"accepted: {', '.join(sorted(accepted))}"
+            raise KeywordError(f"unknown keyword {key!r} ({hint})", field=where)
 
 
 @dataclass(frozen=True, eq=False)
@@ -140,9 +158,17 @@ class Scene:
         raise KeyError(name)
 
     def with_analysis(self, **changes: Any) -> "Scene":
+        """A copy with these :class:`Analysis` options changed (``dt=0.005``, ``contact="penalty"``,
+        ``contact_params={...}``, ``integrator="newmark"``, ``duration=10.0``...).
+
+        Raises :class:`KeywordError` (a TypeError) naming the closest option for a misspelt one.
+        """
+        check_keywords(changes, [f.name for f in fields(Analysis)], "Scene.with_analysis")
         return replace(self, analysis=replace(self.analysis, **changes))
 
     def with_ground_motion(self, ground_motion: Any) -> "Scene":
+        """A copy shaken by ``ground_motion`` (a :class:`~pounding.io.ground_motion.GroundMotion` or a
+        :class:`~pounding.io.motion_pair.GroundMotionPair`, e.g. ``scene.ground_motion.scaled_to_pga(0.4)``)."""
         return replace(self, ground_motion=ground_motion)
 
     def with_gap(self, gap: float, direction: Any = None) -> "Scene":

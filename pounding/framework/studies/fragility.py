@@ -98,12 +98,12 @@ def run_columns(names: list[str]) -> list[str]:
     """Columns of ``runs.csv`` for buildings ``names``."""
     cols = ["record", "level", "im", "record_im", "scale", "window_cut", "window_s", "arias95_s", "peak_time_s", "arias_m_s",
             "status", "error", "required_gap_m", "required_gap_grid_m", "storey", "storey_b", "time_s", "striking", "vertex", "struck", "edge", "abs_m", "srss_m", "ddc_m"]
-    return cols + [f"{n}_peak_drift" for n in names] + [f"{n}_peak_ductility" for n in names] + ["warnings", "runtime_s"]
+    return cols + [f"{n}_peak_drift_ratio_cm" for n in names] + [f"{n}_peak_ductility" for n in names] + ["warnings", "runtime_s"]
 
 
 def consequence_columns(names: list[str]) -> list[str]:
     """Columns of ``consequences.csv`` for buildings ``names``."""
-    return ["record", "level", "gap_m", "scale", "status", "error", "n_impacts"] + [f"{n}_peak_drift" for n in names] + \
+    return ["record", "level", "gap_m", "scale", "status", "error", "n_impacts"] + [f"{n}_peak_drift_ratio_cm" for n in names] + \
         [f"{n}_peak_ductility" for n in names] + ["max_impulse", "energy_loss", "warnings", "runtime_s"]
 
 
@@ -116,14 +116,14 @@ def peak_ductility(result, name: str) -> float | None:
     return float(np.max(np.asarray(sp["peak"]) / np.asarray(sp["yield_deformation"])))
 
 
-_RESPONSE = ("_peak_drift", "_peak_ductility")
+_RESPONSE = ("_peak_drift_ratio_cm", "_peak_ductility")
 
 
 def _drifts(result, scene) -> dict:
     from pounding.framework.studies.sweep import _measures
 
     m = _measures(result, scene, [])
-    return {k: v for k, v in m.items() if k.endswith("_peak_drift")} | {
+    return {k: v for k, v in m.items() if k.endswith("_peak_drift_ratio_cm")} | {
         f"{b.name}_peak_ductility": peak_ductility(result, b.name) for b in scene.buildings} | {
         "n_impacts": m["n_impacts"], "max_impulse": m["max_impulse"], "energy_loss": m["energy_loss"]}
 
@@ -329,7 +329,7 @@ def summarise_consequences(free_rows: list[dict], rows: list[dict], names: list[
             if not pairs:
                 continue
             for n in names:
-                key = f"{n}_peak_drift"
+                key = f"{n}_peak_drift_ratio_cm"
                 d = np.array([a[key] for a, _ in pairs], dtype=float)
                 d0 = np.array([b[key] for _, b in pairs], dtype=float)
                 amp = np.divide(d, d0, out=np.full_like(d, np.nan), where=d0 > 0)

@@ -137,7 +137,7 @@ def columns(storeys: list[int], names: list[str]) -> list[str]:
     """Table columns for impact storeys ``storeys`` (1-based) and buildings ``names``."""
     cols = PARAMETERS + WINDOW + ["status", "error", "warnings", "n_impacts", "min_gap"] + [f"impacts_storey_{s}" for s in storeys]
     for n in names:
-        cols += [f"{n}_peak_u", f"{n}_peak_v", f"{n}_peak_phi", f"{n}_peak_drift"]
+        cols += [f"{n}_peak_u", f"{n}_peak_v", f"{n}_peak_phi", f"{n}_peak_drift_ratio_cm"]
     return cols + ["max_impulse", "energy_loss", "runtime_s"]
 
 
@@ -223,27 +223,24 @@ def _measures(result, scene, storeys: list[int]) -> dict:
     seg = true_peaks.segments(result)
     for b in scene.buildings:
         pk = result.peaks(b.name)  # over the continuous trajectory (pounding.framework.engine.peaks)
+        system = result.systems[result.names.index(b.name)]
+        # the drift ratio at each storey's centre of mass, summary.json's peak_drift_ratio_cm
+        # (pounding.framework.post.response.drift_ratios): over the continuous trajectory, or the output steps when thinned
         if seg is not None:
-            drift = float(np.max(true_peaks.norm_peaks(true_peaks.building_segments(seg, result, b.name),
-                                                       _cm_drift_rows(result.systems[result.names.index(b.name)])), initial=0.0))
-        else:  # thinned output: over the output steps
-            cm = result.cm(b.name)
-            du = np.diff(cm[:, :, :2], axis=1, prepend=0.0)  # inter-storey drift of the centres of mass
-            drift = np.max(np.hypot(du[..., 0], du[..., 1]) / np.asarray(b.storey_heights), initial=0.0)
+            centres = np.array([sl.centre for sl in system.slabs])
+            rows = true_peaks.drift_rows(system, centres[:, None, :])[:, 0]
+            drift = float(np.max(true_peaks.norm_peaks(true_peaks.building_segments(seg, result, b.name), rows), initial=0.0))
+        else:
+            from pounding.framework.post.response import drift_ratios
+
+            drift = float(np.max(drift_ratios(system, result.cm(b.name))[0], initial=0.0))
         row[f"{b.name}_peak_u"] = float(pk[:, 0].max())
         row[f"{b.name}_peak_v"] = float(pk[:, 1].max())
         row[f"{b.name}_peak_phi"] = float(pk[:, 2].max())
-        row[f"{b.name}_peak_drift"] = float(drift)
+        row[f"{b.name}_peak_drift_ratio_cm"] = drift
     row["max_impulse"] = float(max((i.impulse for i in result.impacts), default=0.0))
     row["energy_loss"] = float(sum(i.energy_loss for i in result.impacts))
     return row
-
-
-def _cm_drift_rows(system) -> np.ndarray:
-    """Rows (N, 2, n) of the inter-storey drift ratio of the centres of mass, (u_f - u_{f-1}, v_f - v_{f-1}) / h_f."""
-    Phi = np.asarray(system.modes, dtype=float).reshape(system.n_storeys, 3, -1)[:, :2]
-    rel = Phi - np.concatenate([np.zeros_like(Phi[:1]), Phi[:-1]])
-    return rel / np.asarray(system.storey_heights, dtype=float)[:, None, None]
 
 
 def _record_label(spec: dict, scene) -> str:
@@ -438,7 +435,7 @@ def column_units(col: str) -> str | None:
         return "m"
     if col.endswith("_peak_phi"):
         return "rad"
-    if col.endswith("_peak_drift") or col in ("pga_scale", "restitution"):
+    if col.endswith("_peak_drift_ratio_cm") or col in ("pga_scale", "restitution"):
         return "-"
     return {"angle": "deg", "max_impulse": "N s", "energy_loss": "J"}.get(col)
 
@@ -746,7 +743,7 @@ def plot_sweep(rows: list[dict], names: list[str], out) -> list[Path]:
         rs = sorted(rs, key=lambda r: r["gap"])
         for i, name in enumerate(names):
             lab = ", ".join(x for x in (name, label(key)) if x)
-            ax.plot([r["gap"] for r in rs], [100.0 * r[f"{name}_peak_drift"] for r in rs], linestyle=styles[i % len(styles)],
+            ax.plot([r["gap"] for r in rs], [100.0 * r[f"{name}_peak_drift_ratio_cm"] for r in rs], linestyle=styles[i % len(styles)],
                     marker="o", color=f"C{(j if len(groups) > 1 else i) % 10}", label=lab)
     ax.set_xlabel("gap at rest [m]")
     ax.set_ylabel("peak inter-storey drift [%]")

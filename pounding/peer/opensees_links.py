@@ -1,0 +1,59 @@
+"""A storey-springs element as OpenSees links: one ``twoNodeLink`` per storey along the element's line,
+its material the spring's law (``Elastic``, ``Steel01`` for the bilinear law, ``BoucWen``).
+
+Shared by the peer models of the tests (:mod:`pounding.peer.opensees`, :mod:`pounding.peer.opensees_springs`)
+and the export, so that a storey spring is built one way.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
+    k0 = float(element.stiffness[storey])
+    if not element.yields:
+        ops.uniaxialMaterial("Elastic", tag, k0)
+        return
+    fy = float(element.yield_force[storey])
+    b = float(element.hardening)
+    law = element.law.name
+    if law == "bilinear":
+        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
+    elif law == "bouc_wen":
+        uy = fy / k0
+        n, beta, gamma = element.law.n, element.law.beta, element.law.gamma
+        ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)
+    else:
+        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}")
+
+
+def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13) -> list[int]:
+    """The ``twoNodeLink`` of every storey of one storey-springs element (module docstring); returns their tags.
+
+    ``tags()`` gives the next free tag; each link's upper node (and its lower one above the ground) is
+    appended to ``slaves[floor - 1]`` for the floor's ``rigidDiaphragm``, every node to ``nodes``.
+    """
+    d = np.asarray(element.direction, dtype=float)
+    x, y = (float(c) for c in element.point)
+    z = np.concatenate([[0.0], np.cumsum(element.heights)])
+    links = []
+    for f in range(len(element.heights)):
+        ends = []
+        for level in (f, f + 1):
+            tag = tags()
+            ops.node(tag, x, y, float(z[level]))
+            if level == 0:
+                ops.fix(tag, 1, 1, 1, 1, 1, 1)
+            else:
+                ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry: no stiffness here
+                slaves[element.floors[level - 1] - 1].append(tag)
+            nodes.append(tag)
+            ends.append(tag)
+        mat = tags()
+        _material(ops, mat, element, f, boucwen_tol)
+        tag = tags()
+        ops.element("twoNodeLink", tag, *ends, "-mat", mat, "-dir", 1,
+                    "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0, "-doRayleigh")
+        links.append(tag)
+    return links

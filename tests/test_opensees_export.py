@@ -1,0 +1,153 @@
+"""``pounding export opensees``: the exported script, run by OpenSeesPy in its own process, is the tool's model.
+
+The script is the peer builders' commands written down (:mod:`pounding.peer.export`), so what it
+computes is what the in-memory cross-checks compute (tests/test_opensees_transient.py,
+tests/test_opensees_pounding.py): same structure, same damping, same load, same Newmark scheme.
+What separates it from the tool is the model difference those tests measure, the out-of-plane
+stiffness OpenSees' planar frames need (``OUT_OF_PLANE`` = 1e-9 of the in-plane inertia): a
+relative stiffness perturbation of that size moves periods and histories by the same order
+(measured there: 1e-9 to 2e-9 of the peaks), plus the Newton tolerance (1e-12 m, against peaks of
+centimetres: 1e-10 relative). Every comparison below allows 1e-6 relative, three orders above
+both, and far below what a wrong mass, stiffness, damping or load would change (the checks that
+the comparisons discriminate are in the transient cross-check). Measured: periods 2.4e-10,
+contact-free histories 0.9e-9 to 2.2e-9, the pounding pair 3.3e-9 (of the peaks).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pounding.framework.post.run import run
+from pounding.framework.model.assembly import assemble
+from pounding.io.scene import load_scene, parse_scene
+
+pytestmark = pytest.mark.opensees
+
+ROOT = Path(__file__).resolve().parents[1]
+PAIR = ROOT / "examples" / "paper" / "pair_gap_0.5.toml"
+RTOL = 1e-6  # see the module docstring
+MODES = 6
+
+
+def _run_script(scene, folder: Path, modes: int = MODES) -> tuple[np.ndarray, dict[str, np.ndarray]]:
+    """Export ``scene``, run the script with this interpreter; (periods [s], name -> (steps + 1, storeys, 3))."""
+    from pounding.peer.export import write_script
+
+    script = folder / "model.py"
+    write_script(scene, script)
+    history = folder / "history.csv"
+    done = subprocess.run([sys.executable, str(script), "--history", str(history), "--modes", str(modes)],
+                          capture_output=True, text=True, timeout=600, cwd=folder)
+    assert done.returncode == 0, done.stderr[-2000:]
+    printed = [json.loads(line)["periods [s]"] for line in done.stdout.splitlines() if line.startswith("{")]
+    periods = printed[0] if modes > 0 else []
+    with open(history, newline="") as fh:
+        rows = list(csv.reader(fh))
+    header, data = rows[0], np.array(rows[1:], dtype=float)
+    out = {}
+    for b in scene.buildings:
+        cols = [header.index(f"{b.name}.{f + 1}.{dof}") for f in range(b.n_storeys) for dof in ("u [m]", "v [m]", "phi [rad]")]
+        out[b.name] = data[:, cols].reshape(len(data), b.n_storeys, 3)
+    return np.asarray(periods), out
+
+
+@pytest.fixture(scope="module")
+def paper_pair(tmp_path_factory):
+    """The paper pair (non-symmetric, each building its own Rayleigh a0, a1), no contact, Newmark, dt 0.01 s, 6 s
+    (the strong motion and the low building's peak at 2.3 s)."""
+    scene = load_scene(PAIR).with_analysis(integrator="newmark", integrator_params={}, contact="none", contact_params={},
+                                           dt=0.01, duration=6.0)
+    result = run(scene)
+    periods, peer = _run_script(scene, tmp_path_factory.mktemp("export"))
+    return scene, result, periods, peer
+
+
+def test_exported_periods_are_the_tools(paper_pair):
+    """The script's first six periods (both buildings in one domain) are the union of each building's, longest
+    first, to 1e-6."""
+    scene, _, periods, _ = paper_pair
+    ours = np.sort(np.concatenate([assemble(b).periods for b in scene.buildings]))[::-1][:MODES]
+    np.testing.assert_allclose(periods, ours, rtol=RTOL)
+
+
+def test_exported_contact_free_history_is_the_tools(paper_pair):
+    """Every floor's u, v, phi over the whole run: max |difference| <= 1e-6 of the peak of each kind (m, m, rad).
+    The two buildings' damping differs (two ``region``s), so this also checks the damping of each building."""
+    scene, result, _, peer = paper_pair
+    a, b = (assemble(x) for x in scene.buildings)
+    assert not np.allclose(a.zeta, b.zeta[: len(a.zeta)])  # per-building damping is really exercised
+    for bld in scene.buildings:
+        ours = result.cm(bld.name)
+        assert peer[bld.name].shape == ours.shape
+        scale = np.max(np.abs(ours), axis=(0, 1))
+        assert np.all(scale[:2] > 1e-3)  # the response is well above rounding (>= 1 mm)
+        np.testing.assert_array_less(np.max(np.abs(peer[bld.name] - ours), axis=(0, 1)), RTOL * scale, err_msg=bld.name)
+
+
+def test_exported_gap_springs_pound_as_the_tools_penalty_law(tmp_path):
+    """Contact: the symmetric pair of tests/test_opensees_pounding.py with a penalty law of restitution 1 (a linear
+    spring in compression only) exports as ElasticPPGap springs; over 4 s (every storey pounds) the script's
+    floor displacements are the tool's to 1e-6 of the peak (that test measured 3e-8 over 10 s at this
+    out-of-plane stiffness, the impacts amplifying the model difference)."""
+    from test_opensees_pounding import _penalty, _scene_dict
+
+    scene = parse_scene(_scene_dict(_penalty(), duration=4.0))
+    result = run(scene)
+    _, peer = _run_script(scene, tmp_path, modes=0)
+    for bld in scene.buildings:
+        ours = result.cm(bld.name)[:, :, 0]
+        peak = np.abs(ours).max()
+        assert np.abs(peer[bld.name][:, :, 0] - ours).max() <= RTOL * peak, bld.name
+    text = (tmp_path / "model.py").read_text()
+    assert "ElasticPPGap" in text and "zeroLength" in text
+
+
+@pytest.mark.parametrize("integrator", ["newmark", {"name": "hht", "alpha": -0.05}], ids=["newmark", "hht"])
+def test_exported_yielding_springs_are_the_tools(tmp_path, integrator):
+    """Storey springs that yield (tests/inelastic_scenes.eccentric_building: five bilinear lines, eccentric in
+    strength and stiffness, shaken at 30 degrees) export as twoNodeLink elements with Steel01; over 4 s the
+    script's floor histories are the tool's within 1e-5 of the peak (the requirement of
+    tests/test_opensees_inelastic.py, whose in-memory model this is). pounding's hht is exported as OpenSees'
+    HHT_TP with alpha 1 + Hilber's (the yielding forces weighted as pounding blends them). Measured 2.6e-13
+    for both: the Newton tolerance."""
+    from inelastic_scenes import eccentric_building, single
+
+    scene = parse_scene(single(eccentric_building(), duration=4.0, integrator=integrator))
+    result = run(scene)
+    _, peer = _run_script(scene, tmp_path, modes=0)
+    assert "Steel01" in (tmp_path / "model.py").read_text()
+    ours = result.cm("tower")
+    for c in range(3):
+        peak = np.abs(ours[:, :, c]).max()
+        assert np.abs(peer["tower"][:, :, c] - ours[:, :, c]).max() <= 1e-5 * peak
+
+
+def test_an_impulse_scene_exports_without_contact_and_says_so(tmp_path):
+    """The rigid impulse law has no OpenSees material: the script has no gap element and the note says why."""
+    from pounding.peer.export import write_script
+
+    notes = write_script(load_scene(PAIR), tmp_path / "model.py")
+    text = (tmp_path / "model.py").read_text()
+    assert any("impulse" in n for n in notes) and "zeroLength" not in text
+    assert "Left out: contact law 'impulse'" in text
+
+
+@pytest.mark.parametrize("args, message", [
+    (["export", "opensee", str(PAIR)], "did you mean 'opensees'"),
+    (["export", "opensees", "missing.toml"], "cannot read the scene file"),
+])
+def test_bad_export_input_exits_2_and_writes_nothing(tmp_path, args, message):
+    """An unknown format or an unreadable scene: one message naming the problem, exit 2, no file written."""
+    out = tmp_path / "model.py"
+    done = subprocess.run([sys.executable, "-m", "pounding", *args, "--out", str(out)], capture_output=True, text=True,
+                          cwd=tmp_path, timeout=300)
+    assert done.returncode == 2
+    assert message in done.stderr and len(done.stderr.strip().splitlines()) == 1
+    assert list(tmp_path.iterdir()) == []
