@@ -1,4 +1,4 @@
-"""pounding: seismic response and slab pounding of two adjacent non-symmetric buildings.
+"""pounding: seismic response and slab pounding of adjacent non-symmetric buildings (a pair, a row or a block).
 
 The public Python API is small:
 
