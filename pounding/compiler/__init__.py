@@ -264,9 +264,6 @@ def on_first_compile(callback) -> None:
     _first_compile_hooks.append(callback)
 
 
-    raise SystemExit(_package_main())
-
-
 def generated_module(folder: str, stem: str, text: str):
     """Import the generated source ``text`` as module ``_pounding_<stem>`` from ``folder/<stem>.py``.
 
