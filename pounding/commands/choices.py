@@ -30,13 +30,6 @@ def elements() -> str:
     return _names(ELEMENTS)
 
 
-def contact_laws() -> str:
-    """The built-in contact laws, comma-separated."""
-    from pounding.framework.model.registry import CONTACT_LAWS
-
-    return _names(CONTACT_LAWS)
-
-
 def intensity_measures() -> str:
     """What fragility's ``--im`` accepts, with units."""
     from pounding.framework.studies.fragility_inputs import INTENSITY_MEASURES, SPECTRAL

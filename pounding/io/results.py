@@ -79,6 +79,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             **_true_drift_peaks(result, s.name, response_peaks(histories[s.name])),
             # the smooth part omits forces of sustained/penalty contact, which a run does not record
             "floor_acceleration_includes_contact_forces": not contact_forces,
+            # storey and base shears and overturning moments are the elements' forces: the damping matrix is tied to no element
+            "storey_shear_includes_damping_forces": False,
             "energy": balances[s.name],
         }
     balance = result.energy_balance()

@@ -58,7 +58,7 @@ CHECKS = (
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
-          "unequal storey heights (intended: see the facade contact in the README), or a slip in a storey height"),
+          "unequal storey heights (intended: see *Slabs between a neighbour's floors* in docs/modelling.md), or a slip in a storey height"),
 )
 NAMES = tuple(c.name for c in CHECKS)
 
