@@ -13,7 +13,7 @@ are kept.
   polygons with fewer vertices); and the response histories of
   :mod:`pounding.framework.post.response` as ``B_<quantity>`` (drift ratios, storey
   and element shears, overturning moments, floor accelerations, the impacts'
-  floor velocity jumps; units in the README).
+  floor velocity jumps; units and definitions in docs/outputs.md).
 * ``summary.json``: steps, runtime_s (solver time; ``timings_s`` adds the time spent loading
   and compiling the compiled core, ``load_and_compile`` of which ``compile``), integrator, dt,
   per building periods, peak |u|, |v|, |phi| and the peak response quantities per
