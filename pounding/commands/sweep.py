@@ -14,7 +14,7 @@ from pounding.words import plural
 def add_parser(sub) -> None:
     p = sub.add_parser(
         "sweep",
-        help="parameter study: gaps, PGA scales, records, restitution, integrators",
+        help="parameter study: gaps, PGA scales, records, incidence angles, restitution, integrators",
         description=(
             "Run a grid of analyses of a scene (the Cartesian product of the lists given; the scene's own value for a "
             "parameter not given) and write one table, OUT/sweep.csv (a row appended as each run completes, rewritten "
