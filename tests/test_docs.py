@@ -142,6 +142,22 @@ def test_summary_says_storey_shears_leave_out_damping(quickstart_folder):
     assert all(b["storey_shear_includes_damping_forces"] is False for b in summary["buildings"].values())
 
 
+def test_outputs_page_defines_every_key_and_array_a_run_writes(quickstart_folder):
+    """Every key of summary.json (top level and per building), every array of response.npz (per building
+    as `B_...`) and every column of impacts.csv is named in docs/outputs.md."""
+    import numpy as np
+
+    page = (DOCS / "outputs.md").read_text()
+    summary = json.loads((quickstart_folder / "run" / "summary.json").read_text())
+    names = set(summary) | {k for b in summary["buildings"].values() for k in b}
+    with np.load(quickstart_folder / "run" / "response.npz") as z:
+        for key in z.files:
+            building = next((b for b in summary["buildings"] if key.startswith(b + "_")), None)
+            names.add("B_" + key[len(building) + 1:] if building else key)
+    names |= set((quickstart_folder / "run" / "impacts.csv").read_text().splitlines()[0].split(","))
+    assert not sorted(n for n in names if f"`{n}`" not in page)
+
+
 def test_readme_python_quickstart_runs():
     """README's Python quick start runs as written, from the repository's root."""
     code = _block_after("python-quickstart:", "python")
