@@ -1,4 +1,4 @@
-"""pounding: earthquake response of adjacent multistorey buildings and the pounding between their slabs.
+"""pounding: seismic response and slab pounding of adjacent non-symmetric buildings (a pair, a row or a block).
 
 The Python API (docs/python.md):
 

@@ -62,7 +62,7 @@ def format_info(name: str, s: dict) -> str:
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(
         prog="pounding",
-        description="Earthquake response of adjacent multistorey buildings (non-symmetric in plan) and the pounding between their slabs.",
+        description="Earthquake response of adjacent non-symmetric buildings (a pair, a row or a block) and the pounding between their slabs.",
     )
     p.add_argument("--version", action=_Version, nargs=0, help="show the version and exit")
     sub = p.add_subparsers(dest="command", metavar="COMMAND")
@@ -273,7 +273,7 @@ def human_summary(result, out: Path) -> str:
 def _add_run(sub):
     p = sub.add_parser(
         "run", help="time-history analysis of a scene",
-        description="Integrate both buildings under the scene's ground motion, with pounding, and write response.npz, "
+        description="Integrate every building under the scene's ground motion, with pounding, and write response.npz, "
         "summary.json, impacts.csv (and modal.npz, scene.toml for `pounding plot` and `render`) into --out, through a "
         "temporary folder moved into place when complete. A folder holding files pounding did not write is refused "
         "unless --overwrite; a rerun replaces only the files the earlier run wrote, so plots and renders made from it "
@@ -288,7 +288,10 @@ def _add_run(sub):
     p.add_argument("--scale", type=float, default=1.0, help="displacement scale of the VTK geometry (default: true scale)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None, help="override the scene's duration [s]")
-    p.add_argument("--integrator", default=None, help="override the scene's integrator (by name, default parameters)")
+    from pounding.commands.choices import integrators
+
+    p.add_argument("--integrator", default=None,
+                   help=f"override the scene's integrator by name ({integrators()}, or a plugin's name; default parameters)")
     from pounding.commands.scene import add_silence
 
     add_silence(p)

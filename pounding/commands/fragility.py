@@ -28,14 +28,13 @@ def add_parser(sub) -> None:
         ),
     )
     p.add_argument("scene", type=Path, help="scene file (TOML) with two buildings")
-    p.add_argument("--records", type=Path, default=None, metavar="SET",
-                   help="a folder of .AT2 records (default: the scene's own record), each shaken along the scene's angle")
-    from pounding.framework.studies.fragility_inputs import INTENSITY_MEASURES, SPECTRAL
+    from pounding.commands.choices import RECORD_SETS, intensity_measures
 
-    p.add_argument("--im", default="pga", metavar="IM",
-                   help=f"intensity measure of the whole record that the levels scale it to [g]: {', '.join(INTENSITY_MEASURES)} "
-                        f"(default), or the 5 %%-damped spectral {', '.join(SPECTRAL)} at T1 of the taller building (NAME:T at "
-                        "T seconds); printed, and written to OUT/study.json with the period used")
+    p.add_argument("--records", type=Path, default=None, metavar="SET",
+                   help="a folder of .AT2 records, each shaken along the scene's angle, or a named set of record pairs "
+                        f"({', '.join(RECORD_SETS)}: the 22 far-field pairs of FEMA P695, turned to the scene's angle); "
+                        "default: the scene's own record")
+    p.add_argument("--im", default="pga", metavar="IM", help="intensity measure the records are scaled to: " + intensity_measures().replace("%", "%%") + "; default pga; printed, and written to OUT/study.json with the period used")
     p.add_argument("--levels", required=True, metavar="LIST", help="intensity levels in the measure's unit: 0.1,0.2 or a range a:b:n")
     p.add_argument("--out", type=Path, default=None, help="output folder (default: the scene's name + '_fragility', beside it)")
     p.add_argument("--gaps", default=None, metavar="LIST", help="gap grid of fragility.csv [m] (default: 0 to the largest required gap, round step)")

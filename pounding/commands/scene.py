@@ -16,8 +16,10 @@ def add_parser(sub) -> None:
         description="Print a commented starting scene (TOML) to stdout: two buildings side by side along x, 0.05 m apart, "
         "under El Centro, every key explained. Save it, edit it, then `pounding check FILE`.",
     )
+    from pounding.commands.choices import elements
+
     t.add_argument("--element", default="frame", metavar="TYPE",
-                   help="element type of the buildings' lateral system (default: frame; shear_wall, or a plugin's type)")
+                   help=f"element type of the buildings' lateral system: {elements()}, or a plugin's type (default: frame)")
     t.set_defaults(func=cmd_template)
 
     c = sub.add_parser(

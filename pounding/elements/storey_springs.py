@@ -86,7 +86,7 @@ class StoreySprings(PlanarElement):
         "additionalProperties": False,
         "description": "Storey springs along a plan line: storey f's spring resists the relative displacement "
         "between floor f and floor f-1 (the ground below floor 1) along the line; elastic, or yielding by a "
-        "hysteresis law (see *Hysteresis laws* in README).",
+        "hysteresis law (see *Yielding storeys* in docs/modelling.md).",
         "properties": {
             "start": documented(POINT_SCHEMA, "One end of the springs' plan line [x, y].", [0.0, 0.0]),
             "end": documented(POINT_SCHEMA, "The other end; the springs act along the line from start to end.", [15.0, 0.0]),

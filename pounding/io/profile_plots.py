@@ -31,8 +31,8 @@ def _peaks(result) -> dict[str, dict]:
 
 PANELS = (
     ("peak_drift_ratio_cm", "drift ratio [%]", 100.0),
-    ("peak_storey_shear", "storey shear [MN]", 1e-6),
-    ("peak_overturning_moment", "overturning moment [MN m]", 1e-6),
+    ("peak_storey_shear", "storey shear, no damping [MN]", 1e-6),
+    ("peak_overturning_moment", "overturning moment, no damping [MN m]", 1e-6),
     ("peak_floor_acceleration", "floor acceleration [m/s$^2$]", 1.0),
 )
 

@@ -13,7 +13,7 @@ are kept.
   polygons with fewer vertices); and the response histories of
   :mod:`pounding.framework.post.response` as ``B_<quantity>`` (drift ratios, storey
   and element shears, overturning moments, floor accelerations, the impacts'
-  floor velocity jumps; units in the README).
+  floor velocity jumps; units and definitions in docs/outputs.md).
 * ``summary.json``: steps, runtime_s (solver time; ``timings_s`` adds the time spent loading
   and compiling the compiled core, ``load_and_compile`` of which ``compile``), integrator, dt,
   per building periods, peak |u|, |v|, |phi| and the peak response quantities per
@@ -85,6 +85,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             "floor_acceleration_includes_contact_forces": not contact_forces,
             # said next to every storey shear (pounding.io.frames.STOREY_FORCES_NOTE)
             "storey_forces": "elastic forces of the elements: viscous damping forces and P-Delta shears are not included",
+            # storey and base shears and overturning moments are the elements' forces: the damping matrix is tied to no element
+            "storey_shear_includes_damping_forces": False,
             "energy": balances[s.name],
         }
     balance = energy_balance(result)

@@ -415,11 +415,25 @@ TEMPLATE_SHIFT = 12.05  # [m] along x: a 0.05 m gap
 
 
 def _comment(schema: Mapping, key: str) -> str:
+    """The template's comment above ``key``: the first clause of its description, with its units."""
     sub = table_properties(schema).get(key, {})
     units = sub.get("units")
-    text = sub.get("description", "")
-    text = re.split(r"\. |: | \(", text)[0].rstrip(".")
+    text = first_clause(sub.get("description", ""))
     return f"# {text}" + (f" [{units}]" if units and units != "-" else "")
+
+
+def first_clause(text: str) -> str:
+    """A description's first clause (up to ". ", ": " or "; " outside parentheses): a comment line that reads whole.
+
+    A boundary inside parentheses does not end the clause, and an aside is never cut: "of the
+    (first) component, counter-clockwise from x (90 = along y); a second ..." keeps both asides.
+    """
+    depth = 0
+    for i, ch in enumerate(text):
+        depth += (ch == "(") - (ch == ")")
+        if depth == 0 and ch in ".:;" and text[i + 1:i + 2] in (" ", ""):
+            return text[:i].strip()
+    return text.strip()
 
 
 def _element_tables(element: str) -> tuple[list[dict], bool]:
@@ -468,9 +482,10 @@ def template_text(element: str = "frame") -> str:
         _comment(gm, "angle"), "angle = 0.0",
         "",
         "[analysis]",
-        "# time integrator (see the reference page for the others and their parameters)",
-        'integrator = { name = "hht", alpha = -0.05 }',
-        _comment(ANALYSIS, "dt"), "dt = 0.005",
+        "# The time integrator and the time step are left out: each run chooses them for accuracy",
+        "# from the scene (`pounding check` prints the choice). To name them (docs/scene-reference.md):",
+        '# integrator = "newmark"',
+        "# dt = 0.005",
         _comment(ANALYSIS, "duration"), "duration = 15.0",
         "# contact law between the slabs: rigid impacts with restitution", 'contact = "impulse"',
         _comment(ANALYSIS, "restitution"), "restitution = 0.5",

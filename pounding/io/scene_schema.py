@@ -72,7 +72,7 @@ P_DELTA = {
     "type": "object",
     "additionalProperties": False,
     "description": "P-Delta from gravity loads (off unless this table is given): a linear storey geometric stiffness "
-    "-P/h on the storey drift at the load centre and -I_P/h on its twist (README, P-Delta)",
+    "-P/h on the storey drift at the load centre and -I_P/h on its twist (docs/modelling.md, P-Delta)",
     "properties": {
         "load_factor": {
             "type": "number",
@@ -213,12 +213,12 @@ ANALYSIS = {
             **NAMED_PLUGIN,
             "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*). "
                            "Default: `exact` when every building is elastic and contact is by impulses (or none), else "
-                           "`newmark` (average acceleration); see README, *Accuracy and defaults*.",
+                           "`newmark` (average acceleration); see docs/accuracy.md.",
             "examples": [{"name": "hht", "alpha": -0.05}],
         },
         "dt": positive("Time step (default: chosen for accuracy, the largest divisor of the record's sample interval "
                        "with 32 steps per shortest period among the modes with at least 1 % effective mass, 8 for `exact`; "
-                       "see README, *Accuracy and defaults*).", "s", example=0.005),
+                       "see docs/accuracy.md).", "s", example=0.005),
         "duration": positive("Length of the analysis (default: the record's; beyond it the ground is at rest).", "s", example=20.0),
         "contact": {
             **NAMED_PLUGIN, "default": "impulse",

@@ -306,4 +306,4 @@ def _forms(schema: Mapping) -> str:
             forms.append(_forms(sub))
         elif "type" in sub:
             forms.append({"number": "a number", "array": "a list", "string": "a string", "object": "a table"}.get(sub["type"], sub["type"]))
-    return " or ".join(forms) or "see the README"
+    return " or ".join(forms) or "see docs/scene-reference.md"

@@ -13,7 +13,10 @@ from pounding.solvers.newmark import alpha_family_transition, alpha_step, real_p
 
 
 class HHT(Integrator):
-    """HHT method in Hilber's convention, the project's default integrator.
+    """HHT method in Hilber's convention, with numerical damping of the high modes.
+
+    Not the default: a scene that names no integrator gets ``exact`` or ``newmark``
+    (:mod:`pounding.framework.engine.integrator_choice`); the paper's example names ``hht``.
 
     Newmark's updates with ``beta = (1 - alpha)**2 / 4`` and
     ``gamma = (1 - 2 alpha) / 2``, closed by the shifted equilibrium

@@ -32,7 +32,7 @@ computes its elastic branch as k0 (u - u_p) with u_p = 0, see
 :mod:`pounding.hysteresis.base`), the Newton residual is zero at the
 predictor and the step is the elastic modal step bit for bit.
 
-Why not event-to-event: see the README (design, inelastic storeys). In short,
+Why not event-to-event (docs/accuracy.md, *Yielding storeys*): in short,
 an event (a spring yields or unloads) changes the tangent stiffness, which the
 initial modes no longer diagonalise, so each event needs a coupled 3N x 3N
 transition for every step length it is used with and the location of the

@@ -6,9 +6,9 @@
   shortest significant period) and carries no period error; impacts are struck where the gap is
   zero on that solution, and the peaks are the extremes of it. This is also what ETABS and SAP2000
   run for a modal linear time history. Measured (benchmarks/results/accuracy_targets.md), against
-  the converged rigid-impact limit: peaks within 2.4e-4 (paper pair) and 3.0e-4 (L-shape scene) in
-  1.5x and 2.0x less solver time than Newmark's average acceleration at its own default step
-  (32 steps per period), which lands within 4.7e-4 and 6.6e-5.
+  the converged rigid-impact limit: peak corner displacements within 1.4e-4 (paper pair) and
+  1.1e-5 (L-shape scene) in 1.7x and 2.2x less solver time than Newmark's average acceleration at
+  its own default step (32 steps per period), which lands within 2.5e-4 and 5.7e-5.
 * A building that yields, or a force contact law (penalty, facade penalty): ``newmark`` (average
   acceleration). Their restoring or contact forces depend on the state inside the step, which the
   closed form does not follow; Newmark's implicit step is the usual choice there (OpenSees'

@@ -216,6 +216,7 @@ def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray, fiel
                 f"positive (lowest eigenvalue {lam[0]:.3g} 1/s^2); check p_delta loads and the element stiffness",
                 field=(field.rsplit(".", 1)[0] + ".p_delta") if field else f"building {building.name!r} p_delta",
             )
+    _check_units(building, field)  # units before mechanism: a unit slip also looks like a mechanism
     k = int(np.argmax(np.abs(v) * np.tile([1.0, 1.0, building.slabs[0].radius], building.n_storeys)))
     storey, dof = k // 3 + 1, ("x translation", "y translation", "rotation")[k % 3]
     raise InputError(
@@ -223,6 +224,20 @@ def _check_mechanism(building: Building, lam: np.ndarray, vecs: np.ndarray, fiel
         "(add a frame or wall in that direction, or away from the others for rotation)",
         field=field or f"building {building.name!r}",
     )
+
+
+def _check_units(building: Building, field: str | None) -> None:
+    """Raise InputError naming the element if a unit slip (one element far stiffer than the others) explains a
+    near-zero eigenvalue: beside an element 1e12 times too stiff the others' stiffness is lost to rounding."""
+    from pounding.framework.model.stiffness_scale import describe, outliers
+
+    found = outliers(building)
+    if not found:
+        return
+    i, k, med = max(found, key=lambda o: o[1])
+    where = f"{field}[{i}]" if field else f"building {building.name!r} element[{i}]"
+    raise InputError(describe(building, i, k, med) + " Beside it the other elements' stiffness is lost to rounding, "
+                     "so the building looks like a mechanism; units are SI (m, Pa).", field=where)
 
 
 def assemble(building: Building) -> System:

@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pounding.framework.model.stiffness_scale import STIFF_RATIO, describe, outliers
+
 
 @dataclass(frozen=True)
 class Check:
@@ -45,7 +47,6 @@ class Check:
 MASS_PER_AREA = (150.0, 4000.0)  # [kg/m2], usual 300-2000
 PERIOD_PER_STOREY = (0.01, 0.6)  # [s], usual 0.02-0.3
 SOFT_RATIO = 0.6  # storey stiffness / the storey above's
-STIFF_RATIO = 1000.0  # element stiffness / the building's median
 
 CHECKS = (
     Check("mass_per_area", f"a slab's mass per plan area is outside {MASS_PER_AREA[0]:g}-{MASS_PER_AREA[1]:g} kg/m2 (usual 300-2000)",
@@ -57,7 +58,7 @@ CHECKS = (
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
-          "unequal storey heights (intended: see the facade contact in the README), or a slip in a storey height"),
+          "unequal storey heights (intended: see *Slabs between a neighbour's floors* in docs/modelling.md), or a slip in a storey height"),
 )
 NAMES = tuple(c.name for c in CHECKS)
 
@@ -176,20 +177,5 @@ def _soft_storeys(b) -> list[Finding]:
     return out
 
 
-def element_stiffness(element) -> float:
-    """A scalar lateral stiffness of an element [N/m]: the largest eigenvalue of its condensed matrix."""
-    return float(np.linalg.eigvalsh(np.asarray(element.lateral_stiffness(), float))[-1])
-
-
 def _stiff_elements(b) -> list[Finding]:
-    if len(b.elements) < 3:
-        return []
-    k = np.array([element_stiffness(e) for e in b.elements])
-    med = float(np.median(k))
-    out = []
-    for i, e in enumerate(b.elements):
-        if med > 0 and k[i] > STIFF_RATIO * med:
-            out.append(Finding("stiff_element", f"building {b.name!r} element[{i}] ({e.name}): lateral stiffness {k[i]:.3g} N/m is "
-                                                f"{k[i] / med:.3g}x the median of the building's elements ({med:.3g} N/m): "
-                                                "a section in mm instead of m, or E in kPa/MPa mixed with Pa?"))
-    return out
+    return [Finding("stiff_element", describe(b, i, k, med)) for i, k, med in outliers(b)]

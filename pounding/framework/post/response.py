@@ -273,7 +273,7 @@ def building_response(result, name: str, durations: np.ndarray) -> dict[str, np.
 
 
 def peaks(hist: dict[str, np.ndarray]) -> dict[str, list]:
-    """The per-storey peaks summary.json reports for one building (units in the README)."""
+    """The per-storey peaks summary.json reports for one building (units and definitions in docs/outputs.md)."""
     mag = lambda a: np.linalg.norm(a, axis=-1)  # noqa: E731  plan magnitude of (x, y)
     acc = hist["floor_acceleration"]
     spikes = hist["floor_acceleration_impact"]
