@@ -36,17 +36,18 @@ from pounding.compiler import njit
 from pounding.contact.geometry import axis_separation, clearance_bound
 from pounding.framework.bundles import Status
 from pounding.framework.inelastic import MAX_ITER, solve_in_place
-from pounding.framework.kernel import _accumulate_forces, _pair_gap, _slab_dofs, modal_load, update_peaks
+from pounding.framework.kernel import _accumulate, _pair_gap, _slab_dofs, modal_load, update_peaks
 from pounding.framework.links import law_update
 
 
 @njit
-def solve_group(laws, lo, hi, links, h, dl, sf, S, f, state, tol, trial, d, f1, kt, J, x, act):
+def solve_group(laws, lo, hi, law, params, k0, h, dl, sf, S, f, state, tol, trial, d, f1, kt, J, x, act):
     """Newton on ``u + S f(u) = dl`` for links lo..hi-1 (one building), for a step of h [s].
 
     dl (ns,) the linear step's end deformations [m]; sf (ns,) = S f, the start remainders' share
     (the predictor keeps them through the step); S (ns, ns) the step's compliance (block diagonal
     by building); f (ns,) the remainders at the step's start [N]; state the committed law states;
+    law, params, k0 the links' law indices, parameters and initial stiffnesses (:class:`Links`);
     tol the residual tolerance [m]. Writes the end deformations d, remainders f1, tangents kt (the
     step's, dr/du + dr/dv / h) and trial states (rows lo..hi-1); J (m, m), x (2 m,), act (m,) int
     are work buffers, m >= hi - lo.
@@ -57,13 +58,12 @@ def solve_group(laws, lo, hi, links, h, dl, sf, S, f, state, tol, trial, d, f1, 
 
     Returns the Newton iterations taken, or -1 when it did not converge in MAX_ITER.
     """
-    k0 = links.k0
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
     for it in range(MAX_ITER + 1):
         same = True
         for a in range(lo, hi):
-            r, k = law_update(laws, links.law[a], d[a], h, state, links.params, trial, a)
+            r, k = law_update(laws, law[a], d[a], h, state, params, trial, a)
             f1[a] = r - k0[a] * d[a]
             kt[a] = k
             if f1[a] != f[a]:
@@ -159,27 +159,31 @@ def solve_springs(laws, links, S, h, q_lin, now, out):
     Writes the trial ``out`` (:class:`LinkTrial`: end remainders, trial states, their modal load).
     Returns the index of a group whose Newton diverged, or -1.
     """
+    law, G, bounds, gmodes, k0, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
     ns = now.f.shape[0]
-    m = _largest_group(links.bounds)
+    m = _largest_group(bounds)
     sf = np.empty(ns)
-    compliance_load(now.f, S, links.bounds, sf)
-    j = _solve_springs(laws, links, S, h, q_lin, sf, now.f, now.state, out.state, out.f, np.empty(ns), np.empty(ns),
-                       np.empty(ns), np.empty((m, m)), np.empty(2 * m), np.empty(m, dtype=np.int64), np.zeros((links.tol.shape[0], 3), dtype=np.int64))
+    compliance_load(now.f, S, bounds, sf)
+    j = _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, now.f, now.state, out.state, out.f,
+                       np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m), np.empty(m, dtype=np.int64),
+                       np.zeros((ntol.shape[0], 3), dtype=np.int64))
     if j < 0:
-        end_load(out.f, links.G, links.bounds, links.gmodes, out.g)
+        end_load(out.f, G, bounds, gmodes, out.g)
     return j
 
 
 @njit
-def _solve_springs(laws, links, S, h, q_lin, sf, f, state, trial, f1, dl, d, kt, J, x, act, counts):
+def _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, f, state, trial, f1, dl, d, kt, J, x, act,
+                   counts):
     """The groups' Newton (:func:`solve_group`) with S f and the work buffers given: dl, d, kt (ns,),
     J (m, m), x (2 m,), act (m,) for the largest group of m links (the stretch allocates them once,
     and keeps S f until f changes). Adds every group's iterations, and a step that iterated, to
-    counts (n_groups, 3) columns 0 and 1. Returns the index of a group that diverged, or -1."""
-    bounds = links.bounds
-    deformations(q_lin, links.G, bounds, links.gmodes, dl)
+    counts (n_groups, 3) columns 0 and 1. The links' arrays are :class:`Links`' (the entry points
+    unpack the bundle once: a leaf called at every step takes arrays). Returns the index of a group
+    that diverged, or -1."""
+    deformations(q_lin, G, bounds, gmodes, dl)
     for j in range(bounds.shape[0] - 1):
-        it = solve_group(laws, bounds[j], bounds[j + 1], links, h, dl, sf, S, f, state, links.tol[j], trial, d, f1, kt, J, x, act)
+        it = solve_group(laws, bounds[j], bounds[j + 1], law, params, k0, h, dl, sf, S, f, state, ntol[j], trial, d, f1, kt, J, x, act)
         if it < 0:
             return j
         counts[j, 0] += it
@@ -192,13 +196,15 @@ def _solve_springs(laws, links, S, h, q_lin, sf, f, state, trial, f1, dl, d, kt,
 def forces_at(laws, links, h, q1, now, out):
     """The trial ``out`` (:class:`LinkTrial`: remainders, trial states, their modal load) of a step
     of h [s] from the committed links ``now`` that ends at the modal displacements q1 (n,)."""
-    ns = links.k0.shape[0]
+    law, G, bounds, gmodes, k0, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.params
+    state, trial, f1 = now.state, out.state, out.f
+    ns = k0.shape[0]
     d = np.empty(ns)
-    deformations(q1, links.G, links.bounds, links.gmodes, d)
+    deformations(q1, G, bounds, gmodes, d)
     for s in range(ns):
-        r, _ = law_update(laws, links.law[s], d[s], h, now.state, links.params, out.state, s)
-        out.f[s] = r - links.k0[s] * d[s]
-    end_load(out.f, links.G, links.bounds, links.gmodes, out.g)
+        r, _ = law_update(laws, law[s], d[s], h, state, params, trial, s)
+        f1[s] = r - k0[s] * d[s]
+    end_load(f1, G, bounds, gmodes, out.g)
 
 
 @njit
@@ -208,7 +214,12 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
     the ends) and the total extra loads ftot0, ftot1 (n,): the three rules of
     :func:`pounding.framework.kernel._accumulate_forces` (closed-form maps, Gauss points on the
     trajectory, or the trapezoidal rule)."""
-    GA, GB, gc, gw, WA1, WA2 = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2
+    _spring_work(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out)
+
+
+@njit
+def _spring_work(GA, GB, gc, gw, WA1, WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
+    """:func:`spring_work` on the arrays of the :class:`Transition` (the stretch's every step)."""
     n = z0.shape[0]
     for i in range(n):
         p0 = pg0[i]
@@ -236,22 +247,21 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
 
 
 @njit
-def _pair_within(geo, p, z, tol, da, db):
+def _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
     """Whether slab pair p ends within ``tol`` [m] of contact (or overlapping) at the modal state z
     (n, 3): the cascade of :func:`pounding.framework.kernel.advance` (cheap clearance bound,
-    separating axis, exact gap); da, db (3,) work arrays."""
-    ba = geo.pa[p, 0]
-    bb = geo.pb[p, 0]
-    sa = geo.off[ba] + geo.pa[p, 1]
-    sb = geo.off[bb] + geo.pb[p, 1]
-    n_modes, rows, radii = geo.n_modes, geo.rows, geo.radii
+    separating axis, exact gap) on the arrays of :class:`PairArrays`; da, db (3,) work arrays."""
+    ba = pa[p, 0]
+    bb = pb[p, 0]
+    sa = off[ba] + pa[p, 1]
+    sb = off[bb] + pb[p, 1]
     _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
     _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-    if clearance_bound(geo.rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
+    if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
         return False
-    va, vb = geo.verts[sa, : geo.nvert[sa]], geo.verts[sb, : geo.nvert[sb]]
-    ca, cb = geo.centres[sa], geo.centres[sb]
-    if axis_separation(va, ca, da[0], da[1], da[2], vb, cb, db[0], db[1], db[2], geo.axis[p, 0], geo.axis[p, 1]) > tol:
+    va, vb = verts[sa, : nvert[sa]], verts[sb, : nvert[sb]]
+    ca, cb = centres[sa], centres[sb]
+    if axis_separation(va, ca, da[0], da[1], da[2], vb, cb, db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
         return False
     return _pair_gap(va, ca, da, vb, cb, db) <= tol
 
@@ -287,13 +297,19 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     (k, status, pair) : grid index reached; Status.DONE, OVERLAP (the state is the start of step k)
     or DIVERGED (Newton failed in step k, state at its start); the pair that stopped it, or -1.
     """
-    A, B = tr.A, tr.B
-    L, bidx = modes.L, modes.bidx
+    # the bundles unpacked once, by name: the leaves called at every step take arrays
+    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr.A, tr.B, tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
+    L, c2, bidx = modes.L, modes.c2, modes.bidx
     dt, ag = ground.dt, ground.ag
+    every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    verts, nvert, centres, radii, rest, axis = geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
+    law, G, bounds, gmodes, kel, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
     f, g, state = now.f, now.g, now.state
+    peak, tangent, work, counts, hist = lrec.peak, lrec.tangent, lrec.work, lrec.counts, lrec.hist
     n = z.shape[0]
     ns = f.shape[0]
-    nb = lrec.work.shape[0]
+    nb = work.shape[0]
     z0 = np.empty((n, 3))
     qlin = np.empty(n)
     f1 = np.empty(ns)
@@ -307,11 +323,12 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     per = np.empty(nb)
     da = np.empty(3)
     db = np.empty(3)
-    m = _largest_group(links.bounds)
+    xw = np.empty(4)
+    m = _largest_group(bounds)
     dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m)
     act = np.empty(m, dtype=np.int64)
     sf = np.empty(ns)
-    compliance_load(f, S, links.bounds, sf)  # S f, kept until f changes (the same numbers solve_springs computes)
+    compliance_load(f, S, bounds, sf)  # S f, kept until f changes (the same numbers solve_springs computes)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -328,7 +345,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
             qlin[i] = z[i, 0]
-        if _solve_springs(laws, links, S, dt, qlin, sf, f, state, trial, f1, dl, d, kt, J, x, act, lrec.counts) >= 0:
+        if _solve_springs(laws, law, G, bounds, gmodes, params, kel, ntol, S, dt, qlin, sf, f, state, trial, f1, dl, d, kt, J, x,
+                          act, counts) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
@@ -340,7 +358,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
                 changed = True
                 break
         if changed:
-            end_load(f1, links.G, links.bounds, links.gmodes, g1)
+            end_load(f1, G, bounds, gmodes, g1)
         else:  # the same remainders: the same end load, bit for bit
             for i in range(n):
                 g1[i] = g[i]
@@ -348,8 +366,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
             for r in range(3):
                 z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
         # contact check: within the tolerance, the Python step decides
-        for p in range(geo.pa.shape[0]):
-            if _pair_within(geo, p, z, tol, da, db):
+        for p in range(pa.shape[0]):
+            if _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
                 for i in range(n):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]
@@ -359,49 +377,47 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
         for i in range(n):
             ftot0[i] = 0.0 - g[i]
             ftot1[i] = 0.0 - g1[i]
-        _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, ftot0, ftot1, rec.E)
-        spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
+        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, ftot0, ftot1, E, xw)
+        _spring_work(GA, GB, gc, gw, WA1, WA2, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
         for b in range(nb):
             per[b] = 0.0
         for i in range(n):
             per[bidx[i]] += w[i]
         for b in range(nb):
-            rec.E[b, 2] += per[b]
-            lrec.work[b] += per[b]
+            E[b, 2] += per[b]
+            work[b] += per[b]
         # commit the links
         for i in range(n):
             g[i] = g1[i]
         if changed:
-            compliance_load(f1, S, links.bounds, sf)
-        _commit_links(links, f1, trial, kt, now, lrec)
-        if rec.every > 1:
-            update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
-        if (k + 1) % rec.every == 0:
-            j = (k + 1) // rec.every
+            compliance_load(f1, S, bounds, sf)
+        _commit_links(bounds, kel, f1, trial, kt, f, state, peak, tangent, counts)
+        if every > 1:
+            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, slab_peak)
+        if (k + 1) % every == 0:
+            j = (k + 1) // every
             for i in range(n):
-                rec.Q[j, i] = z[i, 0]
-                rec.V[j, i] = z[i, 1]
+                Q[j, i] = z[i, 0]
+                V[j, i] = z[i, 1]
             for s in range(ns):
-                lrec.hist[0, j, s] = state[s, 0]
-                lrec.hist[1, j, s] = state[s, 1]
-                lrec.hist[2, j, s] = state[s, 2]
+                hist[0, j, s] = state[s, 0]
+                hist[1, j, s] = state[s, 1]
+                hist[2, j, s] = state[s, 2]
     return k1, Status.DONE, -1
 
 
 @njit
-def _commit_links(links, f1, trial, kt, now, lrec):
-    """Commit a step's remainders f1 (ns,), trial states and tangents kt (ns,) into ``now``; count
+def _commit_links(bounds, k0, f1, trial, kt, f, state, peak, tangent, counts):
+    """Commit a step's remainders f1 (ns,), trial states and tangents kt (ns,) into f and state; count
     the tangent changes (a link yields or unloads: its tangent moves by more than 1e-9 k0) per group
-    and update the running peaks."""
-    f, state = now.f, now.state
-    bounds = links.bounds
+    in counts[:, 2], remembering the tangents, and update the running peaks (:class:`LinkRecord`'s arrays)."""
     for j in range(bounds.shape[0] - 1):
         for s in range(bounds[j], bounds[j + 1]):
-            if abs(kt[s] - lrec.tangent[s]) > 1e-9 * links.k0[s]:
-                lrec.counts[j, 2] += 1
-            lrec.tangent[s] = kt[s]
+            if abs(kt[s] - tangent[s]) > 1e-9 * k0[s]:
+                counts[j, 2] += 1
+            tangent[s] = kt[s]
             f[s] = f1[s]
             for c in range(state.shape[1]):
                 state[s, c] = trial[s, c]
-            if abs(trial[s, 0]) > lrec.peak[s]:
-                lrec.peak[s] = abs(trial[s, 0])
+            if abs(trial[s, 0]) > peak[s]:
+                peak[s] = abs(trial[s, 0])
