@@ -121,7 +121,7 @@ def timed(fn, reps: int):
 
 def paper_case(reps: int) -> dict:
     from pounding.framework.post.run import run
-    from pounding.framework.engine.inelastic import run_inelastic
+    from pounding.framework.post.inelastic_run import run_inelastic
     from pounding.io.scene import parse_scene
 
     rows = {}
@@ -176,7 +176,7 @@ def paper_case(reps: int) -> dict:
 
 
 def tall_case(quick: bool) -> dict:
-    from pounding.framework.engine.inelastic import run_inelastic
+    from pounding.framework.post.inelastic_run import run_inelastic
     from pounding.io.scene import parse_scene
     from pounding.peer.opensees import load_opensees
     from pounding.peer.opensees_springs import run_springs_transient

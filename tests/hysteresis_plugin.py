@@ -14,13 +14,13 @@ from pounding.hysteresis.base import HysteresisLaw
 
 
 @njit
-def update(u, state, params, new_state, s):
+def update(u, v, state, params, new_state, s):
     k0 = params[s, 0]
     r = k0 * (u - 0.0)
     new_state[s, 0] = u
     new_state[s, 1] = r
     new_state[s, 2] = state[s, 2]
-    return r, k0
+    return r, k0, 0.0
 
 
 @njit

@@ -40,8 +40,8 @@ def test_cache_key_covers_every_compiled_module():
     for name in COMPILED_PACKAGES:
         importlib.import_module(name)
     scanned = {str(p) for p in compiler.compiled_modules()}
-    # only the package's own modules: steppers generated per hysteresis law (in the cache folder or
-    # ~/.cache/pounding/steppers) are keyed through their sources, and a test's plugin law is not ours
+    # only the package's own modules (a test's plugin law is not ours; the cache folder under
+    # __pycache__ is not source)
     root = Path(compiler.PACKAGE_ROOT).resolve()
     declaring = {Path(sys.modules[k.__module__].__file__).resolve() for k in compiler.kernels()}
     declaring = {str(p) for p in declaring if root in p.parents and "__pycache__" not in p.parts}
@@ -66,16 +66,16 @@ def test_cache_key_changes_with_a_compiled_module(tmp_path, monkeypatch):
 
 
 def test_cache_key_ignores_files_written_into_the_cache(tmp_path, monkeypatch):
-    """Compiled modules generated into the cache folder (the per-law steppers of yielding runs)
-    do not change the key: a yielding run must not send the next process to a new, empty cache."""
+    """Files written into the cache folder (a .py among them) do not change the key: a run must not
+    send the next process to a new, empty cache."""
     root = tmp_path / "pkg"
     root.mkdir()
     (root / "a.py").write_text("@njit\ndef f(x):\n    return x\n")
     monkeypatch.setattr(cache, "PACKAGE_ROOT", root)
     k0 = cache.cache_key()
-    generated = root / "__pycache__" / ("numba-" + k0) / "steppers"
-    generated.mkdir(parents=True)
-    (generated / "stepper_law.py").write_text("@njit\ndef stretch(x):\n    return x\n")
+    written = root / "__pycache__" / ("numba-" + k0) / "framework"
+    written.mkdir(parents=True)
+    (written / "stray.py").write_text("@njit\ndef stretch(x):\n    return x\n")
     assert cache.cache_key() == k0
 
 

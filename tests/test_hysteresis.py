@@ -26,7 +26,7 @@ def drive(law, params, path):
     params = np.atleast_2d(params)
     force, tangent, states = [], [], []
     for u in path:
-        r, kt = cls.update(float(u), state, params, trial, 0)
+        r, kt, _ = cls.update(float(u), 0.0, state, params, trial, 0)
         state[:] = trial
         force.append(r)
         tangent.append(kt)
@@ -94,6 +94,27 @@ def test_bilinear_elastic_branch_is_exactly_linear_before_yield():
     r, kt, _ = drive(law, law.pack(K0, FY, B), path)
     assert np.array_equal(r, K0 * path)
     assert np.all(kt == K0)
+
+
+@pytest.mark.parametrize("law", [Bilinear(), BoucWen(n=2.0, beta=0.6, gamma=0.4)], ids=["bilinear", "bouc_wen"])
+def test_the_hysteresis_laws_are_rate_independent_link_laws(law):
+    """The link-law contract passes the rate v [m/s] with the deformation: a hysteresis law's force,
+    tangent and trial state depend on the deformation path only, so any rate (here 0 and +-10 m/s,
+    far beyond a storey's) gives the same numbers bit for bit, and its damping tangent dr/dv is 0."""
+    cls = type(law)
+    params = np.atleast_2d(law.pack(K0, FY, B))
+    path = UY * np.concatenate([np.linspace(0.0, 3.0, 40), np.linspace(3.0, -2.0, 50)])
+    state = np.zeros((1, cls.n_state))
+    for u in path:
+        answers = []
+        for v in (0.0, 10.0, -10.0):
+            trial = np.zeros((1, cls.n_state))
+            r, kt, c = cls.update(float(u), v, state, params, trial, 0)
+            answers.append((r, kt, c, trial.copy()))
+        for r, kt, c, trial in answers:
+            assert c == 0.0
+            assert (r, kt) == answers[0][:2] and np.array_equal(trial, answers[0][3])
+        state[:] = answers[0][3]
 
 
 def test_bouc_wen_monotonic_loading_converges_to_tanh_at_first_order():

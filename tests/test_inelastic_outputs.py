@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from pounding.framework.post.run import run
-from pounding.framework.engine.inelastic import run_inelastic
+from pounding.framework.post.inelastic_run import run_inelastic
 from pounding.io.results import load_result, write_results
 from pounding.io.scene import parse_scene
 

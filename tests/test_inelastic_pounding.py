@@ -13,7 +13,8 @@ from pounding.framework.engine.driver import Driver
 
 from pounding.framework.post.run import run
 from pounding.framework.post.energy_account import building_balances
-from pounding.framework.engine.inelastic import NEWTON_TOL, run_inelastic
+from pounding.framework.engine.inelastic import NEWTON_TOL
+from pounding.framework.post.inelastic_run import run_inelastic
 from pounding.io.scene import parse_scene
 
 from inelastic_scenes import eccentric_building

@@ -19,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pounding.framework.engine.inelastic import run_inelastic
+from pounding.framework.post.inelastic_run import run_inelastic
 from pounding.io.scene import parse_scene
 
 from inelastic_scenes import eccentric_building, single

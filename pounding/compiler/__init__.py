@@ -82,6 +82,7 @@ class Kernel:
 
             activate()
             self._dispatcher = numba.njit(cache=True)(self.py_func)
+            _fix_identity(self._dispatcher, self.py_func)
         return self._dispatcher
 
     @property
@@ -137,6 +138,31 @@ class Kernel:
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
+
+
+def _fix_identity(dispatcher, func) -> None:
+    """Give a dispatcher the same identity in every process: its module, name and source file's digest.
+
+    A compiled function that takes another as an argument (the link stepping takes the laws'
+    ``update`` functions, :mod:`pounding.framework.engine.links`) is cached under its arguments' types, and
+    numba's type of a compiled function names it by the dispatcher's uuid, which numba draws at
+    random in each process: the cached code would never be found again, and every process would
+    compile the stepping afresh (seconds). With this identity the same function is the same type
+    in every process, and a law whose source file changed is another type (compiled afresh)."""
+    import hashlib
+    import sys
+
+    module = sys.modules.get(func.__module__)
+    path = getattr(module, "__file__", None)
+    try:
+        with open(path, "rb") as fh:
+            digest = hashlib.sha1(fh.read()).hexdigest()
+    except (OSError, TypeError):  # no source file (a function made at run time): numba's own uuid
+        return
+    try:
+        dispatcher._set_uuid(f"pounding:{func.__module__}.{func.__qualname__}:{digest}")
+    except (AttributeError, AssertionError):  # another numba, or an identity set already: numba's own
+        return
 
 
 class _Prebuilt:
@@ -258,32 +284,3 @@ def load_seconds() -> float:
 def on_first_compile(callback) -> None:
     """Run ``callback()`` once, just before this process first compiles (not on cache loads)."""
     _first_compile_hooks.append(callback)
-
-
-def generated_module(folder: str, stem: str, text: str):
-    """Import the generated source ``text`` as module ``_pounding_<stem>`` from ``folder/<stem>.py``.
-
-    The file is (re)written only when its text differs, through a temporary file and an atomic
-    rename, so that concurrent processes never read half a module; numba's cache then keys the
-    module's compiled functions on that file like on any other source. Raises OSError when the
-    folder cannot be written."""
-    import sys
-
-    os.makedirs(folder, exist_ok=True)
-    path = os.path.join(folder, stem + ".py")
-    try:
-        with open(path) as fh:
-            current = fh.read()
-    except OSError:
-        current = None
-    if current != text:
-        tmp = f"{path}.{os.getpid()}.tmp"
-        with open(tmp, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    name = "_pounding_" + stem
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module  # numba's cache finds a function's globals through its module's name
-    spec.loader.exec_module(module)
-    return module

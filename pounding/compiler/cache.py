@@ -31,11 +31,9 @@ def enabled() -> bool:
 def compiled_modules() -> list[Path]:
     """Source files of the package that declare compiled functions (a line ``@njit``), sorted.
 
-    Files under ``__pycache__`` are not the package's source: the compiled steppers that
-    :mod:`pounding.framework.engine.inelastic` generates per hysteresis law are written into the cache
-    folder itself, and counting them changed the key after every run of a yielding scene (the next
-    process then compiled everything again, into a new folder). They are derived from scanned
-    modules (``inelastic.py`` and the laws), so the key still changes when their source does."""
+    Files under ``__pycache__`` are not the package's source: the cache folder lives there, and a
+    file in it must never move the key that names it (the next process would compile everything
+    again, into a new folder)."""
     pattern = re.compile(rb"^@njit\b", re.MULTILINE)
     out = []
     for path in _sources():  # (not under __pycache__: generated modules live in the cache itself, keying on them would move it)

@@ -1,10 +1,13 @@
-"""The hysteresis-law plugin contract.
+"""The link-law plugin contract (the hysteresis laws of yielding storey springs are link laws).
 
-A hysteresis law maps the deformation history of one uniaxial spring to its
-force. It is the material of a storey spring
-(:class:`~pounding.elements.storey_springs.StoreySprings`): the spring's
-deformation u [m] is the relative displacement of two floors along the
-element line, its force r [N] the storey shear it carries.
+A *link* is a kinematic row over the modal coordinates: the relative displacement u [m] of two
+bodies along a direction at a point (two floors of a building for a storey spring), as OpenSees'
+zero-length element places a uniaxial material between two nodes. Its *law* maps the link's
+deformation u, its rate v [m/s] and the law's committed state to the force r [N] it carries, with
+its tangents, like OpenSees' ``UniaxialMaterial`` (``setTrialStrain(strain, strainRate)``,
+``getStress``, ``getTangent``, ``getDampTangent``, ``commitState``, ``revertToLastCommit``). The
+engine never asks which law a link has: it calls the law's compiled ``update``
+(:mod:`pounding.framework.engine.links`). The plugin family keeps its name, ``pounding.hysteresis``.
 
 Contract for an implementer
 ---------------------------
@@ -13,40 +16,45 @@ Contract for an implementer
 2. Take the law's own parameters keyword-only in ``__init__`` and check their
    valid range there, raising :class:`pounding.errors.InputError` with
    ``field`` = the parameter name (the element prefixes its key path).
-3. :meth:`pack` returns the parameter vector of one spring, shape
+3. :meth:`pack` returns the parameter vector of one link, shape
    (n_params,): ``params[0]`` the initial stiffness k0 [N/m], ``params[1]``
    the yield force Fy [N], ``params[2]`` the hardening ratio b [-] (post-yield
    over initial stiffness), then the law's own values.
 4. ``update`` is a pure, numba-compiled function (``@njit``, no globals, no
    allocation)::
 
-       force, tangent = update(u, state, params, new_state, s)
+       force, tangent, damping = update(u, v, state, params, new_state, s)
 
-   for spring s: u [m] is its trial deformation; ``state`` (ns, n_state) the
-   committed states, never written; ``params`` (ns, n_params); ``new_state``
-   (ns, n_state) receives row s of the trial state. It returns the force [N]
-   and the consistent tangent dr/du [N/m] of the trial state. It depends on
-   the committed state and u only, never on earlier trials (OpenSees'
-   ``setTrialStrain`` from the last commit), so a driver may try any u any
-   number of times, then commit by copying ``new_state[s]`` into ``state[s]``,
-   or revert by not copying it. The state lives in rows of arrays for all
-   springs, and the output in a buffer, so that the stepping loop neither
-   allocates nor takes views per spring and iteration (a view costs reference
-   counting in numba: measured 100 ns per spring and step, 15x the bilinear
-   update itself).
+   for link s: u [m] is its trial deformation and v [m/s] its rate (the engine
+   passes the mean rate over the step, (u - state[s, 0]) / h); ``state``
+   (ns, n_state) the committed states, never written; ``params`` (ns, n_params);
+   ``new_state`` (ns, n_state) receives row s of the trial state. It returns the
+   force [N], the tangent dr/du [N/m] and the damping tangent dr/dv [N s/m] of the
+   trial state (0.0 for a rate-independent law; the engine's Newton uses
+   dr/du + dr/dv / h). It depends on the committed state, u and v only, never on
+   earlier trials (OpenSees' ``setTrialStrain`` from the last commit), so a driver
+   may try any u any number of times (*trial*), then *commit* by copying
+   ``new_state[s]`` into ``state[s]``, or *revert* by not copying it. The state
+   lives in rows of arrays for all links, and the output in a buffer, so that
+   the stepping loop neither allocates nor takes views per link and iteration (a
+   view costs reference counting in numba: measured 100 ns per spring and step,
+   15x the bilinear update itself).
 5. The first three state slots are common to every law: ``state[0]`` the
    deformation u [m], ``state[1]`` the force r [N], ``state[2]`` the energy the
    law has dissipated since the start [J] along its own path from the committed
-   to the trial deformation (exact for the law's update). A virgin spring has
+   to the trial deformation (exact for the law's update). A virgin link has
    the zero state.
 6. ``stored_energy(state, params) -> float`` [J] is the recoverable energy of
-   a state (elastic plus hardening); the work done on the spring is
+   a state (elastic plus hardening); the work done on the link is
    ``stored + dissipated``.
 7. On the initial elastic branch the force must be computed as
    ``k0 * (u - s)`` with ``s`` exactly 0 before any yielding, so that the
    force's nonlinear part ``r - k0 u`` is exactly zero there: the stepping
    then reduces bit for bit to the elastic modal stepping.
-8. Register the class under the entry-point group ``pounding.hysteresis``.
+8. Register the class under the entry-point group ``pounding.hysteresis`` (or
+   pass the class itself): one module and one registration; the compiled
+   stepping takes the law's ``update`` as an argument and is compiled once per
+   run's set of laws, nothing else to write.
 """
 
 from __future__ import annotations
@@ -63,7 +71,7 @@ STIFFNESS, YIELD_FORCE, HARDENING = 0, 1, 2
 
 
 class HysteresisLaw(ABC):
-    """Base class of every hysteresis law (see the module docstring)."""
+    """Base class of every link law (hysteresis law; see the module docstring)."""
 
     name: ClassVar[str] = ""
     n_params: ClassVar[int] = 3
@@ -71,7 +79,7 @@ class HysteresisLaw(ABC):
     #: JSON schema of the law's own parameters (the keys of the element's
     #: ``hysteresis`` table besides ``name``).
     schema: ClassVar[dict[str, Any]] = {"type": "object", "additionalProperties": False, "properties": {}}
-    #: the compiled update and stored-energy functions (see the module docstring)
+    #: the compiled update (force, tangent, damping tangent) and stored-energy functions (see the module docstring)
     update: ClassVar[Any]
     stored_energy: ClassVar[Any]
 

@@ -30,9 +30,10 @@ PLASTIC = 3
 
 
 @njit
-def update(u, state, params, new_state, s):
-    """Trial force [N] and tangent [N/m] of spring s at deformation u [m] from its committed state
-    ``state[s]`` = (u, r, dissipated, u_p); ``params[s]`` = (k0, Fy, b). Writes ``new_state[s]``."""
+def update(u, v, state, params, new_state, s):
+    """Trial force [N], tangent [N/m] and damping tangent [N s/m] (zero: rate-independent) of link s
+    at deformation u [m] and rate v [m/s] from its committed state ``state[s]`` = (u, r, dissipated,
+    u_p); ``params[s]`` = (k0, Fy, b). Writes ``new_state[s]``."""
     k0 = params[s, 0]
     fy = params[s, 1]
     b = params[s, 2]
@@ -57,7 +58,7 @@ def update(u, state, params, new_state, s):
     new_state[s, 1] = r
     new_state[s, 2] = state[s, 2] + fy * abs(up - up0)
     new_state[s, PLASTIC] = up
-    return r, tangent
+    return r, tangent, 0.0
 
 
 @njit

@@ -105,9 +105,10 @@ def solve_z(z0, du_y, n, beta, gamma):
 
 
 @njit
-def update(u, state, params, new_state, s):
-    """Trial force [N] and tangent [N/m] of spring s at deformation u [m] from its committed state
-    ``state[s]`` = (u, r, dissipated, z); ``params[s]`` = (k0, Fy, b, n, beta, gamma). Writes ``new_state[s]``."""
+def update(u, v, state, params, new_state, s):
+    """Trial force [N], tangent [N/m] and damping tangent [N s/m] (zero: rate-independent) of link s
+    at deformation u [m] and rate v [m/s] from its committed state ``state[s]`` = (u, r, dissipated,
+    z); ``params[s]`` = (k0, Fy, b, n, beta, gamma). Writes ``new_state[s]``."""
     k0 = params[s, 0]
     fy = params[s, 1]
     b = params[s, 2]
@@ -127,7 +128,7 @@ def update(u, state, params, new_state, s):
     new_state[s, 1] = r
     new_state[s, 2] = state[s, 2] + (1.0 - b) * fy * 0.5 * (z0 + z) * ((u - u0) - uy * (z - z0))
     new_state[s, Z] = z
-    return r, tangent
+    return r, tangent, 0.0
 
 
 @njit

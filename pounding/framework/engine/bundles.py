@@ -41,6 +41,9 @@ class Status(IntEnum):
     RELEASED = 3
     #: the kernel applied impulses and a pair's rebounds accumulate (Zeno): hold it
     HELD = 4
+    #: the links' Newton iteration did not converge in the step starting at the index returned;
+    #: the state is its start
+    DIVERGED = 5
 
 
 #: One impact: an impulse at one point of one slab pair (see :class:`pounding.framework.engine.results.Impact`).
@@ -161,3 +164,39 @@ class EventLog(NamedTuple):
             np.full(1, -np.inf),
             np.zeros(n_pairs, dtype=np.bool_),
         )
+
+
+class Links(NamedTuple):
+    """The links with laws of a run (the yielding storey springs), as flat arrays over the buildings.
+
+    Link s has deformation u_s = G[s] q over its building's modes; the links of group (building)
+    j are ``bounds[j]:bounds[j + 1]``, their rows over modes ``gmodes[j, 0] : gmodes[j, 0] +
+    gmodes[j, 1]`` of the stacked model (G is padded with zeros to the most modes). Each link's law
+    is ``laws[law[s]]`` of the tuple the stepping takes (:mod:`pounding.framework.engine.links`).
+    """
+
+    law: np.ndarray  #: (ns,) int64, index of every link's law in the run's law tuple
+    G: np.ndarray  #: (ns, nmax) link rows over their building's modes
+    bounds: np.ndarray  #: (n_groups + 1,) int64, first link of every group, then ns
+    gmodes: np.ndarray  #: (n_groups, 2) int64, first stacked mode and mode count of every group
+    k0: np.ndarray  #: (ns,) initial stiffness [N/m] (kept in the modes; the laws' remainder r - k0 u is a load)
+    tol: np.ndarray  #: (n_groups,) Newton residual tolerance of every group [m]
+    params: np.ndarray  #: (ns, n_params) law parameters, zero-padded to the widest law
+
+
+class LinkTrial(NamedTuple):
+    """The links at one instant: committed (the run's state) or a trial at a step's end."""
+
+    f: np.ndarray  #: (ns,) remainders r - k0 u [N]
+    state: np.ndarray  #: (ns, n_state) law states (slots 0, 1, 2: deformation [m], force [N], dissipated [J])
+    g: np.ndarray  #: (n,) their modal load G^T f
+
+
+class LinkRecord(NamedTuple):
+    """What a run records of its links, written in place."""
+
+    peak: np.ndarray  #: (ns,) running peak |deformation| [m]
+    tangent: np.ndarray  #: (ns,) tangent [N/m] of the last committed step (the tangent-change count's memory)
+    work: np.ndarray  #: (n_buildings,) work of the remainders' modal loads [J]
+    counts: np.ndarray  #: (n_groups, 3) int64, Newton iterations, steps that iterated, tangent changes (compiled steps)
+    hist: np.ndarray  #: (3, n_out, ns) deformation [m], force [N], dissipated energy [J] at the output rows

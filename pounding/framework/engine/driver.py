@@ -71,7 +71,7 @@ class Step:
     z1: np.ndarray
     f0: np.ndarray
     f1: np.ndarray
-    sp: object = None  # the yielding springs' trial (:class:`pounding.framework.engine.yielding.SpringTrial`)
+    sp: object = None  # the yielding springs' trial (:class:`pounding.framework.engine.bundles.LinkTrial`)
 
 
 class Model:
@@ -364,9 +364,8 @@ class Driver:
         #: events run compiled (:meth:`Yielding.advance`); every contact step is the Python step.
         self.springs = Yielding.of(scene, self.model)
         if self.springs is not None:
-            ns = self.springs.size
             # spring deformation [m], force [N] and the law's dissipated energy [J] at the output rows
-            self.spring_hist = np.zeros((3, n_out, ns))
+            self.spring_hist = self.springs.record_rows(n_out)
 
     # ---------------------------------------------------------------- stepping
     def _compiled_search(self) -> bool:
@@ -777,7 +776,7 @@ class Driver:
                 st = self.held_trial(z, t, h, g0, g1)
                 return st, st.z1[:, 0]
 
-            st, new = sp.fixed_point(solve)
+            st, new = sp.fixed_point(solve, h)
             st.sp = new
             return st
         if self.law.kind == "force":
@@ -785,11 +784,11 @@ class Driver:
                 st = self.force_trial(z, t, h, -g0, -g1)
                 return st, st.z1[:, 0]
 
-            st, new = sp.fixed_point(solve)
+            st, new = sp.fixed_point(solve, h)
             st.sp = new
             return st
         zlin = self.step(z, t, h, self.fc - g0)
-        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1])
+        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1], h)
         return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
 
     def force_trial(self, z, t, h, e0, e1) -> Step:

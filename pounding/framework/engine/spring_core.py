@@ -1,27 +1,31 @@
-"""The compiled core of yielding storey springs inside the driver (template of generated modules).
+"""The compiled stepping of links with laws (the yielding storey springs): one implementation.
 
-Every function here runs only from a copy of this module generated for the hysteresis laws of a
-scene (:func:`pounding.framework.engine.yielding.core`), in which the placeholder :func:`update` below is
-replaced by a dispatch on the law index of each spring to the laws' own compiled ``update``. numba
-cannot cache a function that takes another compiled function as an argument (it keys the type on
-the object), but it caches one that finds it among its globals: the generated copy is cached on
-disk like every other kernel.
+Every link's force is its initial elastic part k0 u (kept in the modes of the initial model) plus a
+remainder f = r(u) - k0 u, a modal load g = G^T f over its building's modes (u = G q). A step of h
+from the modal state z is the integrator's linear step with the start remainders' load -g0, the
+links' Newton on their end deformations,
 
-The same functions serve both paths of the driver, so that a step taken here and the same step
-taken by the driver's Python path (``Driver.python_step``, which handles every contact event) do
-the same arithmetic in the same order:
+    u1 + S(h) f(u1) = G q_lin,        S(h) = G diag(B1(h)) G^T  (block diagonal by building),
 
-* :func:`solve_springs` and :func:`forces_at`: the yielding springs' end remainders of a step
-  (Newton on ``u + S f(u) = G q_lin``, see :mod:`pounding.framework.engine.inelastic`), or at given end
-  displacements (the fixed-point pass around held contact and penalty forces);
+and the end load: z1 = z_lin - B1 G^T f(u1) (the method: :mod:`pounding.framework.engine.inelastic`).
+
+The laws are plugins: every entry point takes the run's laws as a tuple of their compiled updates
+and each link's index in it (:mod:`pounding.framework.engine.links`); nothing here knows a law. The same
+functions serve every path that steps links, so that a step taken here and the same step taken in
+Python do the same arithmetic in the same order:
+
+* :func:`stretch`: grid steps between contact events, for the pounding driver and for the
+  contact-free run (:func:`pounding.framework.post.inelastic_run.run_inelastic` is the driver without
+  contact): :meth:`pounding.framework.engine.yielding.Yielding.advance`;
+* :func:`solve_springs` and :func:`forces_at`: the links' end remainders of one step of any length
+  (Newton), or at given end displacements (the fixed-point pass around held contact and penalty
+  forces), for the driver's Python step;
 * :func:`spring_work`: the work of the remainders' modal loads in a step, by the integrator's
-  energy rule;
-* :func:`stretch`: grid steps between contact events (the driver's compiled stretch for scenes
-  with yielding springs, :meth:`pounding.framework.engine.yielding.Yielding.advance`).
+  energy rule.
 
-Springs are flat arrays over every building with yielding springs, in building order; the springs
-of group (building) j are ``bounds[j]:bounds[j + 1]``, their rows G over that building's modes
-``gmodes[j, 0] : gmodes[j, 0] + gmodes[j, 1]`` (G is padded with zeros to the most modes).
+Entry points take named bundles (:mod:`pounding.framework.engine.bundles`: ``Links``, ``LinkTrial``,
+``LinkRecord`` and the driver's) and answer with a :class:`~pounding.framework.engine.bundles.Status`;
+the small leaf kernels below them take arrays.
 """
 
 from __future__ import annotations
@@ -30,36 +34,25 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.geometry import axis_separation, clearance_bound
+from pounding.framework.engine.bundles import Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
-from pounding.framework.engine.kernel import _accumulate_forces, _pair_gap, _slab_dofs, modal_load, update_peaks
-
-#: :func:`stretch`'s answers (the values of :class:`pounding.framework.engine.bundles.Status` it uses)
-DONE, OVERLAP = 0, 2
-#: :func:`stretch` stopped because the springs' Newton iteration diverged in the step it returns
-DIVERGED = 5
-
-
-# <dispatch>
-@njit
-def update(law, u, state, params, new_state, s):
-    """Placeholder: each generated copy of this module dispatches on ``law`` to the laws' updates
-    (the contract of :mod:`pounding.hysteresis.base`)."""
-    raise NotImplementedError("spring_core runs from a generated copy (pounding.framework.engine.yielding.core)")
-# </dispatch>
+from pounding.framework.engine.kernel import _accumulate, _pair_gap, _slab_dofs, modal_load, update_peaks
+from pounding.framework.engine.links import law_update
 
 
 @njit
-def solve_group(lo, hi, law, dl, sf, S, f, state, params, k0, tol, trial, d, f1, kt, J, x, act):
-    """Newton on ``u + S f(u) = dl`` for springs lo..hi-1 (one building).
+def solve_group(laws, lo, hi, law, params, k0, h, dl, sf, S, f, state, tol, trial, d, f1, kt, J, x, act):
+    """Newton on ``u + S f(u) = dl`` for links lo..hi-1 (one building), for a step of h [s].
 
     dl (ns,) the linear step's end deformations [m]; sf (ns,) = S f, the start remainders' share
     (the predictor keeps them through the step); S (ns, ns) the step's compliance (block diagonal
-    by building); f (ns,) the remainders at the step's start [N]; state, params the committed law
-    states and parameters; k0 (ns,) initial stiffnesses [N/m]; tol the residual tolerance [m].
-    Writes the end deformations d, remainders f1, tangents kt and trial states (rows lo..hi-1);
-    J (m, m), x (m,), act (m,) int are work buffers, m >= hi - lo.
+    by building); f (ns,) the remainders at the step's start [N]; state the committed law states;
+    law, params, k0 the links' law indices, parameters and initial stiffnesses (:class:`Links`);
+    tol the residual tolerance [m]. Writes the end deformations d, remainders f1, tangents kt (the
+    step's, dr/du + dr/dv / h) and trial states (rows lo..hi-1); J (m, m), x (2 m,), act (m,) int
+    are work buffers, m >= hi - lo.
 
-    The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the springs off their
+    The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the links off their
     initial branch (the active set a): (I + S_aa D_a) x_a = res_a is solved, and every row follows
     as res - S[:, a] D_a x_a.
 
@@ -70,7 +63,7 @@ def solve_group(lo, hi, law, dl, sf, S, f, state, params, k0, tol, trial, d, f1,
     for it in range(MAX_ITER + 1):
         same = True
         for a in range(lo, hi):
-            r, k = update(law[a], d[a], state, params, trial, a)
+            r, k = law_update(laws, law[a], d[a], h, state, params, trial, a)
             f1[a] = r - k0[a] * d[a]
             kt[a] = k
             if f1[a] != f[a]:
@@ -126,7 +119,7 @@ def compliance_load(f, S, bounds, sf):
 
 @njit
 def deformations(q, G, bounds, gmodes, out):
-    """out (ns,) <- G q per group: the springs' deformations [m] from the stacked modal vector q (n,)."""
+    """out (ns,) <- G q per group: the links' deformations [m] from the stacked modal vector q (n,)."""
     for j in range(bounds.shape[0] - 1):
         m0, nm = gmodes[j, 0], gmodes[j, 1]
         for s in range(bounds[j], bounds[j + 1]):
@@ -138,7 +131,7 @@ def deformations(q, G, bounds, gmodes, out):
 
 @njit
 def end_load(f1, G, bounds, gmodes, g):
-    """g (n,) <- the modal load G^T f1 of the remainders f1 (ns,), zero on modes without springs."""
+    """g (n,) <- the modal load G^T f1 of the remainders f1 (ns,), zero on modes without links."""
     for i in range(g.shape[0]):
         g[i] = 0.0
     for j in range(bounds.shape[0] - 1):
@@ -151,47 +144,67 @@ def end_load(f1, G, bounds, gmodes, g):
 
 
 @njit
-def solve_springs(q_lin, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, g1):
-    """Every group's Newton (:func:`solve_group`) for the linear step's end displacements q_lin (n,).
-
-    Writes the end remainders f1 (ns,), trial states and their modal load g1 (n,). Returns the
-    index of a group whose Newton diverged, or -1.
-    """
-    ns = f.shape[0]
-    mmax = 0
+def _largest_group(bounds):
+    m = 0
     for j in range(bounds.shape[0] - 1):
-        mmax = max(mmax, bounds[j + 1] - bounds[j])
+        m = max(m, bounds[j + 1] - bounds[j])
+    return m
+
+
+@njit
+def solve_springs(laws, links, S, h, q_lin, now, out):
+    """Every group's Newton (:func:`solve_group`) for a step of h [s] whose linear part ends at the
+    modal displacements q_lin (n,), from the committed links ``now`` (:class:`LinkTrial`).
+
+    Writes the trial ``out`` (:class:`LinkTrial`: end remainders, trial states, their modal load).
+    Returns the index of a group whose Newton diverged, or -1.
+    """
+    law, G, bounds, gmodes, k0, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
+    ns = now.f.shape[0]
+    m = _largest_group(bounds)
     sf = np.empty(ns)
-    compliance_load(f, S, bounds, sf)
-    j = _solve_springs(q_lin, sf, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, np.empty(ns), np.empty(ns),
-                       np.empty(ns), np.empty((mmax, mmax)), np.empty(2 * mmax), np.empty(mmax, dtype=np.int64))
+    compliance_load(now.f, S, bounds, sf)
+    j = _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, now.f, now.state, out.state, out.f,
+                       np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m), np.empty(m, dtype=np.int64),
+                       np.zeros((ntol.shape[0], 3), dtype=np.int64))
     if j < 0:
-        end_load(f1, G, bounds, gmodes, g1)
+        end_load(out.f, G, bounds, gmodes, out.g)
     return j
 
 
 @njit
-def _solve_springs(q_lin, sf, S, law, G, bounds, gmodes, f, state, params, k0, tol, trial, f1, dl, d, kt, J, x, act):
+def _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, f, state, trial, f1, dl, d, kt, J, x, act,
+                   counts):
     """The groups' Newton (:func:`solve_group`) with S f and the work buffers given: dl, d, kt (ns,),
-    J (m, m), x (2 m,), act (m,) for the largest group of m springs (the stretch allocates them
-    once, and keeps S f until f changes). Returns the index of a group that diverged, or -1."""
+    J (m, m), x (2 m,), act (m,) for the largest group of m links (the stretch allocates them once,
+    and keeps S f until f changes). Adds every group's iterations, and a step that iterated, to
+    counts (n_groups, 3) columns 0 and 1. The links' arrays are :class:`Links`' (the entry points
+    unpack the bundle once: a leaf called at every step takes arrays). Returns the index of a group
+    that diverged, or -1."""
     deformations(q_lin, G, bounds, gmodes, dl)
     for j in range(bounds.shape[0] - 1):
-        if solve_group(bounds[j], bounds[j + 1], law, dl, sf, S, f, state, params, k0, tol[j], trial, d, f1, kt, J, x, act) < 0:
+        it = solve_group(laws, bounds[j], bounds[j + 1], law, params, k0, h, dl, sf, S, f, state, ntol[j], trial, d, f1, kt, J, x, act)
+        if it < 0:
             return j
+        counts[j, 0] += it
+        if it > 0:
+            counts[j, 1] += 1
     return -1
 
 
 @njit
-def forces_at(q1, law, G, bounds, gmodes, state, params, k0, trial, f1, g1):
-    """Remainders f1 (ns,), trial states and their modal load g1 (n,) at end displacements q1 (n,)."""
+def forces_at(laws, links, h, q1, now, out):
+    """The trial ``out`` (:class:`LinkTrial`: remainders, trial states, their modal load) of a step
+    of h [s] from the committed links ``now`` that ends at the modal displacements q1 (n,)."""
+    law, G, bounds, gmodes, k0, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.params
+    state, trial, f1 = now.state, out.state, out.f
     ns = k0.shape[0]
     d = np.empty(ns)
     deformations(q1, G, bounds, gmodes, d)
     for s in range(ns):
-        r, _ = update(law[s], d[s], state, params, trial, s)
+        r, _ = law_update(laws, law[s], d[s], h, state, params, trial, s)
         f1[s] = r - k0[s] * d[s]
-    end_load(f1, G, bounds, gmodes, g1)
+    end_load(f1, G, bounds, gmodes, out.g)
 
 
 @njit
@@ -201,7 +214,12 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
     the ends) and the total extra loads ftot0, ftot1 (n,): the three rules of
     :func:`pounding.framework.engine.kernel._accumulate_forces` (closed-form maps, Gauss points on the
     trajectory, or the trapezoidal rule)."""
-    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr
+    _spring_work(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out)
+
+
+@njit
+def _spring_work(GA, GB, gc, gw, WA1, WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
+    """:func:`spring_work` on the arrays of the :class:`Transition` (the stretch's every step)."""
     n = z0.shape[0]
     for i in range(n):
         p0 = pg0[i]
@@ -229,67 +247,66 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
 
 
 @njit
-def _reach(rows, n_modes, radii, sa, ba, sb, bb, z0, z1, dt):
-    """A bound [m] on how far pair (sa, sb)'s points move towards each other within a step of dt [s]
-    from the modal states z0 to z1 (n, 3): twice what the larger end speeds and accelerations of
-    the two slabs (centre motion plus rotation at their radii) carry them, as kernel.advance's
-    crossing screen bounds it."""
-    w = np.empty(3)
-    speed = 0.0
-    acc = 0.0
-    for zz in (z0, z1):
-        sp = 0.0
-        ac = 0.0
-        for s, b in ((sa, ba), (sb, bb)):
-            i0, nm = n_modes[b, 0], n_modes[b, 1]
-            _slab_dofs(rows[s, :, :nm], zz[i0 : i0 + nm, 1], w)
-            om = w[2]
-            sp += np.hypot(w[0], w[1]) + radii[s] * abs(om)
-            _slab_dofs(rows[s, :, :nm], zz[i0 : i0 + nm, 2], w)
-            ac += np.hypot(w[0], w[1]) + radii[s] * (abs(w[2]) + om * om)
-        speed = max(speed, sp)
-        acc = max(acc, ac)
-    return 2.0 * (speed + 2.0 * acc * dt) * dt
+def _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
+    """Whether slab pair p ends within ``tol`` [m] of contact (or overlapping) at the modal state z
+    (n, 3): the cascade of :func:`pounding.framework.engine.kernel.advance` (cheap clearance bound,
+    separating axis, exact gap) on the arrays of :class:`PairArrays`; da, db (3,) work arrays."""
+    ba = pa[p, 0]
+    bb = pb[p, 0]
+    sa = off[ba] + pa[p, 1]
+    sb = off[bb] + pb[p, 1]
+    _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
+    _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
+    if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
+        return False
+    va, vb = verts[sa, : nvert[sa]], verts[sb, : nvert[sb]]
+    ca, cb = centres[sa], centres[sb]
+    if axis_separation(va, ca, da[0], da[1], da[2], vb, cb, db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
+        return False
+    return _pair_gap(va, ca, da, vb, cb, db) <= tol
 
 
 @njit
-def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes, S, kel, ntol, params, state, trial, f, g,
-            peak, work, hist):
-    """Grid steps k0 -> k1 of a scene with yielding springs, until a slab pair comes within the
-    contact tolerance.
+def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lrec):
+    """Grid steps k0 -> k1 of a model with links, until a slab pair comes within the contact tolerance.
 
     Each step is the driver's Python step without contact (``Driver.spring_trial`` and
-    ``Driver.commit``): the modal step with the remainders' start load -g, the springs' Newton
-    (:func:`solve_springs`), the end load, the energy audit (the remainders' work booked to
-    ``work`` per building, the contact column left as the Python path leaves it), the records.
-    After the step every slab pair is checked with the cascade of
-    :func:`pounding.framework.engine.kernel.advance` (cheap clearance bound, separating axis, exact gap):
-    when a pair ends within ``tol`` of contact (or overlapping), the step is rolled back (state,
-    springs and energy untouched) and the stretch returns (k, OVERLAP, pair): the driver takes
-    that step in Python, where contact is handled.
+    ``Driver.commit``): the modal step with the remainders' start load -g, the links' Newton
+    (:func:`_solve_springs`), the end load, the energy audit (the remainders' work booked to
+    ``lrec.work`` per building and to the contact column as the Python path books it), the records.
+    After the step every slab pair is checked (:func:`_pair_within`): when a pair ends within
+    ``tol`` of contact (or overlapping), the step is rolled back (state, links and energy
+    untouched) and the stretch returns (k, OVERLAP, pair): the driver takes that step in Python,
+    where contact is handled. A model without pairs (contact off) steps to k1.
 
     Parameters
     ----------
-    tr, modes, ground, rec, geo : the compiled core's bundles (:mod:`pounding.framework.engine.bundles`)
+    laws : tuple of compiled functions
+        The run's link laws' updates (:func:`pounding.framework.engine.links.law_tuple`).
+    tr, modes, ground, rec, geo : the driver's bundles (:mod:`pounding.framework.engine.bundles`)
     z : (n, 3) modal state, updated in place
+    k0, k1 : int, the grid steps to take
     tol : contact tolerance [m]
-    law, G, bounds, gmodes, S, kel, ntol, params : the springs (:class:`pounding.framework.engine.yielding.Yielding`):
-        law index (ns,), rows (ns, nmax), group bounds, group modes, the grid step's compliance
-        (ns, ns), initial stiffnesses (ns,) [N/m], Newton tolerance per group [m], parameters
-    state, trial : (ns, n_state) committed states (updated) and a trial buffer
-    f : (ns,) remainders at the current instant [N]; g : (n,) their modal load; both updated
-    peak : (ns,) running peak |deformation| [m]; work : (n_buildings,) the remainders' work [J]
-    hist : (3, n_out, ns) deformation, force and dissipated energy at the output rows
+    links : :class:`~pounding.framework.engine.bundles.Links`
+    S : (ns, ns) the grid step's compliance
+    now : :class:`~pounding.framework.engine.bundles.LinkTrial`, the committed links, updated in place
+    lrec : :class:`~pounding.framework.engine.bundles.LinkRecord`, updated in place
 
     Returns
     -------
-    (k, status, pair) : grid index reached; DONE, OVERLAP (the state is the start of step k) or
-    DIVERGED (Newton failed in step k, state at its start); the pair that stopped it, or -1.
+    (k, status, pair) : grid index reached; Status.DONE, OVERLAP (the state is the start of step k)
+    or DIVERGED (Newton failed in step k, state at its start); the pair that stopped it, or -1.
     """
-    A, B = tr.A, tr.B
-    L, bidx = modes.L, modes.bidx
+    # the bundles unpacked once, by name: the leaves called at every step take arrays
+    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr.A, tr.B, tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
+    L, c2, bidx = modes.L, modes.c2, modes.bidx
     dt, ag = ground.dt, ground.ag
-    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
+    every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
+    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    verts, nvert, centres, radii, rest, axis = geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
+    law, G, bounds, gmodes, kel, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
+    f, g, state = now.f, now.g, now.state
+    peak, tangent, work, counts, hist = lrec.peak, lrec.tangent, lrec.work, lrec.counts, lrec.hist
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -297,6 +314,7 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
     qlin = np.empty(n)
     f1 = np.empty(ns)
     g1 = np.empty(n)
+    trial = state.copy()  # slots a law does not write (a narrower law than the widest) keep their values
     ftot0 = np.empty(n)
     ftot1 = np.empty(n)
     w = np.empty(n)
@@ -305,11 +323,10 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
     per = np.empty(nb)
     da = np.empty(3)
     db = np.empty(3)
-    mmax = 0
-    for j in range(bounds.shape[0] - 1):
-        mmax = max(mmax, bounds[j + 1] - bounds[j])
-    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((mmax, mmax)), np.empty(2 * mmax)
-    act = np.empty(mmax, dtype=np.int64)
+    xw = np.empty(4)
+    m = _largest_group(bounds)
+    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m)
+    act = np.empty(m, dtype=np.int64)
     sf = np.empty(ns)
     compliance_load(f, S, bounds, sf)  # S f, kept until f changes (the same numbers solve_springs computes)
     for k in range(k0, k1):
@@ -328,12 +345,13 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
             qlin[i] = z[i, 0]
-        if _solve_springs(qlin, sf, S, law, G, bounds, gmodes, f, state, params, kel, ntol, trial, f1, dl, d, kt, J, x, act) >= 0:
+        if _solve_springs(laws, law, G, bounds, gmodes, params, kel, ntol, S, dt, qlin, sf, f, state, trial, f1, dl, d, kt, J, x,
+                          act, counts) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
                 z[i, 2] = z0[i, 2]
-            return k, DIVERGED, -1
+            return k, Status.DIVERGED, -1
         changed = False
         for s in range(ns):
             if f1[s] != f[s]:
@@ -347,58 +365,59 @@ def stretch(tr, modes, ground, z, k0, k1, rec, geo, tol, law, G, bounds, gmodes,
         for i in range(n):
             for r in range(3):
                 z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
-        # contact check: the cascade of kernel.advance; within the tolerance, the Python step decides
-        for p in range(pair_a.shape[0]):
-            sa = off[pair_a[p, 0]] + pair_a[p, 1]
-            sb = off[pair_b[p, 0]] + pair_b[p, 1]
-            ba = pair_a[p, 0]
-            bb = pair_b[p, 0]
-            _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
-            _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-            if clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
-                continue
-            if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
-                               verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
-                continue
-            if _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db) <= tol:
+        # contact check: within the tolerance, the Python step decides
+        for p in range(pa.shape[0]):
+            if _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
                 for i in range(n):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
-                return k, OVERLAP, p
-        # the energy audit, as Driver.commit books a step with springs (accumulate_with_springs)
+                return k, Status.OVERLAP, p
+        # the energy audit, as Driver.commit books a step with links (accumulate_with_springs)
         for i in range(n):
             ftot0[i] = 0.0 - g[i]
             ftot1[i] = 0.0 - g1[i]
-        _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, ftot0, ftot1, rec.E)
-        spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
+        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, ftot0, ftot1, E, xw)
+        _spring_work(GA, GB, gc, gw, WA1, WA2, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
         for b in range(nb):
             per[b] = 0.0
         for i in range(n):
             per[bidx[i]] += w[i]
         for b in range(nb):
-            rec.E[b, 2] += per[b]
+            E[b, 2] += per[b]
             work[b] += per[b]
-        # commit the springs
+        # commit the links
         for i in range(n):
             g[i] = g1[i]
         if changed:
             compliance_load(f1, S, bounds, sf)
-        for s in range(ns):
+        _commit_links(bounds, kel, f1, trial, kt, f, state, peak, tangent, counts)
+        if every > 1:
+            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, slab_peak)
+        if (k + 1) % every == 0:
+            j = (k + 1) // every
+            for i in range(n):
+                Q[j, i] = z[i, 0]
+                V[j, i] = z[i, 1]
+            for s in range(ns):
+                hist[0, j, s] = state[s, 0]
+                hist[1, j, s] = state[s, 1]
+                hist[2, j, s] = state[s, 2]
+    return k1, Status.DONE, -1
+
+
+@njit
+def _commit_links(bounds, k0, f1, trial, kt, f, state, peak, tangent, counts):
+    """Commit a step's remainders f1 (ns,), trial states and tangents kt (ns,) into f and state; count
+    the tangent changes (a link yields or unloads: its tangent moves by more than 1e-9 k0) per group
+    in counts[:, 2], remembering the tangents, and update the running peaks (:class:`LinkRecord`'s arrays)."""
+    for j in range(bounds.shape[0] - 1):
+        for s in range(bounds[j], bounds[j + 1]):
+            if abs(kt[s] - tangent[s]) > 1e-9 * k0[s]:
+                counts[j, 2] += 1
+            tangent[s] = kt[s]
             f[s] = f1[s]
             for c in range(state.shape[1]):
                 state[s, c] = trial[s, c]
             if abs(trial[s, 0]) > peak[s]:
                 peak[s] = abs(trial[s, 0])
-        if rec.every > 1:
-            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
-        if (k + 1) % rec.every == 0:
-            j = (k + 1) // rec.every
-            for i in range(n):
-                rec.Q[j, i] = z[i, 0]
-                rec.V[j, i] = z[i, 1]
-            for s in range(ns):
-                hist[0, j, s] = state[s, 0]
-                hist[1, j, s] = state[s, 1]
-                hist[2, j, s] = state[s, 2]
-    return k1, DONE, -1

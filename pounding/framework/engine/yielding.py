@@ -10,7 +10,7 @@ one after an impact, a trial of the impact locator) is
     z1 = z_lin - B1 G^T f(u1),
 
 with S(h) = G diag(B1(h)) G^T per building (the buildings' springs are uncoupled). A trial
-writes only a trial buffer (:class:`SpringTrial`); the driver commits it with the step it
+writes only a trial buffer (:class:`~pounding.framework.engine.bundles.LinkTrial`); the driver commits it with the step it
 accepts, so a rejected or bisected step leaves the springs as they were. Impulses change
 velocities only, so the springs' states stay valid across impacts.
 
@@ -23,46 +23,51 @@ storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the sa
 Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
 :func:`pounding.framework.engine.spring_core.stretch`): the same step, and the slab pairs' check of the
 elastic kernel after it; a step ending with a pair within the contact tolerance is rolled back for
-the driver's Python step, which handles every contact event. The springs live in flat arrays over
-every building (:class:`Yielding`); both paths solve them with the same compiled functions of a
-spring core generated for the scene's hysteresis laws (:func:`core`), so they agree to rounding
-(bit for bit measured where no contact force acts at a step's end).
+the driver's Python step, which handles every contact event. The springs are links with laws in flat arrays
+over every building (:class:`Yielding`); both paths solve them with the same compiled functions,
+which take the scene's laws as arguments (:mod:`pounding.framework.engine.links`), so they agree to
+rounding (bit for bit measured where no contact force acts at a step's end).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+from pounding.framework.engine.bundles import LinkRecord, Links, LinkTrial, Status
 from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, spring_set
-
-
-class SpringTrial:
-    """The end-of-step remainders f (ns,), trial law states (ns, n_state) and their modal load g (n,)."""
-
-    __slots__ = ("f", "state", "g")
-
-    def __init__(self, f: np.ndarray, state: np.ndarray, g: np.ndarray):
-        self.f = f
-        self.state = state
-        self.g = g
 
 
 class Group:
     """The yielding springs of one building: its slice of the flat spring arrays and of the modes."""
 
-    def __init__(self, springs, lo: int, start: int, n_modes: int, building: int):
+    def __init__(self, springs, lo: int, start: int, n_modes: int, building: int, tolerance: float = NEWTON_TOL):
         self.springs = springs
         self.building = building
         self.lo, self.hi = lo, lo + springs.size
         self.sl = slice(start, start + n_modes)
-        self.tol = NEWTON_TOL * float(springs.yield_deformation.min())
+        self.tol = tolerance * float(springs.yield_deformation.min())
 
 
 class Yielding:
-    """The yielding springs of every building of a driver's model, as flat arrays (see
-    :mod:`pounding.framework.engine.spring_core`); ``Yielding.of`` is None when there are none."""
+    """The yielding springs of every building of a driver's model, as links with laws in flat arrays
+    (:class:`~pounding.framework.engine.bundles.Links`, stepped by :mod:`pounding.framework.engine.spring_core`);
+    ``Yielding.of`` is None when there are none.
+
+    Attributes
+    ----------
+    laws : tuple of type
+        The run's law classes; ``updates`` their compiled updates, the tuple the stepping takes.
+    links : Links
+    now : LinkTrial
+        The committed links (remainders f (ns,), law states, modal load g (n,)).
+    rec : LinkRecord
+        Peaks, last tangents, the remainders' work per building, Newton counts per group, and the
+        output rows' histories (allocated by :meth:`record_rows`).
+    """
 
     def __init__(self, groups: list[Group], G_rows: list[np.ndarray], n: int, n_buildings: int):
+        from pounding.framework.engine.links import law_tuple
+
         self.groups = groups
         self.n = n
         laws: list = []
@@ -71,32 +76,37 @@ class Yielding:
                 if cls not in laws:
                     laws.append(cls)
         self.laws = tuple(laws)
+        self.updates = law_tuple(self.laws)
         ns = sum(grp.springs.size for grp in groups)
         width = max(cls.n_params for cls in laws)
         self.n_state = max(cls.n_state for cls in laws)
         nmax = max(gr.shape[1] for gr in G_rows)
-        self.G = np.zeros((ns, nmax))
-        self.params = np.zeros((ns, width))
-        self.law = np.zeros(ns, dtype=np.int64)
+        G = np.zeros((ns, nmax))
+        params = np.zeros((ns, width))
+        law = np.zeros(ns, dtype=np.int64)
         for grp, gr in zip(groups, G_rows):
             sp = grp.springs
-            self.G[grp.lo:grp.hi, : gr.shape[1]] = gr
-            self.params[grp.lo:grp.hi, : sp.params.shape[1]] = sp.params
-            self.law[grp.lo:grp.hi] = [self.laws.index(sp.laws[i]) for i in sp.law_id]
-        self.k0 = np.ascontiguousarray(self.params[:, 0])
-        self.bounds = np.array([grp.lo for grp in groups] + [ns], dtype=np.int64)
-        self.gmodes = np.array([[grp.sl.start, grp.sl.stop - grp.sl.start] for grp in groups], dtype=np.int64).reshape(-1, 2)
-        self.ntol = np.array([grp.tol for grp in groups])
-        self.state = np.zeros((ns, self.n_state))
-        self.f = np.zeros(ns)
-        self.peak = np.zeros(ns)
-        self.g = np.zeros(n)  # current modal load of the remainders, G^T f
-        self.work = np.zeros(n_buildings)  # the remainders' work per building [J]
+            G[grp.lo:grp.hi, : gr.shape[1]] = gr
+            params[grp.lo:grp.hi, : sp.params.shape[1]] = sp.params
+            law[grp.lo:grp.hi] = [self.laws.index(sp.laws[i]) for i in sp.law_id]
+        self.links = Links(
+            law, G, np.array([grp.lo for grp in groups] + [ns], dtype=np.int64),
+            np.array([[grp.sl.start, grp.sl.stop - grp.sl.start] for grp in groups], dtype=np.int64).reshape(-1, 2),
+            np.ascontiguousarray(params[:, 0]), np.array([grp.tol for grp in groups]), params,
+        )
+        self.now = LinkTrial(np.zeros(ns), np.zeros((ns, self.n_state)), np.zeros(n))
+        self.rec = LinkRecord(np.zeros(ns), self.links.k0.copy(), np.zeros(n_buildings),
+                              np.zeros((len(groups), 3), dtype=np.int64), np.zeros((3, 1, ns)))
+        # the committed links and the records, by name (the driver and the energy account read them;
+        # the same arrays as the bundles', which the compiled stretch updates in place)
+        self.f, self.state, self.g = self.now.f, self.now.state, self.now.g
+        self.peak, self.work = self.rec.peak, self.rec.work
         self._S: dict = {}
-        self.core = core(self.laws)
 
     @classmethod
-    def of(cls, scene, model) -> "Yielding | None":
+    def of(cls, scene, model, tolerance: float = NEWTON_TOL) -> "Yielding | None":
+        """The yielding springs of ``scene`` on the driver's ``model``; ``tolerance`` is the Newton
+        residual's, as a fraction of every building's smallest yield deformation."""
         from pounding.errors import InputError
 
         groups, rows, lo = [], [], 0
@@ -106,7 +116,7 @@ class Yielding:
             except InputError as exc:
                 raise exc.located(file=str(scene.source) if scene.source else None) from None
             if springs.size:
-                groups.append(Group(springs, lo, int(model.mode_start[i]), system.modes.shape[1], i))
+                groups.append(Group(springs, lo, int(model.mode_start[i]), system.modes.shape[1], i, tolerance))
                 rows.append(springs.T @ system.modes)
                 lo += springs.size
         if not groups:
@@ -115,7 +125,12 @@ class Yielding:
 
     @property
     def size(self) -> int:
-        return self.f.shape[0]
+        return self.now.f.shape[0]
+
+    def record_rows(self, n_out: int) -> np.ndarray:
+        """Allocate the output rows' histories (3, n_out, ns) and return them."""
+        self.rec = self.rec._replace(hist=np.zeros((3, n_out, self.size)))
+        return self.rec.hist
 
     def S(self, B1: np.ndarray) -> np.ndarray:
         """The step's compliance (ns, ns), block diagonal by building: G diag(B1) G^T for the
@@ -127,7 +142,7 @@ class Yielding:
                 self._S.clear()
             out = np.zeros((self.size, self.size))
             for grp in self.groups:
-                Gg = self.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
+                Gg = self.links.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
                 out[grp.lo:grp.hi, grp.lo:grp.hi] = (Gg * B1[grp.sl]) @ Gg.T
             self._S[key] = out
         return out
@@ -141,46 +156,54 @@ class Yielding:
         out = {}
         for grp in self.groups:
             lo, hi = grp.lo, grp.hi
-            G = np.ascontiguousarray(self.G[lo:hi, : grp.sl.stop - grp.sl.start])
+            G = np.ascontiguousarray(self.links.G[lo:hi, : grp.sl.stop - grp.sl.start])
             out[names[grp.building]] = spring_record(grp.springs, hist[0, :, lo:hi], hist[1, :, lo:hi], hist[2, :, lo:hi],
                                                      self.peak[lo:hi].copy(), G)
         return out
 
-    def _diverged(self, j: int) -> FloatingPointError:
-        return FloatingPointError(f"building {self.groups[j].building}: the yielding springs' Newton iteration did not converge "
-                                  "(try a smaller dt)")
+    def _diverged(self, j: int, t: float | None = None) -> FloatingPointError:
+        when = "" if t is None else f" in the step starting at t = {t:g} s"
+        return FloatingPointError(f"building {self.groups[j].building}: the yielding springs' Newton iteration did not converge"
+                                  f"{when} (try a smaller dt)")
 
-    def solve(self, q_lin: np.ndarray, B1: np.ndarray) -> SpringTrial:
-        """Newton on every building for the linear step's end displacements q_lin (n,)."""
-        f1, g1, trial = np.empty(self.size), np.empty(self.n), np.zeros_like(self.state)
-        j = self.core.solve_springs(np.ascontiguousarray(q_lin), self.S(np.ascontiguousarray(B1)), self.law, self.G, self.bounds,
-                                    self.gmodes, self.f, self.state, self.params, self.k0, self.ntol, trial, f1, g1)
+    def _trial(self) -> LinkTrial:
+        # slots a narrower law does not write keep their committed values
+        return LinkTrial(np.empty(self.size), self.state.copy(), np.empty(self.n))
+
+    def solve(self, q_lin: np.ndarray, B1: np.ndarray, h: float) -> LinkTrial:
+        """Newton on every building for a step of h [s] whose linear part ends at q_lin (n,)."""
+        from pounding.framework.engine.spring_core import solve_springs
+
+        out = self._trial()
+        j = solve_springs(self.updates, self.links, self.S(np.ascontiguousarray(B1)), float(h), np.ascontiguousarray(q_lin),
+                          self.now, out)
         if j >= 0:
             raise self._diverged(j)
-        return SpringTrial(f1, trial, g1)
+        return out
 
-    def at(self, q1: np.ndarray) -> SpringTrial:
-        """Remainders and trial states at given end displacements q1 (n,) (the fixed-point pass)."""
-        f1, g1, trial = np.empty(self.size), np.empty(self.n), np.zeros_like(self.state)
-        self.core.forces_at(np.ascontiguousarray(q1, dtype=float), self.law, self.G, self.bounds, self.gmodes, self.state,
-                            self.params, self.k0, trial, f1, g1)
-        return SpringTrial(f1, trial, g1)
+    def at(self, q1: np.ndarray, h: float) -> LinkTrial:
+        """Remainders and trial states of a step of h [s] ending at displacements q1 (n,) (the fixed-point pass)."""
+        from pounding.framework.engine.spring_core import forces_at
 
-    def fixed_point(self, solve):
-        """Solve a step whose contact forces depend on its end: ``solve(g1) -> (step, q1)`` with the
-        remainders' end load g1; iterate g1 until the springs' end deformations agree to tolerance.
+        out = self._trial()
+        forces_at(self.updates, self.links, float(h), np.ascontiguousarray(q1, dtype=float), self.now, out)
+        return out
+
+    def fixed_point(self, solve, h: float):
+        """Solve a step of h [s] whose contact forces depend on its end: ``solve(g1) -> (step, q1)``
+        with the remainders' end load g1; iterate g1 until the springs' end deformations agree to
+        tolerance.
 
         Plain substitution first; where it does not settle (buildings held together by contact
         forces, whose coupled compliance can make the plain map expand), under-relaxed
         substitution g <- g + w (g_new - g) with w = 1/2, then 1/4: the same fixed point, reached
         from a contracting map. The test on successive forces is scaled by w, so that a relaxed
         iteration stops at the same residual as a plain one."""
-        start = SpringTrial(self.f.copy(), self.state.copy(), self.g.copy())
         for w in (1.0, 0.5, 0.25):
-            g, prev = start.g, start.f
+            g, prev = self.g.copy(), self.f.copy()
             for _ in range(4 * MAX_ITER):
                 st, q1 = solve(g)
-                new = self.at(q1)
+                new = self.at(q1, h)
                 # a change of the remainders by df moves the end deformations by about S df <= df / k0
                 if all(np.max(np.abs(new.f[grp.lo:grp.hi] - prev[grp.lo:grp.hi]), initial=0.0)
                        <= w * grp.tol * grp.springs.k0.min() for grp in self.groups):
@@ -189,7 +212,7 @@ class Yielding:
                 g = new.g if w == 1.0 else g + w * (new.g - g)
         raise FloatingPointError("the yielding springs' fixed-point iteration with contact forces did not converge (try a smaller dt)")
 
-    def commit(self, sp: SpringTrial) -> None:
+    def commit(self, sp: LinkTrial) -> None:
         self.f[:] = sp.f
         self.state[:] = sp.state
         np.maximum(self.peak, np.abs(sp.state[:, 0]), out=self.peak)
@@ -200,10 +223,10 @@ class Yielding:
         for grp in self.groups:
             if grp.building != building:
                 continue
-            G = self.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
+            G = self.links.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
             u = G @ q[grp.sl]
             stored = float(grp.springs.stored_energy(self.state[grp.lo:grp.hi]).sum())
-            k0 = self.k0[grp.lo:grp.hi]
+            k0 = self.links.k0[grp.lo:grp.hi]
             elastic = 0.5 * float(np.sum(k0 * u * u))
             return {"elastic_springs": elastic, "stored": stored,
                     "hysteretic": elastic + float(self.work[building]) - stored}
@@ -215,89 +238,16 @@ class Yielding:
         pair comes within the contact tolerance: then (k, OVERLAP, pair) with the state at the start
         of step k, which the driver takes in Python (``Driver.python_step``). Same answers as
         :func:`pounding.framework.engine.kernel.advance` (DONE or OVERLAP)."""
+        from pounding.framework.engine.spring_core import stretch
+
         tr = driver.transition(driver.dt)
         S = self.S(np.ascontiguousarray(tr.B[:, 0, 1]))
-        k, status, pair = self.core.stretch(tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
-                                            driver.kgeo, float(driver.tol), self.law, self.G, self.bounds, self.gmodes, S,
-                                            self.k0, self.ntol, self.params, self.state, np.zeros_like(self.state), self.f,
-                                            self.g, self.peak, self.work, driver.spring_hist)
-        if status == DIVERGED_STATUS:
+        k, status, pair = stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
+                                  driver.kgeo, float(driver.tol), self.links, S, self.now, self.rec)
+        if status == Status.DIVERGED:
             raise FloatingPointError(f"the yielding springs' Newton iteration did not converge in the step starting at "
                                      f"t = {k * driver.dt:g} s (try a smaller dt)")
         return k, status, pair
-
-
-DIVERGED_STATUS = 5  # spring_core.DIVERGED, without importing the template
-
-
-_CORES: dict = {}
-
-def _dispatch(n_laws: int) -> str:
-    """Source of ``update(law, ...)`` dispatching on the law index to ``_u0``, ``_u1``, ..."""
-    lines = ["@njit", "def update(law, u, state, params, new_state, s):",
-             "    \"\"\"Dispatch on the law index of the spring to the laws' updates (generated).\"\"\""]
-    for j in range(n_laws - 1):
-        lines.append(f"    {'if' if j == 0 else 'elif'} law == {j}:")
-        lines.append(f"        return _u{j}(u, state, params, new_state, s)")
-    lines.append(f"    return _u{n_laws - 1}(u, state, params, new_state, s)")
-    return "\n".join(lines) + "\n"
-
-
-def core(laws: tuple):
-    """The compiled spring core (:mod:`pounding.framework.engine.spring_core`) for a tuple of law classes.
-
-    A copy of ``spring_core`` is generated once into numba's cache folder with ``update``
-    dispatching on the law index to each law's own compiled update, imported as a module, and
-    cached by numba like any other kernel (see the template's docstring for why). The module's
-    text carries a digest of the modules it depends on, so editing one compiles afresh. Where the
-    cache folder cannot be written, a temporary folder is used (compiled per process).
-    """
-    import hashlib
-    import os
-    import sys
-    import tempfile
-
-    key = tuple(f"{cls.__module__}:{cls.__qualname__}" for cls in laws)
-    if key in _CORES:
-        return _CORES[key]
-    from pounding.framework.engine import spring_core
-
-    digest = hashlib.sha1()
-    for module in ("pounding.framework.engine.spring_core", "pounding.framework.engine.kernel", "pounding.framework.engine.inelastic",
-                   "pounding.contact.geometry", *(cls.__module__ for cls in laws)):
-        __import__(module)
-        with open(sys.modules[module].__file__, "rb") as fh:
-            digest.update(fh.read())
-    with open(spring_core.__file__) as fh:
-        template = fh.read()
-    head, rest = template.split("# <dispatch>\n", 1)
-    _, tail = rest.split("# </dispatch>\n", 1)
-    imports = "".join(f"from {cls.__module__} import {cls.__qualname__} as _law{j}\n" for j, cls in enumerate(laws))
-    imports += "".join(f"_u{j} = _law{j}.update\n" for j in range(len(laws)))
-    text = (f"# Generated by pounding.framework.engine.yielding.core for {', '.join(key)} from pounding/framework/engine/spring_core.py.\n"
-            f"# Do not edit. Sources: {digest.hexdigest()}\n" + head + imports + "\n\n" + _dispatch(len(laws)) + tail)
-    stem = "spring_core_" + hashlib.sha1(" ".join(key).encode()).hexdigest()[:16]
-    try:
-        from pounding import compiler
-
-        base = compiler.cache_dir() if compiler.enabled() else None
-    except Exception:  # noqa: BLE001 - no numba: the generated module runs as plain Python
-        base = None
-    candidates = [os.path.join(base, "steppers")] if base else []
-    candidates.append(os.path.join(tempfile.gettempdir(), f"pounding-{os.getuid() if hasattr(os, 'getuid') else 0}", "steppers"))
-    module = None
-    for folder in candidates:
-        try:
-            from pounding.compiler import generated_module
-
-            module = generated_module(folder, stem, text)
-            break
-        except OSError:
-            module = None
-    if module is None:
-        raise OSError("pounding: no folder to write the yielding springs' compiled core to")
-    _CORES[key] = module
-    return module
 
 
 def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
@@ -316,8 +266,7 @@ def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
 
 
 def check_springs(scene) -> None:
-    """Raise InputError (naming the scene's file) if a building's yielding springs cannot be stepped
-    (they mix hysteresis laws)."""
+    """Raise InputError (naming the scene's file) if a building's yielding springs cannot be stepped."""
     from pounding.errors import InputError
 
     for i, b in enumerate(scene.buildings):
