@@ -1,0 +1,171 @@
+"""Contact episodes of force laws: each pair's history, given to the law, and what it reports.
+
+A slab pair under a force law is *in contact* from the step its gap first closes until the
+first step that ends with its slabs apart and pushing on nothing: one *episode*
+(:class:`~pounding.framework.results.ContactEpisode`). While it lasts, the law is given the
+episode's history with every step's state (:class:`~pounding.contact.base.ContactState`:
+when it began, the closing speed then, the pair); when it ends, the episode's figures are
+what the law reports, in the same table as an impulse law's impacts.
+
+The start is where the gap crosses zero inside the step it first closed, interpolated
+linearly between the step's start and its end without contact forces (the trajectory before
+the crossing carries no contact force); the closing speed there likewise. The end is
+interpolated the same way between the last penetration and the first opening gap.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pounding.framework.results import ContactEpisode
+
+
+@dataclass
+class _Open:
+    """An episode that has not ended yet (figures so far)."""
+
+    start: float
+    approach: float
+    peak_force: float = 0.0
+    peak_penetration: float = 0.0
+    impulse: float = 0.0
+    work: float = 0.0  # work of the pair's forces on the buildings so far [J]
+    point: np.ndarray | None = None
+    normal: np.ndarray | None = None
+    force: float = 0.0  # total force at the last step end [N]
+    modal: np.ndarray | None = None  # modal force (n,) at the last step end
+    penetration: float = 0.0  # deepest overlap at the last step end [m]
+
+
+@dataclass
+class StepContacts:
+    """What a trial step of a force law found, kept with it until it is committed.
+
+    pair (m,) int, forces (m,) [N], end gaps with the forces (m,) [m], points and normals (m, 2),
+    modal rows (m, n), the history given to the law (start, approach (m,)), and ``gaps``:
+    {pair: smallest end gap [m]} of every pair within the watch tolerance.
+    """
+
+    pair: np.ndarray
+    force: np.ndarray
+    gap: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    rows: np.ndarray
+    start: np.ndarray
+    approach: np.ndarray
+    gaps: dict
+
+    @classmethod
+    def empty(cls, gaps: dict, n: int) -> "StepContacts":
+        """A step where no point overlaps (``gaps``: the pairs within the watch tolerance; n modes)."""
+        z = np.zeros(0)
+        return cls(np.zeros(0, dtype=np.int64), z, z, np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, n)), z, z, gaps)
+
+
+def smallest_by_pair(pair: np.ndarray, gap: np.ndarray) -> dict:
+    """{pair: smallest gap [m]} of the features pair (m,), gap (m,)."""
+    out: dict = {}
+    for p, g in zip(pair.tolist(), gap.tolist()):
+        out[p] = min(g, out.get(p, np.inf))
+    return out
+
+
+def crossing(t: float, h: float, g0: float, g1: float) -> tuple[float, float]:
+    """(time [s], fraction of the step) where a gap going linearly from g0 [m] at t to g1 at t + h
+    crosses zero (the step's start when it is already <= 0 there, its end when it never does)."""
+    if g0 <= 0.0:
+        return t, 0.0
+    if g1 >= 0.0:
+        return t + h, 1.0
+    s = g0 / (g0 - g1)
+    return t + s * h, s
+
+
+class Episodes:
+    """The force-law episodes of a run: the open ones by pair, and the ended ones."""
+
+    def __init__(self):
+        self.open: dict[int, _Open] = {}
+        self.ended: list[ContactEpisode] = []
+
+    def history(self, t: float, h: float, pair: np.ndarray, gap0: np.ndarray, gap1: np.ndarray,
+                b0: np.ndarray, b1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Start [s] and closing speed at the start [m/s] (m,) of each point's episode, for a step
+        from t [s] of h [s]: an open episode's own, or for a pair that closes in this step, the
+        crossing of its deepest point, from its gap (gap0 at the step's start, gap1 at its end
+        without contact forces) and closing speed (b0, b1) (all (m,))."""
+        start, approach = np.empty(len(pair)), np.empty(len(pair))
+        for p in np.unique(pair).tolist():
+            sel = pair == p
+            ep = self.open.get(p)
+            if ep is None:
+                j = np.flatnonzero(sel)[np.argmin(gap1[sel])]
+                ts, s = crossing(t, h, float(gap0[j]), float(gap1[j]))
+                start[sel], approach[sel] = ts, b0[j] + s * (b1[j] - b0[j])
+            else:
+                start[sel], approach[sel] = ep.start, ep.approach
+        return start, approach
+
+    def commit(self, t: float, h: float, contacts: StepContacts | None, v0: np.ndarray, v1: np.ndarray) -> None:
+        """Book a committed step from t [s] of h [s], with modal velocities v0, v1 (n,) at its ends:
+        open the episodes of pairs that press, add to the open ones, end those whose slabs parted."""
+        pressing = {} if contacts is None else self._pressing(contacts)
+        for p in list(self.open):
+            if p not in pressing:
+                g1 = np.inf if contacts is None else contacts.gaps.get(p, np.inf)
+                self._end(p, t, h, g1, v0)
+        for p, (idx, force, modal, pen) in pressing.items():
+            ep = self.open.get(p)
+            if ep is None:
+                ep = self.open[p] = _Open(float(contacts.start[idx[0]]), float(contacts.approach[idx[0]]))
+                f0 = 0.0
+                m0 = None
+            else:
+                f0, m0 = ep.force, ep.modal
+            ep.impulse += 0.5 * (f0 + force) * h
+            # the power of the pair's forces at the step's ends, by the trapezoidal rule
+            ep.work += 0.5 * h * ((0.0 if m0 is None else float(m0 @ v0)) + float(modal @ v1))
+            if force >= ep.peak_force:
+                ep.peak_force = force
+                lam = contacts.force[idx]
+                wts = lam / force if force > 0.0 else np.full(len(idx), 1.0 / len(idx))
+                ep.point = wts @ contacts.point[idx]
+                n = wts @ contacts.normal[idx]
+                ep.normal = n / max(np.hypot(*n), 1e-300)
+            ep.peak_penetration = max(ep.peak_penetration, pen)
+            ep.force, ep.modal, ep.penetration = force, modal, pen
+
+    def close_all(self, t: float) -> None:
+        """End the episodes still open at the end of the run (t [s])."""
+        for p in list(self.open):
+            self._end(p, t, 0.0, np.inf, None)
+
+    @staticmethod
+    def _pressing(c: StepContacts) -> dict:
+        """{pair: (point indices, total force [N], modal force (n,), deepest overlap [m])} of the pairs
+        that end the step overlapping or pushing."""
+        out = {}
+        for p in np.unique(c.pair).tolist():
+            idx = np.flatnonzero(c.pair == p)
+            force = float(c.force[idx].sum())
+            pen = float(max(-c.gap[idx].min(), 0.0))
+            if force > 0.0 or pen > 0.0:
+                out[p] = (idx, force, c.rows[idx].T @ c.force[idx], pen)
+        return out
+
+    def _end(self, p: int, t: float, h: float, g1: float, v0) -> None:
+        """End pair p's episode in the step from t of h, where its gap opens to g1 [m] (inf: unknown, the step's end)."""
+        ep = self.open.pop(p)
+        # the force falls to zero in this step, linearly as the driver applies it: its last share
+        ep.impulse += 0.5 * ep.force * h
+        if v0 is not None and ep.modal is not None:
+            ep.work += 0.5 * h * float(ep.modal @ v0)
+        # where the gap, -penetration at t, opens to g1 at t + h (linearly) crosses zero
+        end = t + h * ep.penetration / (ep.penetration + g1) if 0.0 < g1 < np.inf else t + h
+        self.ended.append(ContactEpisode(
+            ep.start, float(end), p, ep.point if ep.point is not None else np.full(2, np.nan),
+            ep.normal if ep.normal is not None else np.full(2, np.nan), ep.approach, ep.peak_force, ep.peak_penetration,
+            ep.impulse, -ep.work))
