@@ -109,14 +109,19 @@ class Episodes:
                 start[sel], approach[sel] = ep.start, ep.approach
         return start, approach
 
-    def commit(self, t: float, h: float, contacts: StepContacts | None, v0: np.ndarray, v1: np.ndarray) -> None:
-        """Book a committed step from t [s] of h [s], with modal velocities v0, v1 (n,) at its ends:
-        open the episodes of pairs that press, add to the open ones, end those whose slabs parted."""
+    def commit(self, t: float, h: float, contacts: StepContacts | None, dq: np.ndarray) -> None:
+        """Book a committed step from t [s] of h [s] that moved the modal displacements by dq (n,):
+        open the episodes of pairs that press, add to the open ones, end those whose slabs parted.
+
+        A step's work of a pair's forces is their mean over the step times its displacement,
+        (f0 + f1) . dq / 2: the rule of the energy account of average acceleration (Newmark's
+        default, the default integrator with force laws), so there the episodes' dissipation adds
+        up to the account's contact work to rounding; other integrators' rules differ by O(dt^2)."""
         pressing = {} if contacts is None else self._pressing(contacts)
         for p in list(self.open):
             if p not in pressing:
                 g1 = np.inf if contacts is None else contacts.gaps.get(p, np.inf)
-                self._end(p, t, h, g1, v0)
+                self._end(p, t, h, g1, dq)
         for p, (idx, force, modal, pen) in pressing.items():
             ep = self.open.get(p)
             if ep is None:
@@ -126,8 +131,7 @@ class Episodes:
             else:
                 f0, m0 = ep.force, ep.modal
             ep.impulse += 0.5 * (f0 + force) * h
-            # the power of the pair's forces at the step's ends, by the trapezoidal rule
-            ep.work += 0.5 * h * ((0.0 if m0 is None else float(m0 @ v0)) + float(modal @ v1))
+            ep.work += 0.5 * float(((0.0 if m0 is None else m0) + modal) @ dq)
             if force >= ep.peak_force:
                 ep.peak_force = force
                 lam = contacts.force[idx]
@@ -156,13 +160,14 @@ class Episodes:
                 out[p] = (idx, force, c.rows[idx].T @ c.force[idx], pen)
         return out
 
-    def _end(self, p: int, t: float, h: float, g1: float, v0) -> None:
-        """End pair p's episode in the step from t of h, where its gap opens to g1 [m] (inf: unknown, the step's end)."""
+    def _end(self, p: int, t: float, h: float, g1: float, dq) -> None:
+        """End pair p's episode in the step from t of h (displacement dq (n,), None: the run's end),
+        where its gap opens to g1 [m] (inf: unknown, the step's end)."""
         ep = self.open.pop(p)
         # the force falls to zero in this step, linearly as the driver applies it: its last share
         ep.impulse += 0.5 * ep.force * h
-        if v0 is not None and ep.modal is not None:
-            ep.work += 0.5 * h * float(ep.modal @ v0)
+        if dq is not None and ep.modal is not None:
+            ep.work += 0.5 * float(ep.modal @ dq)
         # where the gap, -penetration at t, opens to g1 at t + h (linearly) crosses zero
         end = t + h * ep.penetration / (ep.penetration + g1) if 0.0 < g1 < np.inf else t + h
         self.ended.append(ContactEpisode(

@@ -155,6 +155,10 @@ class Registry(Generic[T]):
         except Exception as exc:  # a module that fails while importing: say so, in one line
             raise InputError(f"{self.kind} {target!r}: importing module {module!r} failed: {type(exc).__name__}: {exc}",
                              field=field) from None
+        base = self._base()
+        if not (isinstance(obj, type) and issubclass(obj, base)):
+            what = f"the class {obj.__qualname__}" if isinstance(obj, type) else f"a {type(obj).__name__}"
+            raise InputError(f"{self.kind} {target!r} is {what}, not a subclass of {base.__qualname__}", field=field)
         try:
             self._check(getattr(obj, "name", None), obj)
         except InputError as exc:

@@ -85,7 +85,8 @@ class ContactEpisode:
         the step ends, exact for the forces linear in each step that the driver applies).
     energy_dissipated : float
         Energy the contact took out of the buildings [J]: minus the work of its forces over the
-        episode (the trapezoidal rule on the power at the step ends), or the kinetic energy an
+        episode (each step's mean force times its displacement:
+        :meth:`pounding.framework.contact_episodes.Episodes.commit`), or the kinetic energy an
         impulse removed.
     """
 
