@@ -231,3 +231,47 @@ def test_penalty_and_facade_penalty_run_through_the_contract():
     b = run(base.with_analysis(contact="facade_penalty", contact_params={"stiffness": 1e9}))
     assert a.contacts and len(a.contacts) == len(b.contacts)
     assert np.abs(a.q - b.q).max() <= 1e-12 * np.abs(a.q).max()
+
+
+def test_laws_on_pairs_that_share_a_building_are_solved_together():
+    """Two undamped linear springs (penalty with restitution 1: no dashpot), k_1 on the points of one
+    pair and k_2 on those of another that shares a building (compliances coupled through S_q): the
+    forces of :func:`~pounding.framework.contact_laws.solve_forces` are the coupled linear system's,
+    (I + K S_q) lambda = -K gap with K = diag(k), to its conditioning times rounding (1e-12)."""
+    from pounding.contact.base import ContactState
+    from pounding.contact.penalty import Penalty
+    from pounding.framework.contact_laws import solve_forces
+
+    rng = np.random.default_rng(7)
+    Wr = rng.normal(size=(3, 6)) * 1e-3  # rows of three points over six modes [1/sqrt(kg)]
+    S_q = (Wr * 1e-5) @ Wr.T  # a step's displacement compliance B01 = 1e-5 s^2 per mode
+    gap = np.array([-1e-3, -2e-3, -1.5e-3])
+    k = np.array([1e9, 1e9, 3e8])
+    state = ContactState(0.01, 0.01, gap, np.zeros(3), S_q, np.zeros((3, 3)), Wr @ Wr.T, np.array([0, 0, 1]),
+                         np.zeros(3), np.ones(3), np.full(3, np.inf))
+    laws = [Penalty(stiffness=1e9, restitution=1.0), Penalty(stiffness=3e8, restitution=1.0)]
+    lam = solve_forces(laws, np.array([0, 0, 1]), state)
+    A = np.eye(3) + k[:, None] * S_q
+    ref = np.linalg.solve(A, -k * gap)
+    assert np.all(ref > 0), "every point pushes: the linear system is the whole answer"
+    assert np.abs(lam - ref).max() <= 1e-12 * np.linalg.cond(A) * np.abs(ref).max()
+
+
+def test_a_force_law_with_the_old_positional_signature_is_refused_when_registered():
+    """forces() takes one ContactState: a law written against positional arguments is refused when
+    it is looked up, saying what the contract expects, not in the middle of a run."""
+    from typing import ClassVar
+
+    from pounding.contact.base import ContactLaw
+    from pounding.errors import InputError
+    from pounding.framework.registry import CONTACT_LAWS
+
+    class Old(ContactLaw):
+        name: ClassVar[str] = "old"
+        kind: ClassVar[str] = "force"
+
+        def forces(self, gap, rate, S_q, S_v, W):
+            return np.zeros(len(gap))
+
+    with pytest.raises(InputError, match=r"forces\(\) takes one ContactState"):
+        CONTACT_LAWS.get(Old)

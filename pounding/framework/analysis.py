@@ -729,7 +729,7 @@ class Driver:
         if self.every > 1:  # the step's extremes, before any impulse at its end (true peaks)
             self.model.update_peaks(st.z0, st.z1, h, self.peak)
         if st.contacts is not None or self.episodes.open:
-            self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0])
+            self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0], lambda p: self.model.pair_gap(st.z1[:, 0], p))
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
 

@@ -109,9 +109,11 @@ class Episodes:
                 start[sel], approach[sel] = ep.start, ep.approach
         return start, approach
 
-    def commit(self, t: float, h: float, contacts: StepContacts | None, dq: np.ndarray) -> None:
+    def commit(self, t: float, h: float, contacts: StepContacts | None, dq: np.ndarray, gap_at=None) -> None:
         """Book a committed step from t [s] of h [s] that moved the modal displacements by dq (n,):
-        open the episodes of pairs that press, add to the open ones, end those whose slabs parted.
+        open the episodes of pairs that press, add to the open ones, end those whose slabs parted
+        (``gap_at(p)``: pair p's gap [m] at the step's end, asked for a pair that opened beyond the
+        watch tolerance in the step, to interpolate its end).
 
         A step's work of a pair's forces is their mean over the step times its displacement,
         (f0 + f1) . dq / 2: the rule of the energy account of average acceleration (Newmark's
@@ -121,6 +123,8 @@ class Episodes:
         for p in list(self.open):
             if p not in pressing:
                 g1 = np.inf if contacts is None else contacts.gaps.get(p, np.inf)
+                if not np.isfinite(g1) and gap_at is not None:
+                    g1 = float(gap_at(p))
                 self._end(p, t, h, g1, dq)
         for p, (idx, force, modal, pen) in pressing.items():
             ep = self.open.get(p)

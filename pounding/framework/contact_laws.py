@@ -76,5 +76,11 @@ def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactStat
             change = max(change, float(np.max(np.abs(new - lam[idx]), initial=0.0)))
             lam[idx] = new
         if change <= COUPLING_RTOL * max(float(np.max(np.abs(lam))), 1e-300):
-            break
+            return lam
+    import warnings
+
+    from pounding.errors import AnalysisWarning
+
+    warnings.warn(f"the forces of {len(members)} contact laws on pairs that share a building did not settle in "
+                  f"{COUPLING_SWEEPS} sweeps at t = {contact.t:.6g} s (last change {change:.3g} N)", AnalysisWarning, stacklevel=2)
     return lam
