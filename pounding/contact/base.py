@@ -57,8 +57,9 @@ a default and its meaning:
 6. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
-   buildings its own law). The registry checks the class when it is loaded
-   (:meth:`ContactLaw.check_contract`), not in the middle of a run.
+   buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
+   registry checks the class when it is loaded (:meth:`ContactLaw.check_contract`), not in
+   the middle of a run.
 """
 
 from __future__ import annotations
