@@ -186,7 +186,7 @@ class ContactLaw(ABC):
 
             params = [p for p in inspect.signature(cls.forces).parameters.values()
                       if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
-            if len(params) != 2:  # self and the ContactState
+            if len(params) > 2:  # self and the ContactState (a wrapper taking *args passes)
                 raise TypeError(f"contact law {cls.__name__}: forces() takes one ContactState (forces(self, contact)), "
                                 f"not ({', '.join(p.name for p in params)})")
 

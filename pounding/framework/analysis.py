@@ -205,6 +205,8 @@ class Model:
         from pounding.framework.facade import struck
 
         out = np.full(len(pair), np.inf)
+        if not self.facades:
+            return out
         for j, p in enumerate(np.asarray(pair).tolist()):
             F = self.facades.get(p)
             if F is None:
@@ -816,28 +818,28 @@ class Driver:
         """A force-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
         zero for elastic buildings): every pair's law gives its forces, solved implicitly with the step."""
         from pounding.contact.base import ContactState
-        from pounding.framework.contact_episodes import StepContacts, smallest_by_pair
+        from pounding.framework.contact_episodes import StepContacts
         from pounding.framework.contact_laws import solve_forces
 
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
         pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
-        gaps = smallest_by_pair(pair, gap)
+        near, near_gap = pair, gap
         keep = gap < 0
         if not np.any(keep):
-            return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(gaps, self.model.n))
+            return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(near, near_gap, self.model.n))
         pair, gap, Wr, Qf, Nf = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep]
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
         rate = Wr @ zf[:, 1]
         # the history: each pair's episode, or where its gap closes in this step (from its start, linear in q)
-        start, approach = self.episodes.history(t, h, pair, gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate)
+        start, approach = self.episodes.history(t, h, pair, lambda: (gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate))
         state = ContactState(t + h, h, gap, rate, S_q, S_v, Wr @ Wr.T, pair, start, approach,
                              self.model.local_stiffness(pair, Qf, Nf))
         lam = solve_forces(self.laws, self.pair_law[pair], state)
         f1 = Wr.T @ lam
-        contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, gaps)
+        contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, near, near_gap, f1)
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1, contacts=contacts)
 
     def held_trial(self, z, t, h, e0=None, e1=None) -> Step:

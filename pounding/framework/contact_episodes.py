@@ -32,8 +32,7 @@ class _Open:
     peak_penetration: float = 0.0
     impulse: float = 0.0
     work: float = 0.0  # work of the pair's forces on the buildings so far [J]
-    point: np.ndarray | None = None
-    normal: np.ndarray | None = None
+    at_peak: tuple | None = None  # (forces (k,), points (k, 2), normals (k, 2)) of the pair's points at the peak
     force: float = 0.0  # total force at the last step end [N]
     modal: np.ndarray | None = None  # modal force (n,) at the last step end
     penetration: float = 0.0  # deepest overlap at the last step end [m]
@@ -44,8 +43,8 @@ class StepContacts:
     """What a trial step of a force law found, kept with it until it is committed.
 
     pair (m,) int, forces (m,) [N], end gaps with the forces (m,) [m], points and normals (m, 2),
-    modal rows (m, n), the history given to the law (start, approach (m,)), and ``gaps``:
-    {pair: smallest end gap [m]} of every pair within the watch tolerance.
+    modal rows (m, n), the history given to the law (start, approach (m,)), and the pairs and end
+    gaps without forces of every feature within the watch tolerance (``near``, ``near_gap`` (k,)).
     """
 
     pair: np.ndarray
@@ -56,21 +55,31 @@ class StepContacts:
     rows: np.ndarray
     start: np.ndarray
     approach: np.ndarray
-    gaps: dict
+    near: np.ndarray
+    near_gap: np.ndarray
+    modal: np.ndarray | None = None  # the modal force of all the points (n,): rows.T @ force
 
     @classmethod
-    def empty(cls, gaps: dict, n: int) -> "StepContacts":
-        """A step where no point overlaps (``gaps``: the pairs within the watch tolerance; n modes)."""
+    def empty(cls, near: np.ndarray, near_gap: np.ndarray, n: int) -> "StepContacts":
+        """A step where no point overlaps (near, near_gap: the features within the watch tolerance; n modes)."""
         z = np.zeros(0)
-        return cls(np.zeros(0, dtype=np.int64), z, z, np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, n)), z, z, gaps)
+        return cls(np.zeros(0, dtype=np.int64), z, z, np.zeros((0, 2)), np.zeros((0, 2)), np.zeros((0, n)), z, z, near, near_gap)
+
+    def end_gap(self, p: int) -> float:
+        """Pair p's smallest gap at the step's end [m] among the features within the watch tolerance (inf: none)."""
+        sel = self.near == p
+        return float(self.near_gap[sel].min()) if np.any(sel) else np.inf
 
 
-def smallest_by_pair(pair: np.ndarray, gap: np.ndarray) -> dict:
-    """{pair: smallest gap [m]} of the features pair (m,), gap (m,)."""
-    out: dict = {}
-    for p, g in zip(pair.tolist(), gap.tolist()):
-        out[p] = min(g, out.get(p, np.inf))
-    return out
+def _by_pair(pair: np.ndarray):
+    """(pair, selector) of every pair among the points ``pair`` (m,): a slice over all of them when
+    there is one pair (the common case, without masks), else a boolean mask."""
+    if len(pair) == 0:
+        return []
+    first = int(pair[0])
+    if bool(np.all(pair == first)):
+        return [(first, slice(None))]
+    return [(p, pair == p) for p in dict.fromkeys(pair.tolist())]
 
 
 def crossing(t: float, h: float, g0: float, g1: float) -> tuple[float, float]:
@@ -91,18 +100,18 @@ class Episodes:
         self.open: dict[int, _Open] = {}
         self.ended: list[ContactEpisode] = []
 
-    def history(self, t: float, h: float, pair: np.ndarray, gap0: np.ndarray, gap1: np.ndarray,
-                b0: np.ndarray, b1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def history(self, t: float, h: float, pair: np.ndarray, closing) -> tuple[np.ndarray, np.ndarray]:
         """Start [s] and closing speed at the start [m/s] (m,) of each point's episode, for a step
         from t [s] of h [s]: an open episode's own, or for a pair that closes in this step, the
-        crossing of its deepest point, from its gap (gap0 at the step's start, gap1 at its end
-        without contact forces) and closing speed (b0, b1) (all (m,))."""
+        crossing of its deepest point, from ``closing()`` = (gap0, gap1, b0, b1) (m,) each: the
+        points' gaps at the step's start and at its end without contact forces, and their closing
+        speeds there (asked for only when a pair closes)."""
         start, approach = np.empty(len(pair)), np.empty(len(pair))
-        for p in np.unique(pair).tolist():
-            sel = pair == p
+        for p, sel in _by_pair(pair):
             ep = self.open.get(p)
             if ep is None:
-                j = np.flatnonzero(sel)[np.argmin(gap1[sel])]
+                gap0, gap1, b0, b1 = closing()
+                j = int(np.arange(len(pair))[sel][np.argmin(gap1[sel])])
                 ts, s = crossing(t, h, float(gap0[j]), float(gap1[j]))
                 start[sel], approach[sel] = ts, b0[j] + s * (b1[j] - b0[j])
             else:
@@ -122,27 +131,23 @@ class Episodes:
         pressing = {} if contacts is None else self._pressing(contacts)
         for p in list(self.open):
             if p not in pressing:
-                g1 = np.inf if contacts is None else contacts.gaps.get(p, np.inf)
+                g1 = np.inf if contacts is None else contacts.end_gap(p)
                 if not np.isfinite(g1) and gap_at is not None:
                     g1 = float(gap_at(p))
                 self._end(p, t, h, g1, dq)
         for p, (idx, force, modal, pen) in pressing.items():
             ep = self.open.get(p)
             if ep is None:
-                ep = self.open[p] = _Open(float(contacts.start[idx[0]]), float(contacts.approach[idx[0]]))
+                ep = self.open[p] = _Open(float(contacts.start[idx][0]), float(contacts.approach[idx][0]))
                 f0 = 0.0
                 m0 = None
             else:
                 f0, m0 = ep.force, ep.modal
             ep.impulse += 0.5 * (f0 + force) * h
             ep.work += 0.5 * float(((0.0 if m0 is None else m0) + modal) @ dq)
-            if force >= ep.peak_force:
+            if force >= ep.peak_force:  # the point and normal are formed when the episode ends
                 ep.peak_force = force
-                lam = contacts.force[idx]
-                wts = lam / force if force > 0.0 else np.full(len(idx), 1.0 / len(idx))
-                ep.point = wts @ contacts.point[idx]
-                n = wts @ contacts.normal[idx]
-                ep.normal = n / max(np.hypot(*n), 1e-300)
+                ep.at_peak = (contacts.force[idx], contacts.point[idx], contacts.normal[idx])
             ep.peak_penetration = max(ep.peak_penetration, pen)
             ep.force, ep.modal, ep.penetration = force, modal, pen
 
@@ -156,12 +161,12 @@ class Episodes:
         """{pair: (point indices, total force [N], modal force (n,), deepest overlap [m])} of the pairs
         that end the step overlapping or pushing."""
         out = {}
-        for p in np.unique(c.pair).tolist():
-            idx = np.flatnonzero(c.pair == p)
+        for p, idx in _by_pair(c.pair):
             force = float(c.force[idx].sum())
             pen = float(max(-c.gap[idx].min(), 0.0))
             if force > 0.0 or pen > 0.0:
-                out[p] = (idx, force, c.rows[idx].T @ c.force[idx], pen)
+                whole = isinstance(idx, slice) and c.modal is not None
+                out[p] = (idx, force, c.modal if whole else c.rows[idx].T @ c.force[idx], pen)
         return out
 
     def _end(self, p: int, t: float, h: float, g1: float, dq) -> None:
@@ -174,7 +179,18 @@ class Episodes:
             ep.work += 0.5 * float(ep.modal @ dq)
         # where the gap, -penetration at t, opens to g1 at t + h (linearly) crosses zero
         end = t + h * ep.penetration / (ep.penetration + g1) if 0.0 < g1 < np.inf else t + h
-        self.ended.append(ContactEpisode(
-            ep.start, float(end), p, ep.point if ep.point is not None else np.full(2, np.nan),
-            ep.normal if ep.normal is not None else np.full(2, np.nan), ep.approach, ep.peak_force, ep.peak_penetration,
-            ep.impulse, -ep.work))
+        point, normal = _force_weighted(ep.at_peak)
+        self.ended.append(ContactEpisode(ep.start, float(end), p, point, normal, ep.approach, ep.peak_force,
+                                         ep.peak_penetration, ep.impulse, -ep.work))
+
+
+def _force_weighted(at_peak) -> tuple[np.ndarray, np.ndarray]:
+    """Point (2,) and unit normal (2,) of a pair at its peak: its points' means weighted by their
+    forces (equal weights when none pushes; nan when it never pressed)."""
+    if at_peak is None:
+        return np.full(2, np.nan), np.full(2, np.nan)
+    lam, points, normals = at_peak
+    total = float(lam.sum())
+    wts = lam / total if total > 0.0 else np.full(lam.size, 1.0 / lam.size)
+    n = wts @ normals
+    return wts @ points, n / max(float(np.hypot(*n)), 1e-300)

@@ -61,9 +61,9 @@ def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactStat
     linear spring law, whose system K^-1 + S_q is symmetric positive definite, and the points of
     pairs that share no building are not coupled: one sweep solves them).
     """
+    if which.min() == which.max():  # one law (the common case)
+        return np.asarray(laws[int(which[0])].forces(contact), dtype=float)
     groups = np.unique(which)
-    if groups.size == 1:
-        return np.asarray(laws[int(groups[0])].forces(contact), dtype=float)
     lam = np.zeros(len(contact.gap))
     members = [(laws[int(g)], np.flatnonzero(which == g), np.flatnonzero(which != g)) for g in groups]
     for _ in range(COUPLING_SWEEPS):
