@@ -258,14 +258,19 @@ def human_summary(result, out: Path) -> str:
         lines[0] += f"; loading the compiled core {tm['load_and_compile_s'] * 1e3:.0f} ms"
     per = Counter(result.impact_storey(i) for i in result.impacts)
     if result.impacts:
-        lines.append(f"{plural(result.n_impacts, 'impact')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")
+        lines.append(f"{plural(len(result.impacts), 'impact')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items())) + ")")
         lines.append(f"energy lost in impacts: {sum(i.energy_loss for i in result.impacts) / 1e3:.2f} kJ")
-    else:
+    if result.contacts:  # a force law's contact episodes
+        per = Counter(result.impact_storey(e) for e in result.contacts)
+        lines.append(f"{plural(len(result.contacts), 'contact')} by forces (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items()))
+                     + f"), largest force {max(e.peak_force for e in result.contacts) / 1e3:.4g} kN, "
+                     f"energy dissipated {sum(e.energy_dissipated for e in result.contacts) / 1e3:.2f} kJ")
+    if not result.impacts and not result.contacts:
         lines.append("no impacts")
     for name in result.names:
         pk = result.peaks(name)
         lines.append(f"{name}: peak |u| {pk[:, 0].max() * 1e3:.1f} mm, |v| {pk[:, 1].max() * 1e3:.1f} mm, |phi| {pk[:, 2].max() * 1e3:.3f} mrad (top storey {pk[-1, 0] * 1e3:.1f} mm in x)")
-    lines.append(f"results in {out}/ (response.npz, summary.json, impacts.csv)")
+    lines.append(f"results in {out}/ (response.npz, summary.json, impacts.csv, contacts.csv)")
     return "\n".join(lines)
 
 

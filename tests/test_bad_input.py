@@ -127,6 +127,31 @@ CASES = [
     ("duplicate building name", 'name = "B"', 'name = "A"', "building[1].name", "twice"),
     ("no buildings", None, 'title = "empty"', "(top level)", "building"),
     ("not TOML", None, 'this is = = not toml', "", "TOML"),
+    # [[contact]]: the law of one pair of buildings, and laws named "module:Class"
+    ("[[contact]] unknown building", 'contact = "impulse"\nrestitution = 0.5', 'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "C"]\nlaw = "penalty"',
+     "contact[0].between[1]", "no building is named 'C'; the buildings: 'A', 'B'"),
+    ("[[contact]] same building twice", 'contact = "impulse"\nrestitution = 0.5', 'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "A"]\nlaw = "penalty"',
+     "contact[0].between", "expected two different buildings"),
+    ("[[contact]] unknown law", 'contact = "impulse"\nrestitution = 0.5', 'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = "penalti"',
+     "contact[0].law", "unknown contact law 'penalti' (did you mean 'penalty'?)"),
+    ("[[contact]] law parameter", 'contact = "impulse"\nrestitution = 0.5',
+     'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = { name = "penalty", stifness = 1e9 }',
+     "contact[0].law.stifness", "unknown key 'stifness' (did you mean 'stiffness'?)"),
+    ("[[contact]] impulse law", 'contact = "impulse"\nrestitution = 0.5', 'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = "impulse"',
+     "contact[0].law", "one impulse law serves every pair of a run"),
+    ("[[contact]] force law beside impulses", 'restitution = 0.5', 'restitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = "penalty"',
+     "contact[0].law", "a run takes forces on every pair or on none"),
+    ("module:Class no module", 'contact = "impulse"', 'contact = "no_such_module:Hertz"',
+     "analysis.contact", "cannot import module 'no_such_module'"),
+    ("module:Class no class", 'contact = "impulse"', 'contact = "pounding.contact.penalty:Hertz"',
+     "analysis.contact", "module 'pounding.contact.penalty' has no 'Hertz'"),
+    ("module:Class not a law", 'contact = "impulse"', 'contact = "pounding.contact.penalty:no_tension_restitution"',
+     "analysis.contact", "is a function, not a subclass of ContactLaw"),
+    ("module:Class malformed", 'contact = "impulse"', 'contact = "pounding.contact:penalty:Penalty"',
+     "analysis.contact", "expected a contact law name or 'module:Class'"),
+    ("module:Class in [[contact]]", 'contact = "impulse"\nrestitution = 0.5',
+     'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = { name = "no_such_module:Hertz", stiffness = 1e9 }',
+     "contact[0].law.name", "cannot import module 'no_such_module'"),
 ]
 
 
@@ -155,6 +180,24 @@ def test_malformed_scene_names_file_and_field(tmp_path, case):
     assert str(path) in text
     assert field in text
     assert words.lower() in text.lower()
+
+
+CLI_CONTACT_CASES = ("[[contact]] unknown building", "module:Class no module")
+
+
+@pytest.mark.parametrize("case", [c for c in CASES if c[0] in CLI_CONTACT_CASES], ids=CLI_CONTACT_CASES)
+def test_cli_reports_a_bad_contact_law_in_one_line_with_exit_code_2(tmp_path, case):
+    """A [[contact]] table or a "module:Class" that cannot serve: one line naming the file, the field
+    and what was expected, exit code 2, no output folder."""
+    _, old, new, field, words = case
+    path = write(tmp_path, old, new)
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(path), "--out", str(out)], capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert str(path) in proc.stderr and field in proc.stderr and words in proc.stderr
+    assert not out.exists()
 
 
 @pytest.mark.parametrize("command", ["info", "run"])

@@ -51,8 +51,9 @@ class LinearSpring(ContactLaw):
         super().__init__(restitution=restitution)
         self.stiffness = float(stiffness)
 
-    def forces(self, gap, rate, S_q, S_v, W):
+    def forces(self, contact):
         type(self).calls += 1
+        gap, S_q = contact.gap, contact.S_q
         m = len(gap)
         active = np.ones(m, dtype=bool)
         lam = np.zeros(m)

@@ -146,6 +146,8 @@ def describe(scene, path: Path | None = None) -> str:
                  f"{params(CONTACT_LAWS, an.contact, an.contact_params)}; output every "
                  f"{'step' if an.output_every == 1 else plural(an.output_every, 'step')}; energy tolerance {100 * an.energy_tolerance:g} %"
                  + (f"; silenced: {', '.join(an.silence)}" if an.silence else ""))
+    for rule in scene.contacts:  # [[contact]]: a pair of buildings with a law of its own
+        lines.append(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {rule.law}{params(CONTACT_LAWS, rule.law, rule.params)}")
     for b in scene.buildings:
         s = assemble(b)
         d = b.damping

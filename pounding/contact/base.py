@@ -13,19 +13,28 @@ into a row w_k over the modal coordinates of both buildings such that
 With mass-normalised modes, ``W = w^T w`` (the Delassus matrix) has on its
 diagonal the paper's ``a = sum_i (1/m_i + h_i^2 / J_i)``.
 
-A contact law is one of two kinds:
+A contact law declares how it acts (``kind``):
 
 ``impulse`` laws are asked, at an instant of contact with approaching
     slabs, for the impulses ``I >= 0`` (shape (m,)) given W (m, m) and the
     approach speeds b (m,) [m/s]; the driver locates those instants.
 ``force`` laws are asked, once per step while slabs touch, for the contact
-    forces at the end of the step, solved implicitly: given the gaps and gap
-    rates that the step would end with without contact forces, and the
-    compliances ``S_q``, ``S_v`` (m, m) of those gaps and rates to end-of-step
-    forces, return ``lambda >= 0`` (m,) [N].
+    forces at the end of the step, solved implicitly with it: given one
+    :class:`ContactState` (the end-of-step gaps and gap rates that the step
+    would end with without contact forces, their compliances ``S_q``, ``S_v``
+    (m, m) to end-of-step forces, and the contact's history: when it began,
+    its approach speed then, its pair), return ``lambda >= 0`` (m,) [N].
 
 ``none`` laws switch contact off: no slab pair is watched and no contact
     code is loaded.
+
+What a law reports is the same for both kinds: contact *episodes*
+(:class:`pounding.framework.engine.results.ContactEpisode`: start, end, pair,
+point, peak force, peak penetration, impulse = integral of the force, energy
+dissipated), one per impact of an impulse law and one per stretch of touching
+of a force law, in ``contacts.csv``, ``summary.json`` and the impact timeline.
+The engine measures them from the forces and impulses the law returned; a
+law adds nothing to report them.
 
 Contract for an implementer
 ---------------------------
@@ -43,16 +52,20 @@ a default and its meaning:
    exactly :func:`newton_impulses` with ``restitution``, so the compiled core may apply
    them itself between Python steps; leave it False for any other rule (the driver
    then calls :meth:`~ContactLaw.impulses` at every impact).
-5. Force laws: :meth:`ContactLaw.forces`.
-6. Register the class under the entry-point group ``pounding.contact`` (or pass the
-   class itself as the scene's contact law). The registry checks the class when it
-   is loaded (:meth:`ContactLaw.check_contract`), not in the middle of a run.
+5. Force laws: :meth:`ContactLaw.forces`, which takes one :class:`ContactState`
+   (never more positional arguments: a field added to the bundle breaks no law).
+6. Register the class under the entry-point group ``pounding.contact``, or pass the
+   class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
+   (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
+   buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
+   registry checks the class when it is loaded (:meth:`ContactLaw.check_contract`), not in
+   the middle of a run.
 """
 
 from __future__ import annotations
 
 from abc import ABC
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
@@ -67,6 +80,69 @@ KINDS = ("impulse", "force", "none")
 LOCATORS = ("crossing", "halving", "root")
 #: what an impulse law does to the accelerations after an impact
 AFTER_IMPACT = ("keep", "equilibrium")
+
+
+class ContactState(NamedTuple):
+    """What a force law is given at the end of a trial step: the m points of slab pairs that touch.
+
+    Every array has one entry per contact point (shape (m,), or (m, m) for the matrices);
+    the history fields are the point's pair's *episode* (the stretch of time its slabs have
+    touched without letting go), so all the points of one pair share them.
+
+    Attributes
+    ----------
+    t : float
+        Time at the end of the step [s] (the forces act there).
+    dt : float
+        Length of the step [s].
+    gap : ndarray (m,)
+        Signed gap at the end of the step without contact forces [m] (negative: the slabs
+        overlap; the penetration is -gap).
+    rate : ndarray (m,)
+        Rate of the gap at the end of the step without contact forces [m/s] (negative:
+        closing).
+    S_q, S_v : ndarray (m, m)
+        Compliances of the end-of-step gaps and gap rates to the end-of-step forces: a force
+        vector lambda (m,) [N] changes them by ``S_q @ lambda`` [m] and ``S_v @ lambda`` [m/s].
+    W : ndarray (m, m)
+        Delassus matrix [1/kg]: its inverse is the pair's mass seen at the points (one point:
+        W = 1/m_eff).
+    pair : ndarray (m,) int
+        Index of each point's slab pair in the run's pair list (``Result.pairs``).
+    start : ndarray (m,)
+        When the pair's episode began [s]: where the gap crossed zero, interpolated in the
+        step it first closed (the step's start when it began overlapping).
+    approach : ndarray (m,)
+        The pair's closing speed at ``start`` [m/s] (>= 0 for an impact; the deepest point's).
+    local_stiffness : ndarray (m,)
+        Stiffness of the element each point strikes [N/m]: a neighbour's column or wall
+        struck between its floors (:func:`pounding.framework.model.facade.local_stiffness`), inf at
+        a slab.
+    """
+
+    t: float
+    dt: float
+    gap: np.ndarray
+    rate: np.ndarray
+    S_q: np.ndarray
+    S_v: np.ndarray
+    W: np.ndarray
+    pair: np.ndarray
+    start: np.ndarray
+    approach: np.ndarray
+    local_stiffness: np.ndarray
+
+    @property
+    def penetration(self) -> np.ndarray:
+        """-gap (m,) [m]: positive where the slabs overlap at the step's end without contact forces."""
+        return -self.gap
+
+    def take(self, idx: np.ndarray) -> "ContactState":
+        """The state of the points ``idx`` (k,) only (matrices cut to (k, k))."""
+        ix = np.ix_(idx, idx)
+        return self._replace(gap=self.gap[idx], rate=self.rate[idx], S_q=self.S_q[ix], S_v=self.S_v[ix], W=self.W[ix],
+                             pair=self.pair[idx], start=self.start[idx], approach=self.approach[idx],
+                             local_stiffness=self.local_stiffness[idx])
 
 
 class ContactLaw(ABC):
@@ -105,16 +181,41 @@ class ContactLaw(ABC):
             raise TypeError(f"contact law {cls.__name__} is a force law but does not implement forces(...)")
         if cls.compiled_impulses and cls.kind != "impulse":
             raise TypeError(f"contact law {cls.__name__} declares compiled_impulses but is not an impulse law")
+        if cls.kind == "force":
+            import inspect
+
+            params = [p for p in inspect.signature(cls.forces).parameters.values()
+                      if p.default is p.empty and p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+            if len(params) > 2:  # self and the ContactState (a wrapper taking *args passes)
+                raise TypeError(f"contact law {cls.__name__}: forces() takes one ContactState (forces(self, contact)), "
+                                f"not ({', '.join(p.name for p in params)})")
+
+    @classmethod
+    def override_problem(cls, default: type) -> str | None:
+        """Why this law cannot serve one pair of buildings in a run whose other pairs take the law
+        class ``default`` (a ``[[contact]]`` table), or None when it can.
+
+        Force laws may differ from pair to pair: each solves its own points with the step. An
+        impulse law's Newton problem couples every pair that shares a building at an instant,
+        so one impulse law serves every pair of a run; and the two kinds are not mixed in one
+        run (the driver takes events or forces)."""
+        if cls.kind != "force":
+            return (f"{cls.name or cls.__name__!r} acts by impulses at events, and one impulse law serves every pair of a run "
+                    f"(its Newton problem couples the pairs that share a building); a pair's own law must act by forces")
+        if default.kind != "force":
+            return (f"{cls.name or cls.__name__!r} acts by forces solved with the step, while [analysis] contact "
+                    f"{default.name or default.__name__!r} does not: a run takes forces on every pair or on none")
+        return None
 
     def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Impulses I >= 0 [N s] (m,) at the touching features of one slab pair (impulse laws),
         given the Delassus matrix W (m, m) [1/kg] and the closing speeds b (m,) [m/s]."""
         raise NotImplementedError
 
-    def forces(self, gap: np.ndarray, rate: np.ndarray, S_q: np.ndarray, S_v: np.ndarray, W: np.ndarray) -> np.ndarray:
-        """End-of-step contact forces lambda >= 0 [N] (m,) (force laws), given the end-of-step gaps
-        (m,) [m] and gap rates (m,) [m/s] without contact forces, their compliances to end-of-step
-        forces S_q, S_v (m, m), and the Delassus matrix W (m, m)."""
+    def forces(self, contact: ContactState) -> np.ndarray:
+        """End-of-step contact forces lambda >= 0 [N] (m,) (force laws), solved with the step:
+        the gaps at the step's end are ``contact.gap + contact.S_q @ lambda`` (see
+        :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
 
     def describe(self) -> dict:

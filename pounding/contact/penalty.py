@@ -30,7 +30,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from pounding.contact.base import ContactLaw
+from pounding.contact.base import ContactLaw, ContactState
 from pounding.errors import InputError
 
 
@@ -78,16 +78,13 @@ class Penalty(ContactLaw):
 
         return anagnostopoulos_damping_ratio(k)
 
-    def forces(self, gap, rate, S_q, S_v, W, stiffness=None):
-        """End-of-step forces (see :meth:`ContactLaw.forces`); ``stiffness`` (m,) [N/m], when given,
-        is every point's own spring (:class:`FacadePenalty`) instead of ``self.stiffness``."""
-        m = len(gap)
-        if stiffness is None:
-            ks = np.full(m, self.stiffness)
-            dashpots = lambda Wi, ki: self.dashpots(Wi)  # noqa: E731 - one spring at every point
-        else:
-            ks = np.asarray(stiffness, dtype=float)
-            dashpots = self.dashpots_for  # every contact mode gets the ratio xi
+    def forces(self, contact: ContactState) -> np.ndarray:
+        """End-of-step forces (see :meth:`ContactLaw.forces`): lambda = k delta + C delta' on the
+        points that push, solved with the step, ``(I + K S_q + C S_v) lambda = -K gap - C rate``
+        over an active set (a point whose force would pull is let go)."""
+        c = contact
+        m = len(c.gap)
+        ks = self.point_springs(c)
         active = np.ones(m, dtype=bool)
         lam = np.zeros(m)
         for _ in range(m + 1):  # active set: drop points that would pull
@@ -95,15 +92,25 @@ class Penalty(ContactLaw):
             if idx.size == 0:
                 break
             ki = ks[idx]
-            C = dashpots(W[np.ix_(idx, idx)], ki)
-            K = np.eye(idx.size) + ki[:, None] * S_q[np.ix_(idx, idx)] + C @ S_v[np.ix_(idx, idx)]
-            sol = np.linalg.solve(K, -ki * gap[idx] - C @ rate[idx])
+            ix = np.ix_(idx, idx)
+            C = self.point_dashpots(c.W[ix], ki)
+            K = np.eye(idx.size) + ki[:, None] * c.S_q[ix] + C @ c.S_v[ix]
+            sol = np.linalg.solve(K, -ki * c.gap[idx] - C @ c.rate[idx])
             lam[:] = 0.0
             lam[idx] = sol
             if np.all(sol >= 0):
                 break
             active[idx[sol < 0]] = False
         return np.maximum(lam, 0.0)
+
+    def point_springs(self, contact: ContactState) -> np.ndarray:
+        """Spring of every point (m,) [N/m]: k_p at each."""
+        return np.full(len(contact.gap), self.stiffness)
+
+    def point_dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Dashpot matrix (m, m) [N s/m] of points with Delassus matrix W and springs k (m,):
+        :meth:`dashpots` (one spring k_p at every point)."""
+        return self.dashpots(W)
 
     def dashpots_for(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
         """Dashpot matrix C (m, m) [N s/m] for points with springs k (m,) [N/m] of their own.
@@ -199,8 +206,14 @@ class FacadePenalty(Penalty):
     """
 
     name: ClassVar[str] = "facade_penalty"
-    #: the driver passes every point's own stiffness to :meth:`forces` (``stiffness=``)
-    local_stiffness: ClassVar[bool] = True
+
+    def point_springs(self, contact: ContactState) -> np.ndarray:
+        """Spring of every point (m,) [N/m]: k_p in series with the struck element's local stiffness."""
+        return self.point_stiffness(contact.local_stiffness)
+
+    def point_dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Dashpot matrix (m, m) [N s/m] for springs k (m,) of their own (:meth:`dashpots_for`)."""
+        return self.dashpots_for(W, k)
 
     def point_stiffness(self, local: np.ndarray) -> np.ndarray:
         """Springs (m,) [N/m] of points whose struck element has the local stiffness ``local`` (m,)

@@ -135,15 +135,11 @@ class PointwiseLaw(ContactLaw):
         f, fd, fr = self.law_force(float(delta), float(rate), float(approach_rate), p)
         return float(f), float(fd), float(fr)
 
-    def forces(self, contact, *legacy) -> np.ndarray:
+    def forces(self, contact) -> np.ndarray:
         """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact
         state: ``gap``, ``rate`` (m,) without contact forces, ``S_q``, ``S_v``, ``W`` (m, m),
         ``pair``, ``approach`` (m,)), shared by the face rule and solved with the step
         (:func:`solve_point_forces`)."""
-        if legacy:
-            raise InputError(f"contact law {self.name!r} needs each contact's pair and approach velocity, which this "
-                             "engine's force-law path does not give yet (the contact-state contract of issue 27); "
-                             "use 'penalty' or 'impulse' meanwhile", field="contact")
         gap = np.asarray(contact.gap, dtype=float)
         W = np.asarray(contact.W, dtype=float)
         m_eff = 1.0 / np.diag(W)

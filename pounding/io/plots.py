@@ -202,6 +202,26 @@ def plot_displacement_histories(result, path, *, points: Sequence | None = None,
 # =============================================================================
 
 
+def _plot_force_contacts(ax, result, contacts: list) -> None:
+    """A force law's contact episodes on the impact timeline: a bar from start to end at the pair's
+    storey, a marker at the start with area ~ impulse, one colour per pair of buildings."""
+    groups: dict = {}
+    for e in contacts:
+        a, _, b, _, _ = result.pairs[e.pair]
+        groups.setdefault((result.names[a], result.names[b]), []).append(e)
+    imax = max(e.impulse for e in contacts) or 1.0
+    for g, (key, eps) in enumerate(sorted(groups.items())):
+        colour = COLOURS[(g + 3) % len(COLOURS)]
+        y = [result.impact_storey(e) - 0.15 for e in eps]
+        ax.hlines(y, [e.start for e in eps], [max(e.end, e.start + 1e-3 * float(result.t[-1])) for e in eps], color=colour, lw=3.0)
+        ax.scatter([e.start for e in eps], y, s=[15 + 300 * e.impulse / imax for e in eps], marker="s", color=colour, alpha=0.7,
+                   edgecolors="k", linewidths=0.4, label=f"{key[0]} <-> {key[1]} (contact by forces)")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.text(0.99, 0.10, f"{len(contacts)} contact{'' if len(contacts) == 1 else 's'} by forces (bars: start to end), "
+            f"largest force {max(e.peak_force for e in contacts) / 1e3:.3g} kN, largest impulse {imax / 1e3:.3g} kN s",
+            ha="right", va="bottom", transform=ax.transAxes, fontsize=8, color="0.3")
+
+
 def plot_impact_timeline(result, path) -> Path:
     """Impacts: time vs storey (of the striking slab), a marker per striking (building, vertex) and
     what it struck (the other building's slab, or a storey's columns and walls between floors),
@@ -209,9 +229,12 @@ def plot_impact_timeline(result, path) -> Path:
     fig = _figure(9.0, 4.0)
     ax = fig.add_subplot(1, 1, 1)
     storeys = sorted({p[1] + 1 for p in pairs_of(result)}) or [1]
-    if not result.impacts:
+    contacts = list(getattr(result, "contacts", []))
+    if contacts:
+        _plot_force_contacts(ax, result, contacts)
+    if not result.impacts and not contacts:
         ax.text(0.5, 0.5, "no impacts", ha="center", va="center", transform=ax.transAxes, fontsize=14, color="0.4")
-    else:
+    elif result.impacts:
         groups: dict = {}
         facades = getattr(result, "facades", {})
         for imp in result.impacts:

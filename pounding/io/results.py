@@ -25,6 +25,12 @@ are kept.
   struck: the building, storey, height and element, and for a slab striking a
   neighbour between its floors the local stiffness and shear demand of the struck
   element (:func:`pounding.framework.model.facade.impact_sites`).
+* ``contacts.csv``: one row per contact episode of any contact law (:data:`CONTACT_COLUMNS`):
+  a force law's stretch of touching (start, end, its peak force and penetration, the
+  integral of its force and the energy it took out), and an impulse law's impact (an instant:
+  end = start, no penetration, the impulse and the kinetic energy lost, and the equivalent
+  peak force of ``[analysis.impact_force]``), so runs with either kind of law compare on one
+  table; summary.json has ``n_contacts`` and their totals under ``contacts``.
 * ``modal.npz`` and ``scene.toml``: what :func:`load_result` needs to rebuild
   the full :class:`Result` (modal histories, impact log, states at impact
   instants) for ``pounding plot`` and ``pounding render``. scene.toml is the scene
@@ -42,7 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pounding.framework.engine.results import Result
+from pounding.framework.engine.results import ContactEpisode, Result
 from pounding.framework.post.energy_account import energy_balance
 
 IMPACT_COLUMNS = [
@@ -52,6 +58,55 @@ IMPACT_COLUMNS = [
     "struck_building", "struck_storey", "struck_height [m]", "struck_element", "struck_fraction",
     "local_stiffness [N/m]", "struck_shear_below [N]", "struck_shear_above [N]",
 ]
+
+
+CONTACT_COLUMNS = [
+    "start [s]", "end [s]", "law", "building_a", "storey_a", "building_b", "storey_b", "point_x [m]", "point_y [m]",
+    "normal_x", "normal_y", "approach_velocity [m/s]", "peak_force [N]", "peak_penetration [m]", "impulse [N s]",
+    "energy_dissipated [J]",
+]
+
+
+def pair_law_names(result: Result) -> list[str]:
+    """The name of every slab pair's contact law (``[analysis] contact`` or its pair's ``[[contact]]``)."""
+    default = result.contact.get("name", "")
+    by = {frozenset(r["between"]): r.get("name", "") for r in result.contact.get("between", [])}
+    return [by.get(frozenset((result.names[a], result.names[b])), default) for a, _, b, _, _ in result.pairs]
+
+
+def contact_rows(result: Result) -> list[list]:
+    """contacts.csv rows (:data:`CONTACT_COLUMNS`), by start time: storeys 1-based; an impulse law's
+    impact takes the equivalent peak force of ``[analysis.impact_force]``
+    (:func:`pounding.framework.post.response.impact_forces`)."""
+    from pounding.framework.post.response import impact_forces
+
+    equivalent = impact_forces(result)[0] if result.impacts else []
+    laws = pair_law_names(result)
+    episodes = [(ContactEpisode.of_impact(imp), f) for imp, f in zip(result.impacts, equivalent)]
+    episodes += [(e, e.peak_force) for e in result.contacts]
+    rows = []
+    for e, force in sorted(episodes, key=lambda x: (x[0].start, x[0].pair)):
+        a, fa, b, fb, _ = result.pairs[e.pair]
+        rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, result.names[b], fb + 1, e.point[0], e.point[1],
+                     e.normal[0], e.normal[1], e.approach_velocity, force, e.peak_penetration, e.impulse, e.energy_dissipated])
+    return rows
+
+
+def contacts_summary(result: Result) -> dict:
+    """The contact episodes in summary.json: how many, per storey (the pair's first slab's), and their
+    totals (impulse, energy dissipated) and largest peak force and penetration (force laws')."""
+    eps = result.episodes()
+    storeys = Counter(result.pairs[e.pair][1] + 1 for e in eps)
+    forces = [e.peak_force for e in eps if np.isfinite(e.peak_force)]
+    return {
+        "n": len(eps),
+        "per_storey": {str(k): v for k, v in sorted(storeys.items())},
+        "impulse": float(sum(e.impulse for e in eps)),
+        "energy_dissipated": float(sum(e.energy_dissipated for e in eps)),
+        "peak_force": float(max(forces, default=0.0)),
+        "peak_penetration": float(max((e.peak_penetration for e in eps), default=0.0)),
+        "longest": float(max((e.duration for e in eps), default=0.0)),
+    }
 
 
 def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
@@ -68,7 +123,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
     from pounding.framework.post.response import peaks as response_peaks
 
     histories = response_histories(result) if histories is None else histories
-    storeys = Counter(result.impact_storey(i) for i in result.impacts)
+    storeys = Counter(result.impact_storey(i) for i in result.episodes())
     balances = building_balances(result)
     contact_forces = any(abs(result.energy[n]["contact_forces"]) > 0.0 for n in result.names)
     buildings = {}
@@ -104,6 +159,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "n_impacts": result.n_impacts,
         "impacts_per_storey": {str(k): v for k, v in sorted(storeys.items())},
         "impact_energy_loss": float(sum(i.energy_loss for i in result.impacts)),
+        "n_contacts": result.n_impacts,
+        "contacts": contacts_summary(result),
         "energy_balance": balance,
         "peaks_over": _peaks_over(result),
         **result.info,
@@ -160,6 +217,10 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
         w = csv.writer(fh)
         w.writerow(IMPACT_COLUMNS)
         w.writerows(impact_rows(result))
+    with open(folder / "contacts.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(CONTACT_COLUMNS)
+        w.writerows(contact_rows(result))
     imp = result.impacts
     np.savez(
         folder / "modal.npz",
@@ -172,6 +233,7 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
         impact_impulse=np.array([i.impulse for i in imp]), impact_normal=np.array([i.normal for i in imp]).reshape(-1, 2),
         impact_b=np.array([i.approach_velocity for i in imp]), impact_loss=np.array([i.energy_loss for i in imp]),
         impact_point=np.array([i.point for i in imp]).reshape(-1, 2),
+        **contact_arrays(result.contacts),
         slab_peaks=result.slab_peaks,
     )
     if scene_text is not None:
@@ -187,6 +249,30 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
             from pounding.errors import AnalysisWarning
 
             warnings.warn(f"scene.toml not written ({exc}): `pounding plot` cannot read this folder", AnalysisWarning, stacklevel=3)
+
+
+#: the fields of a force law's contact episode in modal.npz (``contact_<field>``), in ContactEpisode's order
+EPISODE_FIELDS = ("start", "end", "pair", "point", "normal", "approach_velocity", "peak_force", "peak_penetration", "impulse",
+                  "energy_dissipated")
+
+
+def contact_arrays(contacts: list) -> dict:
+    """The force laws' contact episodes as arrays ``contact_<field>`` (n,) or (n, 2) for modal.npz."""
+    out = {}
+    for f in EPISODE_FIELDS:
+        values = [getattr(e, f) for e in contacts]
+        out[f"contact_{f}"] = (np.array(values, dtype=float).reshape(-1, 2) if f in ("point", "normal")
+                               else np.array(values, dtype=np.int64 if f == "pair" else float))
+    return out
+
+
+def episodes_from(data) -> list:
+    """The contact episodes :func:`contact_arrays` wrote (none in older run folders)."""
+    if "contact_start" not in data:
+        return []
+    cols = [data[f"contact_{f}"] for f in EPISODE_FIELDS]
+    return [ContactEpisode(*(int(v) if f == "pair" else v.copy() if f in ("point", "normal") else float(v)
+                             for f, v in zip(EPISODE_FIELDS, row))) for row in zip(*cols)]
 
 
 def load_result(folder: str | Path):
@@ -236,6 +322,7 @@ def load_result(folder: str | Path):
         event_t=data["event_t"], event_q=data["event_q"], event_qd=data["event_qd"],
         slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
         springs=springs,
+        contacts=episodes_from(data),
     )
     from pounding.framework.engine.driver import Model
 

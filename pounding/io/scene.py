@@ -25,7 +25,7 @@ import numpy as np
 
 from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL as LENGTH_TOL, distance_to_polygon, same_level, unchecked_pairs  # noqa: F401 - the scene checks' rule
-from pounding.framework.model.scene import Analysis, Building, Damping, Scene, Slab
+from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
 
@@ -239,14 +239,18 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
 
 
 # --------------------------------------------------------------------------- analysis
-def _plugin(value: Any, registry, field: str) -> tuple[str, dict]:
+def _plugin(value: Any, registry, field: str, search: tuple = ()) -> tuple[str, dict]:
+    """(name, parameters) of a plugin given as a name or ``module:Class`` (``search``: folders to find
+    the module in), or a table ``{ name = ..., parameter = ... }``; the class is looked up and its
+    parameters checked here."""
     if isinstance(value, str):
         name, params = value, {}
     else:
         params = dict(value)
         name = params.pop("name")
-    cls = registry.get(name, field=field)
-    _check_params(cls, params, field)
+        field = f"{field}.name"
+    cls = registry.get(name, field=field, search=search)
+    _check_params(cls, params, field.removesuffix(".name"))
     return name, params
 
 
@@ -264,14 +268,14 @@ def _check_params(cls, params: dict, field: str) -> None:
         raise exc.located(field_prefix=field) from None
 
 
-def _analysis(table: Mapping) -> Analysis:
+def _analysis(table: Mapping, search: tuple = ()) -> Analysis:
     from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 
-    integrator, iparams = (None, {}) if "integrator" not in table else _plugin(table["integrator"], INTEGRATORS, "analysis.integrator")
-    contact, cparams = _plugin(table.get("contact", "impulse"), CONTACT_LAWS, "analysis.contact")
+    integrator, iparams = (None, {}) if "integrator" not in table else _plugin(table["integrator"], INTEGRATORS, "analysis.integrator", search)
+    contact, cparams = _plugin(table.get("contact", "impulse"), CONTACT_LAWS, "analysis.contact", search)
     if "restitution" in table:
         cparams.setdefault("restitution", float(table["restitution"]))
-        _check_params(CONTACT_LAWS.get(contact), cparams, "analysis.restitution")
+        _check_params(CONTACT_LAWS.get(contact, search=search), cparams, "analysis.restitution")
     force = dict(table.get("impact_force", {}))
     model = force.get("model", "hertz")
     for key, owner in (("stiffness", "hertz"), ("duration", "duration")):
@@ -289,6 +293,34 @@ def _analysis(table: Mapping) -> Analysis:
         impact_force=dict(table.get("impact_force", {})),
         silence=tuple(table.get("silence", ())),
     )
+
+
+def _contact_rules(tables: list, names: list[str], analysis: Analysis, search: tuple) -> tuple[ContactRule, ...]:
+    """The ``[[contact]]`` tables: the law of the slab pairs between two named buildings."""
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    default = CONTACT_LAWS.get(analysis.contact, search=search)
+    out, seen = [], {}
+    for i, table in enumerate(tables):
+        where = f"contact[{i}]"
+        between = list(table["between"])
+        for j, nm in enumerate(between):
+            if nm not in names:
+                raise InputError(f"no building is named {nm!r}; the buildings: {', '.join(map(repr, names))}",
+                                 field=f"{where}.between[{j}]")
+        if between[0] == between[1]:
+            raise InputError(f"expected two different buildings, got {between[0]!r} twice", field=f"{where}.between")
+        key = frozenset(between)
+        if key in seen:
+            raise InputError(f"the pair {between[0]!r} - {between[1]!r} already has its law in contact[{seen[key]}]",
+                             field=f"{where}.between")
+        seen[key] = i
+        law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
+        problem = CONTACT_LAWS.get(law, search=search).override_problem(default)
+        if problem is not None:
+            raise InputError(problem, field=f"{where}.law")
+        out.append(ContactRule((between[0], between[1]), law, params))
+    return tuple(out)
 
 
 # --------------------------------------------------------------------------- entry point
@@ -312,10 +344,13 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     base_dir = source.parent if source is not None else Path.cwd()
     gm = load_ground_motion(dict(data.get("ground_motion", {"record": "elcentro"})), base_dir=base_dir,
                             file=str(source) if source else None, default_period=lambda: first_period_of_taller(buildings))
-    analysis = _analysis(data.get("analysis", {}))
+    # a plugin named "module:Class" may live beside the scene file
+    search = (base_dir,)
+    analysis = _analysis(data.get("analysis", {}), search)
     if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
         raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")
-    return Scene(tuple(buildings), gm, analysis, source)
+    contacts = _contact_rules(data.get("contact", []), names, analysis, search)
+    return Scene(tuple(buildings), gm, analysis, source, contacts)
 
 
 def load_scene(path: str | Path) -> Scene:

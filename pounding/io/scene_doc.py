@@ -176,11 +176,12 @@ def _nested_owner(sub: Mapping) -> Mapping:
 def all_undocumented() -> list[str]:
     """Every undocumented key of the core and of every registered plugin."""
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, ground_motion_schema, SCENE
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, ground_motion_schema, SCENE
 
-    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion"))
+    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact"))
     out += undocumented(ground_motion_schema(), "ground_motion")
     out += undocumented(ANALYSIS, "analysis")
+    out += undocumented(CONTACT, "contact")
     out += undocumented(BUILDING, "building")
     for name in ELEMENTS.names():
         out += undocumented(ELEMENTS.get(name).schema, f"element {name!r}")
@@ -334,7 +335,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         by default only those that ship with pounding (the checked-in page).
     """
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, DAMPING, SCENE, ground_motion_schema
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, SCENE, ground_motion_schema
 
     parts = [
         "# Scene file reference\n\n"
@@ -345,12 +346,14 @@ def reference_markdown(*, installed: bool = False) -> str:
         "value per storey, bottom first. `pounding template` prints a commented starting scene; "
         "`pounding check SCENE` validates one without running it and prints what it understood, with units.\n\n"
         "Contents: [top level](#top-level), [[ground_motion]](#ground_motion), [[analysis]](#analysis), "
+        "[[[contact]]](#contact), "
         "[[[building]]](#building), [damping](#buildingdamping), [elements](#elements), [integrators](#integrators), "
         "[contact laws](#contact-laws), [plausibility warnings](#plausibility-warnings), [a whole scene](#a-whole-scene).\n",
         table_section("Top level", {"properties": {k: v for k, v in SCENE["properties"].items()}, "required": SCENE["required"]},
                       "The keys and tables at the top of the file.", expand=False),
         table_section("[ground_motion]", ground_motion_schema()),
         table_section("[analysis]", ANALYSIS),
+        table_section("[[contact]]", CONTACT) + "\n" + CONTACT_EXAMPLE,
         table_section("[[building]]", {**BUILDING, "properties": {k: v for k, v in BUILDING["properties"].items() if k != "damping"}}),
         table_section("[building.damping]", DAMPING, "An inline table inside `[[building]]`, e.g. "
                       "`damping = { type = \"rayleigh\", ratio = 0.05, modes = [1, 3] }`. " + DAMPING["description"]),
@@ -382,10 +385,48 @@ def reference_markdown(*, installed: bool = False) -> str:
                 parts.append("#" + table_section(f"{registry.kind.capitalize()} `{name}`", schema))
             else:
                 parts.append(f"### {registry.kind.capitalize()} `{name}`\n\n{schema.get('description', '')} No parameters.\n")
+        if registry is CONTACT_LAWS:
+            parts.append(OWN_LAW)
     parts.append(plausibility_section())
     parts.append("## A whole scene\n\nThe output of `pounding template` (loads as it is; "
                  "`pounding template --element shear_wall` gives walls instead of frames):\n\n```toml\n" + template_text() + "```\n")
     return "\n".join(parts)
+
+
+#: the [[contact]] section's example
+CONTACT_EXAMPLE = """Example: three buildings in a row, the pairs of `A` and `B` with the default law, those of `B` and the
+retaining wall `wall` with a stiffer spring of their own:
+
+```toml
+[analysis]
+contact = { name = "penalty", stiffness = 1e9, restitution = 0.5 }
+
+[[contact]]
+between = ["wall", "B"]
+law = { name = "penalty", stiffness = 5e9, restitution = 0.3 }
+```
+"""
+
+#: the contact-laws section's note on laws that are not installed
+OWN_LAW = """### A law of your own
+
+A contact law is one class written from `pounding.contact.base.ContactLaw` (its docstring states the whole
+contract): an impulse law (`kind = "impulse"`) implements `impulses(W, b)`; a force law (`kind = "force"`)
+implements `forces(contact)`, given one `ContactState` per step with the points' gaps and rates without contact
+forces, their compliances to the forces, and the contact's history (its pair, when it began, its closing speed
+then). Register it under the entry-point group `pounding.contact`, or name it `"module:Class"` in the scene: the
+module is imported from the Python path or from a `module.py` beside the scene file. For a Hertz contact in
+`my_laws.py` next to the scene:
+
+```toml
+[analysis]
+contact = { name = "my_laws:Hertz", stiffness = 2.75e9 }
+```
+
+Every law's contacts are reported the same way: one row per contact episode in `contacts.csv` (start, end, the
+pair's buildings and storeys, point, closing speed, peak force, peak penetration, impulse, energy dissipated),
+with `n_contacts` and their totals in `summary.json`, and on the impact timeline.
+"""
 
 
 def _exclusive_choices(schema: Mapping) -> str:

@@ -222,8 +222,11 @@ ANALYSIS = {
         "duration": positive("Length of the analysis (default: the record's; beyond it the ground is at rest).", "s", example=20.0),
         "contact": {
             **NAMED_PLUGIN, "default": "impulse",
-            "description": "Contact law: a name, or a table `{ name = ..., parameter = ... }` (see *Contact laws*).",
-            "examples": ["impulse"],
+            "description": "Contact law of every slab pair: a name, or a table `{ name = ..., parameter = ... }` (see "
+                           "*Contact laws*). The name may also be `\"module:Class\"`: a law that is not installed, imported from "
+                           "`module` (on the Python path, or a `module.py` beside the scene file). `[[contact]]` tables give "
+                           "single pairs of buildings laws of their own.",
+            "examples": ["impulse", {"name": "my_laws:Hertz", "stiffness": 2.75e9}],
         },
         "restitution": number(
             "Coefficient of restitution of the contact law (shorthand for its `restitution` parameter).", "-",
@@ -321,6 +324,28 @@ def ground_motion_schema() -> dict:
     }
 
 
+CONTACT = {
+    "type": "object",
+    "additionalProperties": False,
+    "required": ["between", "law"],
+    "description": "The contact law of the slab pairs between two buildings (`[[contact]]`, repeated: one table per "
+    "pair of buildings), instead of `[analysis] contact`: a retaining wall and a slab, a stiff and a soft facade. "
+    "Laws that act by forces solved with the step (`penalty`, `facade_penalty`, and plugins of that kind) may differ "
+    "from pair to pair, when `[analysis] contact` acts by forces too; one impulse law serves every pair of a run.",
+    "properties": {
+        "between": {
+            "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,
+            "description": "The names of the two buildings (either order).", "examples": [["wall", "B"]],
+        },
+        "law": {
+            **NAMED_PLUGIN,
+            "description": "Their contact law, as `[analysis] contact`: a name or `\"module:Class\"`, or a table "
+            "`{ name = ..., parameter = ... }`.",
+            "examples": [{"name": "penalty", "stiffness": 5e8}],
+        },
+    },
+}
+
 SCENE = {
     "type": "object",
     "required": ["building"],
@@ -330,6 +355,7 @@ SCENE = {
         "building": {"type": "array", "items": BUILDING, "minItems": 1, "description": "The buildings (`[[building]]`), one table each."},
         "ground_motion": {"type": "object", "description": "See *[ground_motion]*."},
         "analysis": ANALYSIS,
+        "contact": {"type": "array", "items": CONTACT, "description": "See *[[contact]]*."},
     },
 }
 

@@ -219,19 +219,26 @@ def _element_problems(data: Mapping) -> list[Problem]:
 
 
 def _plugin_problems(data: Mapping) -> list[Problem]:
-    """Unknown plugin names and parameters in [analysis] (their values are checked by the plugin)."""
+    """Unknown plugin names and parameters in [analysis] and the [[contact]] tables (their values
+    are checked by the plugin; a ``module:Class`` is imported and checked when the scene is built)."""
     from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 
-    analysis = data.get("analysis") if isinstance(data, Mapping) else None
-    if not isinstance(analysis, Mapping):
+    if not isinstance(data, Mapping):
         return []
+    places = []
+    analysis = data.get("analysis")
+    if isinstance(analysis, Mapping):
+        places += [(("analysis", key), analysis.get(key), registry) for key, registry in (("integrator", INTEGRATORS), ("contact", CONTACT_LAWS))]
+    contacts = data.get("contact")
+    for i, table in enumerate(contacts if isinstance(contacts, list) else ()):
+        if isinstance(table, Mapping):
+            places.append((("contact", i, "law"), table.get("law"), CONTACT_LAWS))
     out = []
-    for key, registry in (("integrator", INTEGRATORS), ("contact", CONTACT_LAWS)):
-        value = analysis.get(key)
+    for at, value, registry in places:
         name = value if isinstance(value, str) else value.get("name") if isinstance(value, Mapping) else None
-        if not isinstance(name, str):
+        if not isinstance(name, str) or ":" in name:
             continue
-        where = ("analysis", key) if isinstance(value, str) else ("analysis", key, "name")
+        where = at if isinstance(value, str) else at + ("name",)
         if name not in registry:
             out.append(Problem(where, unknown_key_message(name, registry.names(), registry.kind), True))
             continue
@@ -239,7 +246,7 @@ def _plugin_problems(data: Mapping) -> list[Problem]:
             accepted = ["name"] + plugin_parameters(registry.get(name))
             for param in value:
                 if param not in accepted:
-                    out.append(Problem(("analysis", key, param), unknown_key_message(param, accepted), True))
+                    out.append(Problem(at + (param,), unknown_key_message(param, accepted), True))
     return out
 
 

@@ -72,6 +72,8 @@ class Step:
     f0: np.ndarray
     f1: np.ndarray
     sp: object = None  # the yielding springs' trial (:class:`pounding.framework.engine.bundles.LinkTrial`)
+    #: what a force law's trial found (:class:`pounding.framework.engine.contact_episodes.StepContacts`)
+    contacts: object = None
 
 
 class Model:
@@ -202,6 +204,8 @@ class Model:
         from pounding.framework.model.facade import struck
 
         out = np.full(len(pair), np.inf)
+        if not self.facades:
+            return out
         for j, p in enumerate(np.asarray(pair).tolist()):
             F = self.facades.get(p)
             if F is None:
@@ -296,7 +300,14 @@ class Driver:
         self.every = an.output_every
         self.integrator = INTEGRATORS.get(integrator)(**an.integrator_params)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
-        self.tol = float(self.law.tolerance)
+        from pounding.framework.engine.contact_episodes import Episodes
+        from pounding.framework.engine.contact_laws import pair_laws
+
+        #: every pair's law (:func:`~pounding.framework.engine.contact_laws.pair_laws`): self.laws[self.pair_law[p]]
+        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law)
+        #: the force laws' contact episodes (the pairs' histories and what the run reports)
+        self.episodes = Episodes()
+        self.tol = max(float(law.tolerance) for law in self.laws)
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
         #: resting contact and chatter (see :mod:`pounding.framework.engine.crossing`)
         self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
@@ -551,6 +562,7 @@ class Driver:
     def result(self, runtime: float) -> Result:
         """The run's :class:`Result` (``runtime`` [s]: the solve)."""
         m = self.model
+        self.episodes.close_all(float(self.t_grid[-1]))
         k_out = np.arange(0, self.nsteps + 1, self.every)
         gm = self.gm
         ne = len(self.event_states)
@@ -572,7 +584,8 @@ class Driver:
             dt=self.dt,
             steps=self.nsteps,
             integrator=self.integrator.describe(),
-            contact=self.law.describe(),
+            contact=self._describe_laws(),
+            contacts=self.episodes.ended,
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / G, "angle": gm.angle},
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
                   # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
@@ -587,6 +600,13 @@ class Driver:
             timings={"load_and_compile_s": self.timings["load_s"], "compile_s": self.timings["compile_s"], "solve_s": runtime},
             intra_step=self.intra_step(),
         )
+
+    def _describe_laws(self) -> dict:
+        """The contact law (summary.json), with the ``[[contact]]`` laws of single pairs of buildings."""
+        out = self.law.describe()
+        if len(self.laws) > 1:
+            out["between"] = [{"between": list(r.between), **law.describe()} for r, law in zip(self.scene.contacts, self.laws[1:])]
+        return out
 
     def intra_step(self):
         """The integrator's own solution inside a step for the true peaks
@@ -709,6 +729,8 @@ class Driver:
             self.springs.commit(st.sp)
         if self.every > 1:  # the step's extremes, before any impulse at its end (true peaks)
             self.model.update_peaks(st.z0, st.z1, h, self.peak)
+        if st.contacts is not None or self.episodes.open:
+            self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0], lambda p: self.model.pair_gap(st.z1[:, 0], p))
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
 
@@ -792,24 +814,32 @@ class Driver:
         return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
 
     def force_trial(self, z, t, h, e0, e1) -> Step:
-        """A penalty-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
-        zero for elastic buildings): the penalty forces are solved implicitly with the step."""
+        """A force-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
+        zero for elastic buildings): every pair's law gives its forces, solved implicitly with the step."""
+        from pounding.contact.base import ContactState
+        from pounding.framework.engine.contact_episodes import StepContacts
+        from pounding.framework.engine.contact_laws import solve_forces
+
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
         pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        near, near_gap = pair, gap
         keep = gap < 0
         if not np.any(keep):
-            return Step(z, zf, self.fc, zero)
-        Wr, gap = Wr[keep], gap[keep]
+            return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(near, near_gap, self.model.n))
+        pair, gap, Wr, Qf, Nf = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep]
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
-        extra = {}
-        if getattr(self.law, "local_stiffness", False):  # a spring per point (slab against a facade)
-            extra["stiffness"] = self.law.point_stiffness(self.model.local_stiffness(pair[keep], Qf[keep], Nf[keep]))
-        lam = self.law.forces(gap, Wr @ zf[:, 1], S_q, S_v, Wr @ Wr.T, **extra)
+        rate = Wr @ zf[:, 1]
+        # the history: each pair's episode, or where its gap closes in this step (from its start, linear in q)
+        start, approach = self.episodes.history(t, h, pair, lambda: (gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate))
+        state = ContactState(t + h, h, gap, rate, S_q, S_v, Wr @ Wr.T, pair, start, approach,
+                             self.model.local_stiffness(pair, Qf, Nf))
+        lam = solve_forces(self.laws, self.pair_law[pair], state)
         f1 = Wr.T @ lam
-        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1)
+        contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, near, near_gap, f1)
+        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1, contacts=contacts)
 
     def held_trial(self, z, t, h, e0=None, e1=None) -> Step:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`)."""

@@ -55,6 +55,69 @@ class Impact:
                    np.array([r["nx"], r["ny"]]), float(r["approach_velocity"]), float(r["energy_loss"]), np.array([r["px"], r["py"]]))
 
 
+@dataclass(frozen=True)
+class ContactEpisode:
+    """One contact episode of a slab pair: what every contact law reports, impulse or force.
+
+    For a force law, the stretch of time the pair's slabs press on each other (from the step
+    their gap first closed to the step it opened again); for an impulse law, one impact (an
+    instant: ``end == start``, no penetration, its peak force the equivalent one of
+    ``[analysis.impact_force]``, filled in by the writers).
+
+    Attributes
+    ----------
+    start, end : float
+        When the gap closed and opened again [s] (interpolated inside the steps where it crossed zero).
+    pair : int
+        Index of the slab pair in the run's pair list (``Result.pairs``).
+    point : ndarray (2,)
+        Contact point in plan at the peak force [m] (force-weighted over the pair's points).
+    normal : ndarray (2,)
+        Unit normal from the pair's first slab towards the second, at the peak force.
+    approach_velocity : float
+        Closing speed when the gap closed [m/s].
+    peak_force : float
+        Largest total contact force of the pair at a step's end [N] (nan for an impulse: see above).
+    peak_penetration : float
+        Largest overlap of the pair's slabs at a step's end [m] (0 for an impulse).
+    impulse : float
+        Integral of the pair's total contact force over the episode [N s] (the trapezoidal rule on
+        the step ends, exact for the forces linear in each step that the driver applies).
+    energy_dissipated : float
+        Energy the contact took out of the buildings [J]: minus the work of its forces over the
+        episode (each step's mean force times its displacement:
+        :meth:`pounding.framework.engine.contact_episodes.Episodes.commit`), or the kinetic energy an
+        impulse removed.
+    """
+
+    start: float
+    end: float
+    pair: int
+    point: np.ndarray
+    normal: np.ndarray
+    approach_velocity: float
+    peak_force: float
+    peak_penetration: float
+    impulse: float
+    energy_dissipated: float
+
+    @property
+    def time(self) -> float:
+        """Start [s] (an impact's ``time``)."""
+        return self.start
+
+    @property
+    def duration(self) -> float:
+        """end - start [s]."""
+        return self.end - self.start
+
+    @classmethod
+    def of_impact(cls, imp: "Impact") -> "ContactEpisode":
+        """An impulse law's impact as an episode of no duration."""
+        return cls(imp.time, imp.time, imp.pair, imp.point, imp.normal, imp.approach_velocity, float("nan"), 0.0,
+                   imp.impulse, imp.energy_loss)
+
+
 @dataclass
 class Result:
     """Histories and logs of a run (physical arrays via :meth:`cm` and :meth:`vertices`).
@@ -72,6 +135,9 @@ class Result:
     pairs : list of (building a, storey a, building b, storey b, rest gap)
         0-based indices; storey numbers in files are 1-based.
     impacts : list of Impact
+        The impulses of impulse laws (and of held contact's arrivals).
+    contacts : list of ContactEpisode
+        The contact episodes of force laws (:meth:`episodes` adds the impacts).
     energy : dict
         Per building: ground-motion input, damping, contact-force work, kinetic, strain [J]; with
         yielding storey springs also hysteretic [J] (strain is then what the springs store).
@@ -121,6 +187,8 @@ class Result:
     #: the Scene that was run (None when unknown): :func:`pounding.io.results.write_results` writes it
     #: back as the run folder's scene.toml, so a folder written from Python can be plotted
     scene: object = field(default=None, repr=False)
+    #: the contact episodes of force laws (:class:`ContactEpisode`), in the order they ended
+    contacts: list = field(default_factory=list)
 
     def __post_init__(self) -> None:
         if self.slab_peaks is None:
@@ -172,7 +240,14 @@ class Result:
 
     @property
     def n_impacts(self) -> int:
-        return len(self.impacts)
+        """Number of contact episodes: impacts of impulse laws and episodes of force laws."""
+        return len(self.impacts) + len(self.contacts)
+
+    def episodes(self) -> list[ContactEpisode]:
+        """Every contact episode of the run, by start time: force laws' episodes and impulse laws'
+        impacts (:meth:`ContactEpisode.of_impact`), one table for both kinds of law."""
+        out = [ContactEpisode.of_impact(i) for i in self.impacts] + list(self.contacts)
+        return sorted(out, key=lambda e: (e.start, e.pair))
 
     def impact_storey(self, imp: Impact) -> int:
         """1-based storey of an impact (the first slab's storey)."""

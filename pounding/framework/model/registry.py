@@ -14,7 +14,10 @@ and what is wrong (exit code 2 on the command line); the other plugins are unaff
 Two plugins with one name give a warning.
 
 Lookup accepts a registered name or the class itself, as
-``scipy.integrate.solve_ivp(method=...)`` does.
+``scipy.integrate.solve_ivp(method=...)`` does, or ``"module:Class"``: a class
+that is not installed as an entry point, imported from ``module`` (an importable
+module, or a ``module.py`` in one of the folders given as ``search``, such as a
+scene file's own folder) and checked like an installed one.
 """
 
 from __future__ import annotations
@@ -110,17 +113,21 @@ class Registry(Generic[T]):
                 raise InputError(f"{self.kind} {name!r}: {exc}") from exc
 
     # -- lookup ------------------------------------------------------------------
-    def get(self, name_or_class: str | type, *, field: str | None = None) -> type:
-        """The plugin class for a name (or the class itself, checked).
+    def get(self, name_or_class: str | type, *, field: str | None = None, search: tuple = ()) -> type:
+        """The plugin class for a name, ``"module:Class"`` (imported, ``search``: folders to look
+        for ``module.py`` in when it is not importable), or the class itself, checked.
 
         Raises
         ------
         InputError
-            For an unknown name; the message lists the known ones.
+            For an unknown name (the message lists the known ones), a ``module:Class`` that does
+            not import or name a class of the family, or a class that breaks its contract.
         """
         if isinstance(name_or_class, type):
             self._check(getattr(name_or_class, "name", None), name_or_class)
             return name_or_class
+        if isinstance(name_or_class, str) and ":" in name_or_class and name_or_class not in self._discover():
+            return self._by_path(name_or_class, field, search)
         if not isinstance(name_or_class, str) or name_or_class not in self._discover():
             import difflib
 
@@ -130,8 +137,72 @@ class Registry(Generic[T]):
             raise InputError(f"unknown {self.kind} {name_or_class!r}{hint}; known: {known}", field=field)
         return self._load(name_or_class)
 
+    def _by_path(self, target: str, field: str | None, search: tuple) -> type:
+        """The class ``"module:Class"`` names, imported and checked (see :meth:`get`)."""
+        module, _, attr = target.partition(":")
+        if not (module and attr) or ":" in attr or not all(p.isidentifier() for p in module.split(".") + attr.split(".")):
+            raise InputError(f"expected a {self.kind} name or 'module:Class' (a module path and a class name), got {target!r}",
+                             field=field)
+        try:
+            obj = importlib.import_module(module) if _importable(module, search) else _import_from(module, search)
+            for part in attr.split("."):
+                obj = getattr(obj, part)
+        except ImportError as exc:
+            where = f" (looked in {', '.join(str(s) for s in search)} and on the Python path)" if search else ""
+            raise InputError(f"{self.kind} {target!r}: cannot import module {module!r}{where}: {exc}", field=field) from None
+        except AttributeError:
+            raise InputError(f"{self.kind} {target!r}: module {module!r} has no {attr!r}", field=field) from None
+        except Exception as exc:  # a module that fails while importing: say so, in one line
+            raise InputError(f"{self.kind} {target!r}: importing module {module!r} failed: {type(exc).__name__}: {exc}",
+                             field=field) from None
+        base = self._base()
+        if not (isinstance(obj, type) and issubclass(obj, base)):
+            what = f"the class {obj.__qualname__}" if isinstance(obj, type) else f"a {type(obj).__name__}"
+            raise InputError(f"{self.kind} {target!r} is {what}, not a subclass of {base.__qualname__}", field=field)
+        try:
+            self._check(getattr(obj, "name", None), obj)
+        except InputError as exc:
+            raise InputError(f"{target!r}: {exc.message}", field=field) from None
+        return obj
+
     def __contains__(self, name: str) -> bool:
         return name in self._discover()
+
+
+def _importable(module: str, search: tuple) -> bool:
+    """Whether ``module`` imports from the Python path (else it is looked for in ``search``)."""
+    import importlib.util
+
+    if not search:
+        return True
+    try:
+        return importlib.util.find_spec(module) is not None
+    except (ImportError, ValueError):
+        return False
+
+
+def _import_from(module: str, search: tuple):
+    """Import ``module`` (a top-level name) from ``module.py`` in the first of the folders ``search``
+    holding one, registered in ``sys.modules`` under its name."""
+    import importlib.util
+    import sys
+    from pathlib import Path
+
+    if module in sys.modules:
+        return sys.modules[module]
+    for folder in search:
+        path = Path(folder) / (module.replace(".", "/") + ".py")
+        if path.is_file():
+            spec = importlib.util.spec_from_file_location(module, path)
+            mod = importlib.util.module_from_spec(spec)
+            sys.modules[module] = mod
+            try:
+                spec.loader.exec_module(mod)
+            except BaseException:
+                del sys.modules[module]
+                raise
+            return mod
+    raise ModuleNotFoundError(f"No module named {module!r}")
 
 
 ELEMENTS: Registry = Registry(

@@ -142,6 +142,24 @@ class Analysis:
     silence: tuple[str, ...] = ()
 
 
+@dataclass(frozen=True)
+class ContactRule:
+    """The contact law of the slab pairs between two buildings (a ``[[contact]]`` table), instead
+    of ``[analysis] contact``.
+
+    between : (str, str)
+        The two buildings' names (either order).
+    law : str or type
+        A registered contact law's name, ``"module:Class"``, or the class itself.
+    params : dict
+        The law's parameters.
+    """
+
+    between: tuple[str, str]
+    law: Any
+    params: dict[str, Any] = field(default_factory=dict)
+
+
 @dataclass(frozen=True, eq=False)
 class Scene:
     """Everything a run needs: the buildings, the ground motion and the options."""
@@ -150,6 +168,8 @@ class Scene:
     ground_motion: Any  # GroundMotion or GroundMotionPair (pounding.io; kept loose to avoid an import cycle)
     analysis: Analysis = field(default_factory=Analysis)
     source: Path | None = None
+    #: per pair of buildings, a contact law instead of ``analysis.contact`` (:class:`ContactRule`)
+    contacts: tuple[ContactRule, ...] = ()
 
     def building(self, name: str) -> Building:
         for b in self.buildings:
@@ -165,6 +185,12 @@ class Scene:
         """
         check_keywords(changes, [f.name for f in fields(Analysis)], "Scene.with_analysis")
         return replace(self, analysis=replace(self.analysis, **changes))
+
+    def with_contact(self, between: tuple[str, str], law: Any, **params: Any) -> "Scene":
+        """A copy where the slab pairs between the buildings ``between`` take ``law`` (a name,
+        ``"module:Class"`` or a class) with ``params`` (replacing an earlier rule for that pair)."""
+        keep = tuple(r for r in self.contacts if frozenset(r.between) != frozenset(between))
+        return replace(self, contacts=keep + (ContactRule(tuple(between), law, dict(params)),))
 
     def with_ground_motion(self, ground_motion: Any) -> "Scene":
         """A copy shaken by ``ground_motion`` (a :class:`~pounding.io.ground_motion.GroundMotion` or a

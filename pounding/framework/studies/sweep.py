@@ -215,7 +215,9 @@ def _scene_for(spec: dict, case: dict, record_text: str | None):
 
 def _measures(result, scene, storeys: list[int]) -> dict:
     row = {"n_impacts": result.n_impacts}
-    per = Counter(result.impact_storey(i) for i in result.impacts)
+    # every contact episode: an impulse law's impacts and a force law's contacts (Result.episodes)
+    episodes = result.episodes()
+    per = Counter(result.impact_storey(e) for e in episodes)
     for s in storeys:
         row[f"impacts_storey_{s}"] = per.get(s, 0)
     from pounding.framework.engine import peaks as true_peaks
@@ -237,9 +239,9 @@ def _measures(result, scene, storeys: list[int]) -> dict:
         row[f"{b.name}_peak_u"] = float(pk[:, 0].max())
         row[f"{b.name}_peak_v"] = float(pk[:, 1].max())
         row[f"{b.name}_peak_phi"] = float(pk[:, 2].max())
-        row[f"{b.name}_peak_drift_ratio_cm"] = drift
-    row["max_impulse"] = float(max((i.impulse for i in result.impacts), default=0.0))
-    row["energy_loss"] = float(sum(i.energy_loss for i in result.impacts))
+        row[f"{b.name}_peak_drift_ratio_cm"] = float(drift)
+    row["max_impulse"] = float(max((e.impulse for e in episodes), default=0.0))
+    row["energy_loss"] = float(sum(e.energy_dissipated for e in episodes))
     return row
 
 

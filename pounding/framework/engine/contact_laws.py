@@ -1,0 +1,86 @@
+"""The contact law of every slab pair, and the forces of several force laws solved together.
+
+``[analysis] contact`` gives every pair its law; a ``[[contact]]`` table
+(:class:`pounding.framework.model.scene.ContactRule`) gives the pairs between two named buildings
+a law of their own (a retaining wall and a slab, a stiff and a soft facade).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.contact.base import ContactLaw, ContactState
+from pounding.framework.model.registry import CONTACT_LAWS
+
+#: block Gauss-Seidel between the laws of pairs that share a building: relative change at which it stops
+COUPLING_RTOL = 1e-12
+#: and the most sweeps it makes (a symmetric positive definite coupling converges; see solve_forces)
+COUPLING_SWEEPS = 200
+
+
+def pair_laws(scene, pairs: list, default: ContactLaw) -> tuple[list[ContactLaw], np.ndarray]:
+    """The laws of a run and the index of each pair's law.
+
+    Parameters
+    ----------
+    scene : Scene
+        Its ``contacts`` rules override ``default`` for the pairs between their two buildings.
+    pairs : list of (building a, storey a, building b, storey b, rest gap)
+        The run's slab pairs (building indices in scene order).
+    default : ContactLaw
+        The law of ``[analysis] contact``: index 0.
+
+    Returns
+    -------
+    laws : list of ContactLaw
+        ``default`` first, then one per rule.
+    which : ndarray (P,) int64
+        Index into ``laws`` of every pair's law.
+    """
+    names = [b.name for b in scene.buildings]
+    laws, by_pair = [default], {}
+    for rule in getattr(scene, "contacts", ()):
+        cls = CONTACT_LAWS.get(rule.law)
+        problem = cls.override_problem(type(default))
+        if problem is not None:
+            raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {problem}")
+        laws.append(cls(**rule.params))
+        by_pair[frozenset(rule.between)] = len(laws) - 1
+    which = np.array([by_pair.get(frozenset((names[a], names[b])), 0) for a, _, b, _, _ in pairs], dtype=np.int64)
+    return laws, which
+
+
+def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactState) -> np.ndarray:
+    """End-of-step forces lambda (m,) [N] of the m points in ``contact``, each by its pair's law
+    (``which`` (m,): index into ``laws``).
+
+    One law: its own :meth:`~pounding.contact.base.ContactLaw.forces`. Several: the points of
+    one law see the others' forces as known loads (their gaps and rates moved by
+    ``S_q @ lambda``, ``S_v @ lambda`` of the others), swept in turn until no force changes by
+    more than :data:`COUPLING_RTOL` of the largest (block Gauss-Seidel; it converges for a
+    linear spring law, whose system K^-1 + S_q is symmetric positive definite, and the points of
+    pairs that share no building are not coupled: one sweep solves them).
+    """
+    if which.min() == which.max():  # one law (the common case)
+        return np.asarray(laws[int(which[0])].forces(contact), dtype=float)
+    groups = np.unique(which)
+    lam = np.zeros(len(contact.gap))
+    members = [(laws[int(g)], np.flatnonzero(which == g), np.flatnonzero(which != g)) for g in groups]
+    for _ in range(COUPLING_SWEEPS):
+        change = 0.0
+        for law, idx, rest in members:
+            part = contact.take(idx)
+            part = part._replace(gap=part.gap + contact.S_q[np.ix_(idx, rest)] @ lam[rest],
+                                 rate=part.rate + contact.S_v[np.ix_(idx, rest)] @ lam[rest])
+            new = np.asarray(law.forces(part), dtype=float)
+            change = max(change, float(np.max(np.abs(new - lam[idx]), initial=0.0)))
+            lam[idx] = new
+        if change <= COUPLING_RTOL * max(float(np.max(np.abs(lam))), 1e-300):
+            return lam
+    import warnings
+
+    from pounding.errors import AnalysisWarning
+
+    warnings.warn(f"the forces of {len(members)} contact laws on pairs that share a building did not settle in "
+                  f"{COUPLING_SWEEPS} sweeps at t = {contact.t:.6g} s (last change {change:.3g} N)", AnalysisWarning, stacklevel=2)
+    return lam

@@ -1,0 +1,110 @@
+"""Third-party contact laws, as a plugin author writes them: one module, written from
+:class:`pounding.contact.base.ContactLaw` alone, used by class, as ``"contact_plugins:Hertz"``
+from a scene, or for one pair of buildings (``[[contact]]``).
+
+Both are force laws: given the step's :class:`~pounding.contact.base.ContactState`, each point's
+force lambda_j >= 0 [N] is solved with the step, its penetration at the step's end being
+``delta = -(gap + S_q @ lambda)`` and its rate ``delta' = -(rate + S_v @ lambda)``. For each point
+the force the law asks for falls as lambda grows (delta and delta' fall), so its equation has
+one root in [0, delta_j / S_q[j, j]], found by bracketing (Brent); points of one step are
+coupled through S_q and S_v and solved in turn until no force moves (Gauss-Seidel, which
+converges for the symmetric positive definite compliances of a step).
+
+References: Hertz contact of spheres (Goldsmith, *Impact*, 1960); the Hertzdamp model,
+Muthukumar, S. and DesRoches, R. (2006), Earthquake Eng. Struct. Dyn. 35, 811-828, with the
+damping of Lankarani, H. M. and Nikravesh, P. E. (1990), J. Mech. Des. 112, 369-376.
+"""
+
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+from scipy.optimize import brentq
+
+from pounding.contact.base import ContactLaw, ContactState
+from pounding.errors import InputError
+
+
+class Hertz(ContactLaw):
+    """Elastic Hertz contact, F = k_h delta^1.5 (no damping: restitution 1).
+
+    Parameters
+    ----------
+    stiffness : float
+        Hertz stiffness k_h [N/m^1.5].
+    restitution : float
+        Accepted (every law takes it) and unused: the contact is elastic.
+    """
+
+    name: ClassVar[str] = "hertz"
+    kind: ClassVar[str] = "force"
+
+    def __init__(self, *, stiffness: float = 2.75e9, restitution: float = 1.0):
+        super().__init__(restitution=restitution)
+        if not (isinstance(stiffness, (int, float)) and stiffness > 0):
+            raise InputError(f"expected a positive Hertz stiffness [N/m^1.5], got {stiffness!r}", field="stiffness")
+        self.stiffness = float(stiffness)
+
+    def point_force(self, delta: float, rate: float, contact: ContactState, j: int) -> float:
+        """The force [N] the law asks for at point j with penetration delta [m] and its rate [m/s]."""
+        return self.stiffness * max(delta, 0.0) ** 1.5
+
+    def forces(self, contact: ContactState) -> np.ndarray:
+        c = contact
+        m = len(c.gap)
+        lam = np.zeros(m)
+        for _ in range(100):
+            change = 0.0
+            for j in range(m):
+                others = c.S_q[j] @ lam - c.S_q[j, j] * lam[j], c.S_v[j] @ lam - c.S_v[j, j] * lam[j]
+                d0, r0 = -(c.gap[j] + others[0]), -(c.rate[j] + others[1])
+                if d0 <= 0.0:  # apart with the other points' forces: no force
+                    new = 0.0
+                else:
+                    def residual(x):
+                        return x - self.point_force(d0 - c.S_q[j, j] * x, r0 - c.S_v[j, j] * x, c, j)
+
+                    hi = d0 / c.S_q[j, j]  # the force that closes the penetration alone
+                    new = 0.0 if residual(0.0) >= 0.0 else brentq(residual, 0.0, hi, xtol=1e-14 * hi, rtol=1e-15)
+                change = max(change, abs(new - lam[j]))
+                lam[j] = new
+            if change <= 1e-13 * max(lam.max(initial=0.0), 1e-300):
+                break
+        return lam
+
+
+class Hertzdamp(Hertz):
+    """Hertz contact with damping that depends on the contact's history:
+
+        F = k_h delta^n (1 + xi delta' / delta'_0),   xi = 3 (1 - e^2) / 4,   F >= 0
+
+    where delta'_0 is the closing speed when the contact began (``ContactState.approach``) and
+    e the restitution; the dissipated energy per impact follows from e (Lankarani and
+    Nikravesh, for e near 1).
+
+    Parameters
+    ----------
+    stiffness : float
+        Hertz stiffness k_h [N/m^n].
+    exponent : float
+        n [-] (1.5: Hertz).
+    restitution : float
+        Coefficient of restitution e in (0, 1].
+    """
+
+    name: ClassVar[str] = "hertzdamp"
+
+    def __init__(self, *, stiffness: float = 2.75e9, exponent: float = 1.5, restitution: float = 0.8):
+        super().__init__(stiffness=stiffness, restitution=restitution)
+        self.exponent = float(exponent)
+        self.xi = 0.75 * (1.0 - self.restitution**2)
+        #: the approach speeds the law was given (private: describe() leaves it out of summary.json)
+        self._approaches: set[float] = set()
+
+    def point_force(self, delta: float, rate: float, contact: ContactState, j: int) -> float:
+        v0 = float(contact.approach[j])
+        self._approaches.add(v0)
+        if delta <= 0.0 or v0 <= 0.0:
+            return self.stiffness * max(delta, 0.0) ** self.exponent
+        return max(self.stiffness * delta**self.exponent * (1.0 + self.xi * rate / v0), 0.0)
