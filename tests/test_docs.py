@@ -272,8 +272,8 @@ def test_fragility_im_option_lists_what_the_study_accepts():
     scene = load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml")
     example = re.search(r"e\.g\. (\w+:[0-9.]+)", text).group(1)
     for name in [*names, example]:
-        label, unit, fn = intensity_measure(name, scene)
-        assert unit == "g" and callable(fn)
+        measure = intensity_measure(name, scene)
+        assert measure.unit == "g" and callable(measure.fn)
 
 
 @pytest.mark.parametrize("command", ["sweep", "fragility"])
