@@ -18,7 +18,7 @@ DEMO_OUT ?= demo_output
 $(VENV)/.stamp-base: pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV)
 	$(PIP) install --upgrade pip
-	$(PIP) install -e ".[viz]"
+	$(PIP) install -e ".[viz,data]"
 	@touch $@
 
 $(VENV)/.stamp-test: pyproject.toml $(VENV)/.stamp-base
