@@ -21,16 +21,8 @@ module is valid for (:func:`environment`: that key, the Python ABI, the numpy, n
 versions, the processor) and the build it belongs to; a module is loaded only where all of them
 match, so an edited source, an upgraded library or another machine never runs an old module.
 
-At run time a compiled function's first call looks for its export (:func:`lookup`). A call whose
-arguments have a fingerprint the module was built for runs the export; any other call (another
-scene's types, a function the warm-up did not call) goes to numba as before. The fingerprint check
-is what makes this safe: the module's argument conversion checks only an array's item size, so a
-call with the wrong layout would read wrong memory.
-
-Who uses it: ``POUNDING_AOT=1`` turns it on, ``0`` off. Unset, the ``pounding`` commands that run
-one scene (``run``, ``gap``, ``check``, ``demo``, ...) use it (:func:`prefer`): their process is short
-and its start is what the user waits for. Unset, a program that imports pounding, and ``pounding sweep`` /
-``pounding fragility``, keep numba's dispatch (see :func:`enabled`).
+At run time a compiled function's first call loads its export through :mod:`pounding.compiler.prebuilt`,
+which says when the module is used and why a call's fingerprint makes that safe.
 
 Building needs a C compiler (``pycc`` compiles a small C wrapper); without one :func:`build` says
 so in one line and the runs use numba's cache as before.
