@@ -1,8 +1,10 @@
 """The compiled core built ahead of time (pounding.aot): the same numbers without numba at run time.
 
-A module is built once for these tests from a small job (the paper pair's first 3 s with pounding:
-its stretches, the impacts located and struck from 1.9 s on, chatter held, HHT's transitions and
-the true peaks), into a folder of its own. What is asserted:
+The module is the one ``make test`` builds (``python -m pounding.aot``: the warm-up's job, which
+runs the paper pair with pounding and covers the small job below), or where none is current, one
+built for these tests from that small job (the paper pair's first 3 s with pounding: its stretches,
+the impacts located and struck from 1.9 s on, chatter held, HHT's transitions and the true peaks),
+into a folder of its own. What is asserted:
 a run served by it gives the recorded states bit for bit as numba's code does and never imports
 numba; a call whose argument types the module was not built for goes to numba and gives numba's
 answer; a module is found only for the version of the source it was built from.
@@ -56,8 +58,23 @@ def _compiler_works() -> bool:
     return external_compiler_works()
 
 
+def _installed() -> Path | None:
+    """The module ``make`` built for this version of the source (``python -m pounding.aot``), when it
+    is valid in this process; None otherwise."""
+    from pounding.compiler.prebuilt import _manifest, folder
+
+    where = folder() if not os.environ.get("POUNDING_AOT_DIR") else None
+    return where if where is not None and where.is_dir() and _manifest(where) is not None else None
+
+
 @pytest.fixture(scope="module")
 def module(tmp_path_factory):
+    """The module the runs below are served by: the one ``make test`` built beside numba's cache (its
+    warm-up job covers the job's paper pair), or, where none is current, one built here from the
+    job (about two minutes: pycc compiles every entry point again)."""
+    installed = _installed()
+    if installed is not None:
+        return installed
     if not _compiler_works():
         pytest.skip("no working C compiler here: the module cannot be built (the runs use numba's cache)")
     where = tmp_path_factory.mktemp("aot") / "built"
