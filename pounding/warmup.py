@@ -13,10 +13,12 @@ from pathlib import Path
 from pounding.compiler import PACKAGE_ROOT, cache_dir, enabled
 
 
-#: The warm-up tasks (see :func:`_warm_task`). ``--jobs 2`` runs the first in one process and the
-#: rest in a second one, so that the two largest compiled entry points (the free stretch and the
-#: held stretch) compile side by side.
-WARM_TASKS = ("kernel", "shared", "free")
+#: The warm-up tasks (see :func:`_warm_task`), in the two groups ``--jobs 2`` runs side by side (one
+#: process each), so that the largest compiled entry points (the stretch with the crossing locator,
+#: the held stretch, the free stretch, the force laws' stretch and the yielding springs' stepping)
+#: compile two at a time. ``--jobs 1`` runs them all in order.
+WARM_GROUPS = (("kernel", "force"), ("shared", "free", "yielding"))
+WARM_TASKS = tuple(t for g in WARM_GROUPS for t in g)
 
 
 def _paper_scene():
@@ -26,6 +28,15 @@ def _paper_scene():
     from pounding.io.scene import load_scene
 
     return load_scene(str(files("pounding.io") / "data" / "paper" / "pair_gap_0.03.toml"))
+
+
+def _yielding_scene():
+    """The paper pair with yielding (bilinear) storey springs, gap 0.03 m (examples/inelastic_pair)."""
+    from importlib.resources import files
+
+    from pounding.io.scene import load_scene
+
+    return load_scene(str(files("pounding.io") / "data" / "inelastic" / "pair_yielding_gap_0.03.toml"))
 
 
 def _warm_task(name: str) -> None:
@@ -42,7 +53,10 @@ def _warm_task(name: str) -> None:
     of a pair and of several pairs, the held stretch (a call over no steps), the selection of a held
     pair's touching points and the one-off maps and impact search
     of ``exact`` (the default integrator of elastic scenes). ``free``: the
-    contact-free stretch (the same scene with contact ``none``). Measured in
+    contact-free stretch (the same scene with contact ``none``). ``force``: the same scene with a
+    force law (``kelvin``), whose stretches stop at the contact tolerance rather than at a crossing,
+    and the law's compiled force. ``yielding``: the paper pair with yielding storey springs, with
+    pounding and without (the springs' compiled stepping, with the bilinear law). Measured in
     ``benchmarks/bench_compile.py``."""
     import warnings
 
@@ -95,7 +109,13 @@ def _warm_task(name: str) -> None:
         search = Driver(scene.with_analysis(integrator="exact", integrator_params={}))
         search.locate(0.0, search.dt, [0], search.trial(search.z, 0.0, search.dt))
     elif name == "free":
-        run(scene.with_analysis(contact="none"))
+        run(scene.with_analysis(contact="none", contact_params={}))
+    elif name == "force":
+        run(scene.with_analysis(contact="kelvin", contact_params={}, duration=5.0))
+    elif name == "yielding":
+        yielding = _yielding_scene()
+        run(yielding.with_analysis(duration=5.0))
+        run(yielding.with_analysis(contact="none", contact_params={}, duration=1.0))
     else:
         raise ValueError(f"unknown warm-up task {name!r}; expected one of {WARM_TASKS}")
 
@@ -145,9 +165,9 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
     compileall.compile_dir(str(PACKAGE_ROOT), quiet=1)  # bytecode; a read-only install is left as it is
     if marker is None:  # no numba, or NUMBA_DISABLE_JIT: nothing to compile
         return {"skipped": False, "wall_s": time.perf_counter() - t0, "jobs": 0, "tasks": {}}
-    jobs = max(1, min(len(WARM_TASKS), jobs or min(2, os.cpu_count() or 1)))
-    say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; once per version of the code, about 40 s of CPU) ...")
-    groups: list[list[str]] = [[WARM_TASKS[0]], list(WARM_TASKS[1:])] if jobs > 1 else [list(WARM_TASKS)]
+    jobs = max(1, min(len(WARM_GROUPS), jobs or min(2, os.cpu_count() or 1)))
+    say(f"pounding: compiling the numerical core for the first runs ({jobs} process{'es' if jobs > 1 else ''}; once per version of the code, a few minutes of CPU) ...")
+    groups: list[list[str]] = [list(g) for g in WARM_GROUPS] if jobs > 1 else [list(WARM_TASKS)]
     times: dict[str, float] = {}
     import tempfile
 

@@ -206,24 +206,39 @@ def test_summary_separates_the_solve_from_loading_and_compiling(tmp_path):
     assert s["timings_s"]["load_and_compile"] >= s["timings_s"]["compile"] >= 0.0
 
 
+YIELDING = PAPER.parents[1] / "inelastic_pair" / "pair_yielding_gap_0.03.toml"
+
+
 @needs_numba
 def test_install_warm_up_covers_the_runs_with_one_specialization_each():
     """The install-time warm-up (``python -m pounding.warmup --warm``) prepares what the runs it is
-    for call from Python (the paper pair with pounding, and with contact off) with the very
-    signatures those runs use, and its own calls from Python (the ``shared`` task, which compiles
-    inner functions ahead for the other process) add no second specialization: every compiled
-    function it touches has one signature. (Fresh processes on the package's cache: once the cache
-    is warm they load machine code and compile nothing. Which inner functions a second process then
-    loads rather than compiles is shown by ``NUMBA_DEBUG_CACHE=1``, see benchmarks/README.md.)"""
-    sigs = "print(json.dumps({k.__module__ + '.' + k.__name__: sorted(str(s) for s in k.signatures) for k in compiler.kernels() if k.signatures}))\n"
+    for call from Python (the paper pair with pounding, with contact off and with a force law, and
+    the paper pair with yielding storeys) with the very signatures those runs use: each run gives
+    every compiled function one signature, and every one of them is among the warm-up's. The
+    warm-up's own calls from Python (the ``shared`` task, which compiles inner functions ahead for
+    the other process) add no specialization that no run uses: a function the warm-up holds with
+    more than one signature (the stretch's two stopping rules, crossing and contact tolerance) has
+    each of them used by a run. (Fresh processes on the package's cache: once the cache is warm
+    they load machine code and compile nothing. Which inner functions a second process then loads
+    rather than compiles is shown by ``NUMBA_DEBUG_CACHE=1``, see benchmarks/README.md.)"""
+    # a signature names the laws' compiled functions it takes by their address in the process: drop it
+    sigs = ("import re\nprint(json.dumps({k.__module__ + '.' + k.__name__: sorted(re.sub(' at 0x[0-9a-f]+', '', str(s)) "
+            "for s in k.signatures) for k in compiler.kernels() if k.signatures}))\n")
+    env = {"POUNDING_AOT": "0"}  # numba's dispatchers, not the extension module
     warmed = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler, warmup\n"
-                     + "".join(f"warmup._warm_task({t!r})\n" for t in warmup.WARM_TASKS) + sigs)
-    assert {name: s for name, s in warmed.items() if len(s) != 1} == {}
-    for contact in ("impulse", "none"):
+                     + "".join(f"warmup._warm_task({t!r})\n" for t in warmup.WARM_TASKS) + sigs, env=env)
+    runs = {"impulse": (PAPER, "contact='impulse'"), "none": (PAPER, "contact='none', contact_params={}"),
+            "kelvin": (PAPER, "contact='kelvin', contact_params={}, duration=5.0"), "yielding": (YIELDING, "duration=5.0")}
+    used_by_some: dict[str, set] = {}
+    for what, (scene, change) in runs.items():
         used = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"
                        "from pounding.framework.post.run import run\nfrom pounding.io.scene import load_scene\n"
-                       f"run(load_scene({str(PAPER)!r}).with_analysis(contact={contact!r}))\n" + sigs)
-        assert {name: s for name, s in used.items() if warmed.get(name) != s} == {}
+                       f"run(load_scene({str(scene)!r}).with_analysis({change}))\n" + sigs, env=env)
+        assert {name: s for name, s in used.items() if len(s) != 1} == {}, what
+        assert {name: s for name, s in used.items() if not set(s) <= set(warmed.get(name, ()))} == {}, what
+        for name, s in used.items():
+            used_by_some.setdefault(name, set()).update(s)
+    assert {name: s for name, s in warmed.items() if len(s) > 1 and not set(s) <= used_by_some.get(name, set())} == {}
 
 
 def test_warm_up_if_needed_returns_at_once_when_marked(tmp_path, monkeypatch):
