@@ -151,3 +151,30 @@ def test_bad_export_input_exits_2_and_writes_nothing(tmp_path, args, message):
     assert done.returncode == 2
     assert message in done.stderr and len(done.stderr.strip().splitlines()) == 1
     assert list(tmp_path.iterdir()) == []
+
+
+def test_exported_force_law_pounds_as_the_tools_law(tmp_path):
+    """A force law exports as zeroLength elements with OpenSees' material of the same name: jankowski as
+    JankowskiImpact (half the law at each end of a face, at its point's effective mass), on the two shear
+    buildings of tests/test_opensees_contact_buildings.py; the script's floor displacements are the tool's
+    to 1e-6 of the peak (the in-memory model, which this script writes down, measured 3.3e-10 there)."""
+    from contact_pair import pair_scene
+
+    scene = pair_scene({"name": "jankowski", "restitution": 0.5}, 1e-3, 0.85)
+    result = run(scene)
+    _, peer = _run_script(scene, tmp_path, modes=0)
+    assert "JankowskiImpact" in (tmp_path / "model.py").read_text()
+    for bld in scene.buildings:
+        ours = result.cm(bld.name)[:, :, 0]
+        assert np.abs(peer[bld.name][:, :, 0] - ours).max() <= RTOL * np.abs(ours).max(), bld.name
+
+
+def test_kelvin_without_tension_exports_its_material_and_says_how_it_differs(tmp_path):
+    """kelvin's default (tension = false, never pulling) exports as ViscoelasticGap, which may pull: the note says so."""
+    from contact_pair import pair_scene
+    from pounding.peer.export import write_script
+
+    notes = write_script(pair_scene({"name": "kelvin", "restitution": 0.5}, 1e-3, 0.85), tmp_path / "model.py")
+    text = (tmp_path / "model.py").read_text()
+    assert "ViscoelasticGap" in text and "zeroLength" in text
+    assert any("tension = false" in n for n in notes) and "Left out: contact law 'kelvin'" in text

@@ -15,8 +15,8 @@ def add_parser(sub) -> None:
         description=(
             "Write the scene's model in another program's terms. 'opensees' writes an OpenSeesPy script of the same "
             "model (rigid diaphragms, frames and walls as planar structures, storey springs as links with Steel01 or "
-            "BoucWen, each building's Rayleigh damping, the ground motion as UniformExcitation, contact as gap springs "
-            "where OpenSees has the law); running it prints the periods and writes the floors' displacement histories. "
+            "BoucWen, each building's Rayleigh damping, the ground motion as UniformExcitation, contact as zeroLength "
+            "elements with the material of the force law: ViscoelasticGap, Hertzdamp, JankowskiImpact, ElasticPPGap); running it prints the periods and writes the floors' displacement histories. "
             "What OpenSees cannot represent is printed as warnings and written at the top of the script. "
             "See docs/opensees-export.md."
         ),

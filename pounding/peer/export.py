@@ -12,10 +12,13 @@ commands. It holds
 * each building's Rayleigh damping C = a0 M + a1 K_initial
   (:func:`~pounding.peer.opensees.rayleigh_damping`);
 * the ground motion as ``UniformExcitation`` (:func:`~pounding.peer.opensees.uniform_excitation`);
-* contact as ``zeroLength`` elements with ``ElasticPPGap`` where OpenSees has the law: a contact
-  law with a linear spring (``stiffness``) between two buildings with collinear facing facades
-  along x (:func:`~pounding.peer.opensees.face_gap_springs`); the dashpot of a penalty law and
-  the rigid impulse law have no OpenSees material and are left out (the script says so);
+* contact as ``zeroLength`` elements between two buildings with collinear facing facades along x
+  (:func:`~pounding.peer.opensees.face_springs`), with the OpenSees material of the pair's force
+  law (:mod:`pounding.peer.opensees_contact`: ``ViscoelasticGap`` for kelvin, ``Hertzdamp`` for
+  hertz and hertzdamp, ``JankowskiImpact`` for jankowski, ``ElasticPPGap`` for penalty's springs);
+  the rigid impulse law has no OpenSees material and is left out, and where a material differs
+  from the law (penalty's dashpot, kelvin without tension, Hertzdamp's impact velocity) the script
+  says so;
 * a Newton transient analysis with the scene's integrator where OpenSees has it (``newmark``
   as ``Newmark``; ``hht`` as ``HHT_TP`` with alpha 1 + Hilber's alpha), else Newmark average
   acceleration, at the time step and for the number of steps the tool would use.
@@ -104,37 +107,35 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
 
 
 def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
-    """Gap springs where OpenSees has the contact law; notes on what is left out."""
-    from pounding.framework.model.registry import CONTACT_LAWS
-    from pounding.peer.opensees import face_gap_springs
+    """Contact elements where OpenSees has the pair's contact law (:mod:`pounding.peer.opensees_contact`);
+    notes on what is left out or differs."""
+    from pounding.peer.opensees import face_springs
+    from pounding.peer.opensees_contact import has_material, law_material, material_notes, pair_law
 
-    an = scene.analysis
-    law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
-    stiffness = getattr(law, "stiffness", None)  # a law with a linear contact spring: OpenSees' ElasticPPGap
-    if an.contact == "none":
+    if scene.analysis.contact == "none" and not scene.contacts:
         ops.comment("none: the scene's contact law is 'none'")
         return []
-    if stiffness is None:
-        note = (f"contact law {an.contact!r} has no OpenSees material (OpenSees has no rigid impulse at events): "
-                "the script has no contact; compare contact-free histories, or export a scene with contact = 'penalty'")
-        ops.comment(note)
-        return [note]
     if len(scene.buildings) != 2:
-        note = "gap springs are written for a pair of buildings only: the script has no contact"
+        note = "contact elements are written for a pair of buildings only: the script has no contact"
         ops.comment(note)
         return [note]
     pair = sorted(scene.buildings, key=lambda b: float(np.mean(b.slabs[0].vertices[:, 0])))
-    try:
-        face_gap_springs(ops, pair, masters, float(stiffness), tags)
-    except ValueError as exc:
-        note = f"no gap springs ({exc}; they are written for facades facing each other along x): the script has no contact"
+    law = pair_law(scene, *pair)
+    if not has_material(law):
+        note = (f"contact law {law.name!r} has no OpenSees material (OpenSees has no rigid impulse at events): "
+                "the script has no contact; compare contact-free histories, or export a scene with a force law "
+                "(kelvin, hertz, hertzdamp, jankowski or penalty)")
         ops.comment(note)
         return [note]
-    notes = []
-    if getattr(law, "restitution", 1.0) < 1.0:
-        notes.append(f"contact law {an.contact!r}: its dashpot (restitution {law.restitution:g}) has no counterpart in "
-                     "ElasticPPGap: the script's contact springs are elastic and lose no energy in impacts")
-        ops.comment(notes[-1])
+    try:
+        face_springs(ops, pair, masters, law_material(law), tags)
+    except ValueError as exc:
+        note = f"no contact elements ({exc}; they are written for facades facing each other along x): the script has no contact"
+        ops.comment(note)
+        return [note]
+    notes = material_notes(law)
+    for note in notes:
+        ops.comment(note)
     return notes
 
 

@@ -407,15 +407,26 @@ def _rayleigh_pairs(buildings, rayleigh) -> list[tuple[float, float]]:
 def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, out_of_plane: float = 1e-12):
     """Two buildings side by side along x pounding through zero-length gap springs, in OpenSees.
 
+    :func:`run_face_pounding` with the gap springs of :func:`face_gap_springs` (``ElasticPPGap`` of
+    stiffness ``stiffness`` [N/m] at each end of the common facade); returns what it returns.
+    """
+    return run_face_pounding(ops, scene, gap_material(stiffness), dt, n_steps, out_of_plane=out_of_plane)
+
+
+def run_face_pounding(ops, scene, material, dt: float, n_steps: int, *, out_of_plane: float = 1e-12,
+                      tol: float = 1e-12, max_iter: int = 50):
+    """Two buildings side by side along x pounding through zero-length contact elements, in OpenSees.
+
     The pair as tests/test_opensees_pounding.py describes it: the full 3-D model of
-    :func:`build_building` for each, each building's own Rayleigh damping, and the gap
-    springs of :func:`face_gap_springs` (``ElasticPPGap`` of stiffness ``stiffness`` [N/m]);
-    Newmark average acceleration, Newton, ``n_steps`` steps of ``dt`` [s]. The facades must
-    be collinear (face-to-face contact) and the motion along x.
+    :func:`build_building` for each, each building's own Rayleigh damping (none on the contact
+    elements), and the contact elements of :func:`face_springs` with the materials ``material``
+    gives; Newmark average acceleration, Newton (``NormDispIncr`` ``tol`` [m], at most ``max_iter``
+    iterations), ``n_steps`` steps of ``dt`` [s]. The facades must be collinear (face-to-face
+    contact) and the motion along x.
 
     Returns (ux, forces, iterations, clear): ux dict name -> (n_steps + 1, storeys)
     master-node x displacements [m]; forces (n_steps + 1, common storeys, 2) basic force
-    of the springs [N] (negative in compression); the total Newton iterations; the
+    of the contact elements [N] (negative in compression); the total Newton iterations; the
     clear distance [m].
     """
     ops.wipe()
@@ -424,9 +435,9 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
     # each building's own Rayleigh damping C = a0 M + a1 K_initial, as pounding's (and run_transient's)
     rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
     masters = {name: parts[0] for name, parts in built.items()}
-    springs, clear = face_gap_springs(ops, scene.buildings, masters, stiffness, tags)
+    springs, clear = face_springs(ops, scene.buildings, masters, material, tags)
 
-    newmark_along_x(ops, scene.ground_motion, "run_gap_pounding", 1e-12, 50)
+    newmark_along_x(ops, scene.ground_motion, "run_face_pounding", tol, max_iter)
 
     ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
     forces = np.zeros((n_steps + 1, len(springs), 2))
@@ -443,17 +454,38 @@ def run_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: int, *, o
     return ux, forces, iterations, clear
 
 
+def gap_material(stiffness: float):
+    """The material of :func:`face_gap_springs`: ``ElasticPPGap(stiffness, -1e30, -clear, 0, "noDamage")`` at
+    every point, whatever its share or effective mass (a spring ``stiffness`` [N/m] per point)."""
+    k = float(stiffness)
+    return lambda share, m_eff, clear: ("ElasticPPGap", k, -1e30, -clear, 0.0, "noDamage")
+
+
 def face_gap_springs(ops, buildings, masters: dict, stiffness: float, tags) -> tuple[list[list[int]], float]:
-    """Compression-only contact springs between two buildings whose facing slab edges are collinear, along x.
+    """Compression-only linear springs (``ElasticPPGap``, ``stiffness`` [N/m] each) between two buildings whose
+    facing slab edges are collinear, along x: :func:`face_springs` with :func:`gap_material`.
+
+    ``ElasticPPGap(stiffness, -1e30, -clear, 0, "noDamage")``: no force while the clear distance stays
+    open, ``stiffness`` times the penetration once it closes (the huge negative yield force keeps it
+    elastic). Returns what :func:`face_springs` returns.
+    """
+    return face_springs(ops, buildings, masters, gap_material(stiffness), tags)
+
+
+def face_springs(ops, buildings, masters: dict, material, tags) -> tuple[list[list[int]], float]:
+    """Zero-length contact elements between two buildings whose facing slab edges are collinear, along x.
 
     At both ends of the common facade, on every common storey, a ``zeroLength`` element in x
     between two coincident nodes, each a slave of its building's diaphragm
-    (``rigidDiaphragm 3``, restrained in uz, rx, ry, which nothing stiffens), with
-    ``ElasticPPGap(stiffness, -1e30, -clear, 0, "noDamage")``: no force while the clear
-    distance stays open, ``stiffness`` [N/m] times the penetration once it closes (OpenSees'
-    gap materials take the gap as a negative number; the huge negative yield force keeps it
-    elastic). ``buildings`` = (the one on the -x side, the one on the +x side); ``masters`` maps
-    a building's name to its master tags per floor; ``tags()`` gives the next free tag.
+    (``rigidDiaphragm 3``, restrained in uz, rx, ry, which nothing stiffens). The element has no
+    Rayleigh damping (``zeroLength`` takes it only with ``-doRayleigh 1``): its material is the
+    whole contact. ``material(share, m_eff, clear)`` gives the ``uniaxialMaterial`` arguments after the
+    tag for an element that carries ``share`` [-] of the contact of its storey (1/2: the two ends of
+    the face) at a point of effective mass ``m_eff`` [kg] (:func:`point_effective_mass`), the clear
+    distance being ``clear`` [m] (OpenSees' gap materials take it as the negative gap); elements
+    with the same arguments share one material. ``buildings`` = (the one on the -x side, the one on
+    the +x side); ``masters`` maps a building's name to its master tags per floor; ``tags()`` gives
+    the next free tag.
 
     Returns (springs, clear): springs[f] = the two element tags of common storey f + 1; the
     clear distance [m].
@@ -467,8 +499,7 @@ def face_gap_springs(ops, buildings, masters: dict, stiffness: float, tags) -> t
     ends_y = sorted({float(v[1]) for v in low.slabs[0].vertices})
     if ends_y != sorted({float(v[1]) for v in high.slabs[0].vertices}):
         raise ValueError("gap springs need collinear facades (face-to-face contact)")
-    material = tags()
-    ops.uniaxialMaterial("ElasticPPGap", material, float(stiffness), -1e30, -clear, 0.0, "noDamage")
+    materials: dict[tuple, int] = {}
     springs = []
     for f in range(min(low.n_storeys, high.n_storeys)):
         z = float(low.slabs[f].elevation)
@@ -483,11 +514,26 @@ def face_gap_springs(ops, buildings, masters: dict, stiffness: float, tags) -> t
                 ops.fix(tag, *MASTER_FIX)  # uz, rx, ry carry no stiffness here; ux, uy, rz follow the diaphragm
                 ops.rigidDiaphragm(3, masters[b.name][f], tag)
                 ends.append(tag)
+            args = tuple(material(1.0 / len(ends_y), point_effective_mass(low.slabs[f], high.slabs[f], y), clear))
+            if args not in materials:
+                materials[args] = tags()
+                ops.uniaxialMaterial(args[0], materials[args], *args[1:])
             tag = tags()
-            ops.element("zeroLength", tag, *ends, "-mat", material, "-dir", 1)
+            ops.element("zeroLength", tag, *ends, "-mat", materials[args], "-dir", 1)
             row.append(tag)
         springs.append(row)
     return springs, clear
+
+
+def point_effective_mass(slab_a, slab_b, y: float) -> float:
+    """Effective mass [kg] of two slabs at a contact point of ordinate ``y`` [m] with an x normal.
+
+    1 / a with a = sum over the two slabs of 1/m + (y - y_c)^2 / J (the paper's a: a unit pair of
+    forces along x at the point moves each slab's centre by 1/m and twists it by (y - y_c) / J;
+    m [kg], J [kg m^2] the slab's mass and polar inertia about its centre of mass (x_c, y_c)).
+    """
+    a = sum(1.0 / s.mass + (y - float(s.centre[1])) ** 2 / s.polar_inertia for s in (slab_a, slab_b))
+    return 1.0 / a
 
 
 # --------------------------------------------------------------------------- P-Delta peer
