@@ -41,7 +41,9 @@ Contract for an implementer
 Everything the driver reads from a law is declared on :class:`ContactLaw`, with
 a default and its meaning:
 
-1. ``name`` (the registered name) and ``kind`` (one of :data:`KINDS`).
+1. ``name`` (the registered name) and ``kind`` (one of :data:`KINDS`), from which the base class
+   sets what the engine reads: ``at_events`` (impulses at located instants) and ``with_step``
+   (forces solved with the step); the engine never reads ``kind`` or the law's class.
 2. Parameters keyword-only in ``__init__`` (``restitution`` always accepted),
    validated there with :class:`pounding.errors.InputError` naming the field.
 3. ``tolerance`` [m]: a pair within it is in contact (impulse laws) or watched
@@ -164,6 +166,24 @@ class ContactLaw(ABC):
     locate: str = "crossing"
     #: accelerations after an impact (impulse laws): "equilibrium" or the paper's "keep"
     after_impact: str = "equilibrium"
+    #: what the law needs from the engine, which is all the engine reads of ``kind``: impulses at
+    #: located instants of contact (``at_events``), forces solved with every step while its pairs
+    #: touch (``with_step``), or neither (contact off: no pair is watched). Set from ``kind`` for
+    #: every subclass (:meth:`__init_subclass__`) unless the subclass sets them itself.
+    at_events: ClassVar[bool] = True
+    with_step: ClassVar[bool] = False
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        if "at_events" not in cls.__dict__:
+            cls.at_events = cls.kind == "impulse"
+        if "with_step" not in cls.__dict__:
+            cls.with_step = cls.kind == "force"
+
+    @classmethod
+    def watches(cls) -> bool:
+        """Whether the engine watches the slab pairs for this law (False: contact is off)."""
+        return bool(cls.at_events or cls.with_step)
 
     def __init__(self, *, restitution: float = 0.5):
         if not (isinstance(restitution, (int, float)) and 0.0 <= restitution <= 1.0):
@@ -179,6 +199,8 @@ class ContactLaw(ABC):
             raise TypeError(f"contact law {cls.__name__} is an impulse law but does not implement impulses(W, b)")
         if cls.kind == "force" and cls.forces is ContactLaw.forces:
             raise TypeError(f"contact law {cls.__name__} is a force law but does not implement forces(...)")
+        if cls.at_events and cls.with_step:
+            raise TypeError(f"contact law {cls.__name__} declares both at_events and with_step; a law acts one way")
         if cls.compiled_impulses and cls.kind != "impulse":
             raise TypeError(f"contact law {cls.__name__} declares compiled_impulses but is not an impulse law")
         if cls.kind == "force":
@@ -199,10 +221,10 @@ class ContactLaw(ABC):
         impulse law's Newton problem couples every pair that shares a building at an instant,
         so one impulse law serves every pair of a run; and the two kinds are not mixed in one
         run (the driver takes events or forces)."""
-        if cls.kind != "force":
+        if not cls.with_step:
             return (f"{cls.name or cls.__name__!r} acts by impulses at events, and one impulse law serves every pair of a run "
                     f"(its Newton problem couples the pairs that share a building); a pair's own law must act by forces")
-        if default.kind != "force":
+        if not default.with_step:
             return (f"{cls.name or cls.__name__!r} acts by forces solved with the step, while [analysis] contact "
                     f"{default.name or default.__name__!r} does not: a run takes forces on every pair or on none")
         return None

@@ -100,6 +100,16 @@ class PlanarElement(ABC):
         nan (the default): no local stiffness known, the struck point is as stiff as a slab edge."""
         return float("nan")
 
+    @property
+    def yields(self) -> bool:
+        """True when the element is a line of yielding storey springs, one per floor of ``floors``,
+        each between its floor and the one below along ``direction`` at ``point``: the engine then
+        steps it with its hysteresis law (:func:`pounding.framework.engine.inelastic.spring_set`)
+        and reads ``law`` (a hysteresis law instance), ``heights`` (the storeys' heights [m]) and
+        ``spring_parameters()`` ((len(floors), n_params) the law's parameters per storey).
+        False (the default): the element is linear, its ``lateral_stiffness()`` is all it gives."""
+        return False
+
 
 def point_compliance(E: float, I: float, L: float, a: float, GAs: float = np.inf) -> float:
     """Deflection per unit load [m/N] under a point load at a [m] from the bottom of a fixed-fixed

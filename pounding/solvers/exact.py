@@ -137,6 +137,7 @@ class Exact(Integrator):
     # Only when work_maps cannot serve (a mode with omega = 0): 4 Gauss points on the exact
     # trajectory integrate the work to ~(omega dt)^8 / 1e9 relative per step.
     energy_nodes = 4
+    exact_within_step = True
 
     def work_maps(self, omega, zeta, dt):
         """Exact work integrals of a step on the exact trajectory, for the energy audit.

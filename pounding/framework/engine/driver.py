@@ -310,7 +310,7 @@ class Driver:
         self.tol = max(float(law.tolerance) for law in self.laws)
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
         #: resting contact and chatter (see :mod:`pounding.framework.engine.crossing`)
-        self.crossing = self.law.kind == "impulse" and getattr(self.law, "locate", "") == "crossing"
+        self.crossing = self.law.at_events and self.law.locate == "crossing"
         # the crossing locator's one-off step lengths take the integrator's partial maps (equal to
         # rounding, cheaper); the paper's locators keep transition() to the bit
         self.cache = TransitionCache(self.integrator, self.model.omega, self.model.zeta, grid_dt=self.dt, partial=self.crossing)
@@ -354,13 +354,13 @@ class Driver:
         self.ground = Ground(self.dt, self.ag)
         self.rec = Recorder(int(self.every), self.Q, self.V, self.E, self.peak)
         # contact "none": no pair is watched
-        self.kgeo = self.model.geo if self.law.kind != "none" else _no_pairs(self.model.geo)
-        compiled = bool(self.law.compiled_impulses and self.law.kind == "impulse")
+        self.kgeo = self.model.geo if self.law.watches() else _no_pairs(self.model.geo)
+        compiled = bool(self.law.compiled_impulses)  # (declared by impulse laws only: ContactLaw.check_contract)
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
         self.settings = Settings(
-            self.tol, 0.0 if self.law.kind == "force" else (-self.eps if self.crossing else -self.tol), float(self.v_min),
+            self.tol, 0.0 if self.law.with_step else (-self.eps if self.crossing else -self.tol), float(self.v_min),
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
             bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
         )
@@ -380,13 +380,12 @@ class Driver:
 
     # ---------------------------------------------------------------- stepping
     def _compiled_search(self) -> bool:
-        """Whether the whole impact search can run compiled: ``exact`` with its compiled one-off
-        transition (the one the cache builds)."""
+        """Whether the whole impact search can run compiled: an integrator exact within the step
+        (the search builds exact's one-off maps itself), with the compiler on."""
         from pounding.compiler import Kernel
-        from pounding.solvers.exact import Exact
         from pounding.solvers.exact_partial import exact_transition
 
-        return isinstance(exact_transition, Kernel) and type(self.integrator).partial_transition is Exact.partial_transition
+        return bool(self.integrator.exact_within_step) and isinstance(exact_transition, Kernel)
 
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
         """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
@@ -512,12 +511,12 @@ class Driver:
         tl1 = compiler.load_seconds()
         k = 0
         self._record(0)
-        if self.model.pairs and self.law.kind != "none":
+        if self.model.pairs and self.law.watches():
             g0 = self.gaps(self.z[:, 0])
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.use_kernel and self.sustained and self.law.kind == "impulse" and self.springs is None:
+            if self.use_kernel and self.sustained and self.springs is None:  # (only impulses hold pairs)
                 k_end = min(self.nsteps, k + 4096)
                 k_new, status, _ = self.advance_held(k, k_end)
             elif self.needs_python(k):
@@ -539,7 +538,7 @@ class Driver:
                 self.contact_at(self.t_grid[k_new])
                 self._record(k_new)  # with the velocities after the impulses, as a Python step records
                 k = k_new
-                if self.law.kind == "force":
+                if self.law.with_step:  # its forces are solved with Python steps while the pair touches
                     self.python_step_until_clear = True
             else:  # OVERLAP in step k_new -> k_new + 1: the state is its start
                 self.python_step(k_new)
@@ -611,7 +610,7 @@ class Driver:
     def intra_step(self):
         """The integrator's own solution inside a step for the true peaks
         (:class:`pounding.framework.engine.peaks.ExactIntraStep`), or None: the Hermite cubic."""
-        if self.integrator.name != "exact" or self.springs is not None or self.law.kind == "force":
+        if not self.integrator.exact_within_step or self.springs is not None or self.law.with_step:
             return None
         from pounding.framework.engine.peaks import ExactIntraStep
 
@@ -751,7 +750,7 @@ class Driver:
 
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""
-        if self.law.kind != "impulse":
+        if not self.law.at_events:
             return []
         free = self.free_pairs()
         g = self.model.gaps(z1[:, 0], free, self.tol)
@@ -781,9 +780,9 @@ class Driver:
         zero = np.zeros(self.model.n)
         if self.springs is not None:
             return self.spring_trial(z, t, h)
-        if self.law.kind == "impulse" and self.sustained:
+        if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
-        if self.law.kind == "force":
+        if self.law.with_step:
             return self.force_trial(z, t, h, zero, zero)
         return Step(z, self.step(z, t, h, self.fc), self.fc, zero)
 
@@ -793,7 +792,7 @@ class Driver:
         them around the held-contact or penalty solve."""
         sp, tr = self.springs, self.cache(h)
         g0 = sp.g
-        if self.law.kind == "impulse" and self.sustained:
+        if self.sustained:  # (only impulses hold pairs)
             def solve(g1):
                 st = self.held_trial(z, t, h, g0, g1)
                 return st, st.z1[:, 0]
@@ -801,7 +800,7 @@ class Driver:
             st, new = sp.fixed_point(solve, h)
             st.sp = new
             return st
-        if self.law.kind == "force":
+        if self.law.with_step:
             def solve(g1):
                 st = self.force_trial(z, t, h, -g0, -g1)
                 return st, st.z1[:, 0]
@@ -885,7 +884,7 @@ class Driver:
         def gmin(hh):
             if hh <= 0.0:
                 return float(self.model.gaps(self.z[:, 0], plist).min())
-            if self.law.kind == "impulse" and not self.sustained and self.springs is None:
+            if not self.sustained and self.springs is None:  # (culprits, hence this search, come only with impulses)
                 # no contact force in the step: only its end displacements are needed
                 tr = self.cache(hh)
                 return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, p0,
@@ -989,7 +988,7 @@ class Driver:
         stretches), with the law's own ``impulses(W, b)``, logged to the same records. A pair whose rebound is too slow to open the tolerance within one
         step (Zeno) is held from then on.
         """
-        if self.law.kind != "impulse":
+        if not self.law.at_events:
             return False
         if pairs is not None and len(pairs) == 0:  # nothing to strike (the crossing locator's step ends, mostly)
             self.drain_kernel_events()

@@ -132,13 +132,11 @@ def spring_set(building: Building, index: int = 0) -> SpringSet:
 
     Elements may follow different hysteresis laws (``law_id`` says which).
     """
-    from pounding.elements.storey_springs import StoreySprings
-
     n = building.n_storeys
     centres = np.array([s.centre for s in building.slabs])
     rows, params, elem, storey, height, ids, laws = [], [], [], [], [], [], []
     for e_idx, e in enumerate(building.elements):
-        if not (isinstance(e, StoreySprings) and e.yields):
+        if not e.yields:  # a linear element: in the modal stiffness only
             continue
         if type(e.law) not in laws:
             laws.append(type(e.law))

@@ -34,6 +34,6 @@ def chosen_integrator(scene) -> str:
         return OTHERWISE
     from pounding.framework.model.registry import CONTACT_LAWS
 
-    if CONTACT_LAWS.get(an.contact).kind == "force":
+    if CONTACT_LAWS.get(an.contact).with_step:
         return OTHERWISE
     return ELASTIC
