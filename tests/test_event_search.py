@@ -1,8 +1,9 @@
-"""The impact search of ``exact`` compiled whole (pounding.framework.engine.event_search) is the driver's.
+"""The impact search compiled whole for ``exact`` is the same function run with the compiler off.
 
-The driver's search (``Driver.locate_crossing`` with ``_polish`` on the integrator's own solution)
-is the specification; the compiled one repeats its arithmetic in the same order, so everything here
-is asserted bit for bit: numpy's ``interp`` of the record, the modal load at any instant, and the
+``crossing_search`` (pounding.framework.engine.event_search) runs compiled on ``exact``'s solution
+where nothing but the ground acts in a step, and interpreted on the driver's Python callable
+otherwise; the two gap functions step ``exact`` with the same arithmetic, so everything here is
+asserted bit for bit: numpy's ``interp`` of the record, the modal load at any instant, and the
 impact instants (with everything that follows from them) of whole runs with pounding.
 """
 

@@ -115,6 +115,22 @@ class Transition(NamedTuple):
     WM: np.ndarray  #: (n, 4, 4)
 
 
+class ExactSearch(NamedTuple):
+    """What the impact search needs to step ``exact`` to any instant inside a grid step
+    (:func:`pounding.framework.engine.event_search.locate_exact`)."""
+
+    dt: float  #: grid step [s]
+    A: np.ndarray  #: (n, 3, 3) exact's transition over the grid step
+    B: np.ndarray  #: (n, 3, 2)
+    omega: np.ndarray  #: (n,) modal circular frequencies [rad/s]
+    zeta: np.ndarray  #: (n,) modal damping ratios
+    ag: np.ndarray  #: (nsteps + 1, c) ground acceleration on the grid [m/s^2]
+    rec_t: np.ndarray  #: (m,) the record's sample times [s]
+    rec_acc: np.ndarray  #: (m, c) the record's accelerations [m/s^2] (interpolated linearly between samples)
+    L: np.ndarray  #: (n, c) modal load per unit ground acceleration
+    geo: PairArrays  #: the watched slab pairs
+
+
 class Recorder(NamedTuple):
     """What a run records, written in place."""
 

@@ -225,7 +225,7 @@ def suspect_given(z0, z1, p, h, eps, tol, geo, k, rates, gaps, da, db, V, A):
 
 
 # --------------------------------------------------------------------------- the search on the interpolant
-# The driver's impact search (:meth:`pounding.framework.engine.driver.Driver.locate_crossing`) runs on the
+# The impact search (:func:`pounding.framework.engine.event_search.crossing_search`) runs on the
 # cubic Hermite interpolant of a step's end displacements and velocities (a fourth-order guess of the
 # integrator's own intra-step solution, with no transition to build) and then confirms and polishes the
 # zero on the integrator's solution. These functions do the interpolant's part in one compiled call each,
@@ -301,7 +301,7 @@ def hermite_zero(q0, v0, q1, v1, h, lo, hi, eps, xtol, checked, plist, geo):
 ILLINOIS_ITERATIONS = 200
 
 #: the most halvings back from a step's end towards a pair touching at its start, looking for where it
-#: has left contact (:func:`pounding.framework.engine.driver._leave_contact`): 2^-60 of a step is below xtol
+#: has left contact (:func:`pounding.framework.engine.event_search.crossing_search`): 2^-60 of a step is below xtol
 LEAVE_HALVINGS = 60
 
 
@@ -310,10 +310,9 @@ def illinois_point(lo, hi, flo, fhi):
     """The next trial point [s] of regula falsi on the bracket [lo, hi] with f(lo) = flo > 0 > fhi = f(hi)
     (the secant's zero; the midpoint where the secant is flat or leaves the bracket).
 
-    The zero finders share it and :func:`illinois_bracket`: :func:`hermite_zero` on the interpolant,
-    :func:`pounding.framework.engine.event_search._first_zero` on ``exact``'s solution and
-    :func:`pounding.framework.engine.driver._first_zero` on a Python callable (the integrator's own solution,
-    which compiled code cannot call): each loop is theirs, the arithmetic is these two functions'."""
+    The zero finders share it and :func:`illinois_bracket`: :func:`hermite_zero` on the interpolant and
+    :func:`pounding.framework.engine.event_search.crossing_search` on the integrator's own solution:
+    each loop is theirs, the arithmetic is these two functions'."""
     x = hi - fhi * (hi - lo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
     if not lo < x < hi:
         x = 0.5 * (lo + hi)

@@ -326,6 +326,7 @@ class Driver:
         self.record = _record_arrays(gm, self.ag.shape[1])
         #: the record for the compiled impact search of ``exact``, or None where the driver's own search runs
         self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
+        self._exact_search = None  # its bundle (exact_search())
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -897,11 +898,8 @@ class Driver:
                 # nothing but the ground acts in the step: the same search, compiled whole
                 from pounding.framework.engine.event_search import locate_exact
 
-                tr, (rec_t, rec_acc) = self.cache(self.dt), self.search_record
                 found, hs = locate_exact(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
-                                         p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), float(self.cache.grid_dt),
-                                         np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega, self.cache.zeta,
-                                         float(self.dt), self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
+                                         p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.exact_search())
                 return float(hs) if found else None
             memo: dict[float, float] = {}
 
@@ -941,42 +939,24 @@ class Driver:
         """Step length to the first zero of the smallest gap gmin(hh) of the pairs ``plist`` on [0, h],
         to the geometry's rounding, or None when the gap stays above -eps (a graze that did not touch).
 
-        The search runs on the step's cubic Hermite interpolant ``herm`` = (q0, v0, q1, v1 (n,), h),
-        compiled (:mod:`pounding.framework.engine.crossing`): a step ending overlapping brackets a root at
-        once; otherwise samples, then Brent's bounded minimisation, tell whether the gap dips below
-        zero. The integrator's own intra-step solution gmin then confirms and polishes the zero
-        (Newton with the interpolant's slope, then regula falsi with the Illinois rule).
-        """
-        from pounding.framework.engine.crossing import hermite_search, hermite_slope, hermite_zero
+        :func:`pounding.framework.engine.event_search.crossing_search`, the one search, run with its
+        body interpreted because its gap, the integrator's own intra-step solution ``gmin``, is a
+        Python callable; ``herm`` = (q0, v0, q1, v1 (n,), h) is the step's cubic Hermite interpolant."""
+        from pounding.framework.engine.event_search import crossing_search
 
-        eps = self.eps
-        xtol = 1e-14 * max(self.dt, 1.0)
-        geo_ = self.model.geo
+        found, hs = crossing_search.py_func(lambda hh: gmin(float(hh)), None, herm, self.eps, 1e-14 * max(self.dt, 1.0),
+                                            plist, self.model.geo)
+        return float(hs) if found else None
 
-        def slope(x):  # of the interpolant's gap: the Newton slope of _polish
-            return hermite_slope(*herm, float(x), plist, geo_)
+    def exact_search(self):
+        """The :class:`~pounding.framework.engine.bundles.ExactSearch` bundle of this run (built once)."""
+        if self._exact_search is None:
+            from pounding.framework.engine.bundles import ExactSearch
 
-        g0 = gmin(0.0)
-        gh = gmin(h)
-        if g0 > eps and gh < -eps:
-            return _polish(gmin, 0.0, h, hermite_zero(*herm, 0.0, float(h), eps, xtol, False, plist, geo_), eps, xtol, slope)
-        found, lo, hi = hermite_search(*herm, float(g0), float(gh), eps, plist, geo_)
-        if not found and gmin(hi) >= -eps:  # hi: the interpolant's minimum; the integrator's own solution decides
-            return None
-        if gmin(hi) >= -eps:
-            hi = h if gh < -eps else hi
-        if gmin(lo) <= eps:  # touching at the bracket's start (a pair struck or pressed at the step's start)
-            # struck there and opening, it may close again later in the step (another corner, or the
-            # same one coming back): the zero sought is the first after the pair has left contact
-            left = _leave_contact(gmin, lo, hi, eps, xtol) if gmin(hi) < -eps else None
-            if left is None:  # it stays in contact (pressed): the start is the event
-                return lo
-            lo, hi, fhi = left
-            if fhi >= -eps:
-                return hi
-        if gmin(hi) >= -eps:
-            return None
-        return _polish(gmin, lo, hi, hermite_zero(*herm, float(lo), float(hi), eps, xtol, True, plist, geo_), eps, xtol, slope)
+            tr, (rec_t, rec_acc) = self.cache(self.dt), self.search_record
+            self._exact_search = ExactSearch(float(self.dt), np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega,
+                                             self.cache.zeta, self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
+        return self._exact_search
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
@@ -1096,74 +1076,6 @@ class Driver:
             if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
                 log.zeno[p] = True
         return True
-
-
-def _first_zero(f, lo: float, hi: float, eps: float, xtol: float) -> float:
-    """A zero of f on [lo, hi] with f(lo) > 0 > f(hi): the first point found where |f| <= eps (the
-    geometry's zero), by regula falsi with the Illinois rule (superlinear, bracketing); bisection
-    down to xtol [s] where the gap is not smooth. Returns lo when f(lo) <= eps already.
-
-    The iteration of :func:`pounding.framework.engine.crossing.hermite_zero`, which runs it compiled on the
-    cubic interpolant; here f is any Python callable (the integrator's own solution, which compiled
-    code cannot call). The arithmetic is the shared :func:`~pounding.framework.engine.crossing.illinois_point`
-    and :func:`~pounding.framework.engine.crossing.illinois_bracket`."""
-    from pounding.framework.engine.crossing import ILLINOIS_ITERATIONS, illinois_bracket, illinois_point
-
-    flo = f(lo)
-    if flo <= eps:
-        return lo
-    fhi = f(hi)
-    side = 0.0
-    for _ in range(ILLINOIS_ITERATIONS):
-        if hi - lo <= xtol:
-            break
-        x = illinois_point(lo, hi, flo, fhi)
-        fx = f(x)
-        if abs(fx) <= eps:
-            return x
-        lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
-    return lo
-
-
-def _leave_contact(f, lo: float, hi: float, eps: float, xtol: float):
-    """Where a pair touching at lo (f(lo) <= eps [m]) that overlaps at hi (f(hi) < -eps) has left contact
-    in between: halving back from hi [s], the first x with f(x) > eps and the point before it, prev [s],
-    with f(prev) <= eps. Returns (x, prev, f(prev)), or None when f stays within eps of contact or below it
-    down to xtol [s] past lo (the pair stays in contact: pressed together, not struck and opening).
-
-    A pair struck at lo that opens there (its struck corner rebounds) while another of its corners
-    closes has its next zero where that corner arrives; the gap at lo is the struck corner's zero, not it.
-    The compiled search repeats it (:func:`pounding.framework.engine.event_search._leave_contact`)."""
-    from pounding.framework.engine.crossing import LEAVE_HALVINGS
-
-    prev, fprev, x = hi, f(hi), hi
-    for _ in range(LEAVE_HALVINGS):
-        x = lo + 0.5 * (x - lo)
-        if x - lo <= xtol:
-            break
-        fx = f(x)
-        if fx > eps:
-            return x, prev, fprev
-        prev, fprev = x, fx
-    return None
-
-
-def _polish(f, lo: float, hi: float, x: float, eps: float, xtol: float, slope=None) -> float:
-    """A zero of f on [lo, hi] (f(lo) > 0 > f(hi)) from a close guess x: Newton steps with the
-    slope of the cheap interpolant (``slope(x)``), kept inside the bracket each evaluation narrows
-    (two evaluations when the guess is good), then :func:`_first_zero` if they do not settle."""
-    from pounding.framework.engine.crossing import newton_bracket
-
-    for _ in range(4):
-        if not lo < x < hi:
-            break
-        fx = f(x)
-        if abs(fx) <= eps:
-            return x
-        lo, hi, x, more = newton_bracket(lo, hi, x, fx, slope(x) if slope is not None else 0.0)
-        if not more:
-            break
-    return _first_zero(f, lo, hi, eps, xtol)
 
 
 def _record_arrays(gm, components: int):

@@ -1,29 +1,24 @@
-"""The crossing locator's impact search for ``exact``, compiled whole: one call per located event.
+"""The crossing locator's impact search, written once: :func:`crossing_search`.
 
-The driver's search (:meth:`pounding.framework.engine.driver.Driver.locate_crossing`) asks the
-integrator's own solution for the pairs' smallest gap at a handful of step lengths (the
-``gmin`` of its docstring), each a Python call that builds the step's transition, forms the
-ground-motion load at its end and calls the compiled gap: about 0.15 ms of an event's 0.5 ms.
-When the integrator is ``exact`` and nothing acts in the step but the ground (no held pair, an
-impulse law, no yielding springs), the same search runs here in one compiled call, with the same
-arithmetic in the same order, so the instants it returns are the driver's to the bit
-(tests/test_event_search.py; ``benchmarks/check_identity.py``):
+An impact instant is the first zero of the smallest gap of the suspect pairs over a step, found on
+the integrator's own intra-step solution ``gap(hh, sol)`` (the state a step of hh [s] from the
+step's start reaches), with the step's cubic Hermite interpolant as a cheap guide
+(:mod:`pounding.framework.engine.crossing`): a bracket, Newton steps with the interpolant's
+slope, then regula falsi with the Illinois rule.
 
-* the step of length hh is the grid transition when hh is the grid step, else
-  :func:`~pounding.solvers.exact_partial.exact_transition` (the driver's
-  :class:`~pounding.solvers.base.TransitionCache` for ``exact`` with the crossing locator);
-* the modal load at t + hh is :meth:`~pounding.framework.engine.driver.Driver.load`'s: the grid row of
-  the record at a grid instant, else the record interpolated by :func:`record_at` (numpy's
-  ``interp`` arithmetic, :func:`interp`), which the driver calls too;
-* the search is :meth:`~pounding.framework.engine.driver.Driver.locate_crossing` with
-  :func:`~pounding.framework.engine.driver._polish` and :func:`~pounding.framework.engine.driver._first_zero`
-  on that solution, the Hermite interpolant's search and slope as there.
+The search is one compiled function; where the gap comes from is its first argument. When the
+integrator is ``exact`` and nothing acts in the step but the ground (no held pair, an impulse
+law, no yielding springs), it runs compiled whole with :func:`stepped_gap` (exact's maps to any
+instant and the record interpolated there: :func:`locate_exact`, one call per located event).
+Otherwise the driver runs the very same function with the compiler off for its own body
+(``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step
+(any integrator, held pairs, yielding springs); the arithmetic it calls (the interpolant's
+search, the Newton and Illinois updates) is compiled either way.
 
-The regula falsi's arithmetic is :func:`~pounding.framework.engine.crossing.illinois_point` and
-:func:`~pounding.framework.engine.crossing.illinois_bracket`, shared with the interpolant's zero finder and
-the driver's. Each keeps its own loop around them: numba could take the gap function as an argument
-of one shared loop, but every function passed would make another specialization of it, and the
-compiled core keeps one per function (tests/test_compiled_core.py).
+The modal load at t + hh is :meth:`~pounding.framework.engine.driver.Driver.load`'s: the grid row
+of the record at a grid instant, else the record interpolated by :func:`record_at` (numpy's
+``interp`` arithmetic, :func:`interp`), which the driver calls too, so the compiled search and
+the driver's give the same instants to the bit (tests/test_event_search.py).
 """
 
 from __future__ import annotations
@@ -103,115 +98,126 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 
 @njit
 def stepped_gap(hh, sol):
-    """The smallest gap [m] of the pairs after ``exact``'s step of hh [s] (the driver's ``gmin``); at
-    hh <= 0, at the start state itself. ``sol`` = (t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta,
-    dt, ag, rec_t, rec_acc, L, geo): the step's start time [s], state (n, 3) and load (n,), the pairs,
-    the grid step [s] and its transition, the modes and what :func:`modal_load_at` takes."""
-    t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo = sol
+    """The smallest gap [m] of the pairs after ``exact``'s step of hh [s]; at hh <= 0, at the start
+    state itself. ``sol`` = (t, z, p0, plist, search): the step's start time [s], state (n, 3) and
+    load (n,), the pairs (k,), and the :class:`~pounding.framework.engine.bundles.ExactSearch` bundle."""
+    t, z, p0, plist, ex = sol
     if hh <= 0.0:
         g = np.inf
         q = z[:, 0].copy()
         for j in range(plist.shape[0]):
-            gj = pair_gap(q, plist[j], np.inf, geo)
+            gj = pair_gap(q, plist[j], np.inf, ex.geo)
             if gj != gj:  # NaN, as numpy's min of the driver's gaps gives it
                 return gj
             g = min(g, gj)
         return g
-    p1 = modal_load_at(t + hh, dt, ag, rec_t, rec_acc, L)
-    if hh == grid_dt:
-        return stepped_min_gap(A_dt, B_dt, z, p0, p1, plist, geo)
-    A, B = exact_transition(omega, zeta, hh)
-    return stepped_min_gap(A, B, z, p0, p1, plist, geo)
+    p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
+    if hh == ex.dt:
+        return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
+    A, B = exact_transition(ex.omega, ex.zeta, hh)
+    return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
 
 
 @njit
-def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo):
-    """:meth:`~pounding.framework.engine.driver.Driver.locate_crossing` for ``exact``'s step of h [s] from
-    state z (n, 3) at t [s], start load p0 (n,), ending at displacements q1 and velocities v1 (n,):
-    returns (found, hs), hs [s] the step length to the first zero of the pairs' smallest gap (to eps
-    [m]), found False when the gap stays above -eps (a graze that did not touch)."""
-    sol = (t, z, p0, plist, grid_dt, A_dt, B_dt, omega, zeta, dt, ag, rec_t, rec_acc, L, geo)
+def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search):
+    """:func:`crossing_search` on ``exact``'s step of h [s] from state z (n, 3) at t [s], start load
+    p0 (n,), ending at displacements q1 and velocities v1 (n,), for the pairs plist (k,): (found, hs)
+    (see there). ``search``: :class:`~pounding.framework.engine.bundles.ExactSearch`."""
     herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)  # the step's cubic Hermite interpolant
-    g0 = stepped_gap(0.0, sol)
-    gh = stepped_gap(h, sol)
+    return crossing_search(None, (t, z, p0, plist, search), herm, eps, xtol, plist, search.geo)
+
+
+@njit
+def crossing_search(py_gap, sol, herm, eps, xtol, plist, geo):
+    """The first zero of the pairs' smallest gap over a step: (found, hs), hs [s] the step length to
+    it (where |gap| <= eps [m], the geometry's zero), found False when the gap stays above -eps (a
+    graze that did not touch).
+
+    The gap at hh [s] is the smallest gap [m] of the pairs ``plist`` (k,) after the integrator's own
+    step of hh (at hh = 0, of the start state): ``py_gap(hh)``, a Python callable (this function
+    then runs interpreted: ``crossing_search.py_func``), or with ``py_gap`` None, compiled,
+    ``stepped_gap(hh, sol)`` (``exact``; numba drops the other branch, so the compiled search holds
+    no Python object and is cached); ``herm`` = (q0, v0, q1, v1 (n,), h) the step's
+    cubic Hermite interpolant, whose gap (``geo``) guides the search; ``xtol`` [s] ends the
+    bracketing where the gap is not smooth.
+
+    1. A step that starts open (> eps) and ends overlapping (< -eps) brackets a zero at once.
+    2. Otherwise samples then Brent's bounded minimisation of the interpolant's gap tell whether it
+       dips below zero (:func:`~pounding.framework.engine.crossing.hermite_search`); the
+       integrator's own solution decides.
+    3. A pair touching at the bracket's start that overlaps at its end was struck there and opens,
+       while another corner (or the same one coming back) closes: the zero sought is the first
+       after it has left contact, found by halving back from the end; if it never leaves contact
+       (pressed together) the start is the event.
+    4. The zero is polished from the interpolant's (Newton with the interpolant's slope, kept in
+       the bracket each evaluation narrows: two evaluations when the guess is good), then regula
+       falsi with the Illinois rule, bisection down to xtol where the gap is not smooth.
+    """
+    def gap(hh, sol):
+        if py_gap is None:
+            return stepped_gap(hh, sol)
+        return py_gap(hh)
+
+    h = herm[4]
+    g0 = gap(0.0, sol)
+    gh = gap(h, sol)
+    lo = 0.0
+    hi = h
     if g0 > eps and gh < -eps:
         x = hermite_zero(*herm, 0.0, h, eps, xtol, _UNCHECKED, plist, geo)
-        return True, _polish(0.0, h, x, eps, xtol, sol, herm)
-    found, lo, hi = hermite_search(*herm, g0, gh, eps, plist, geo)
-    ghi = stepped_gap(hi, sol)
-    if not found and ghi >= -eps:
-        return False, 0.0
-    if ghi >= -eps:
-        if gh < -eps:
+    else:
+        found, lo, hi = hermite_search(*herm, g0, gh, eps, plist, geo)
+        ghi = gap(hi, sol)
+        if not found and ghi >= -eps:
+            return False, 0.0
+        if ghi >= -eps and gh < -eps:
             hi = h
             ghi = gh
-    if stepped_gap(lo, sol) <= eps:
-        # touching at the start: struck there and opening, the zero sought is after it has left contact
+        if gap(lo, sol) <= eps:  # touching at the bracket's start
+            if ghi >= -eps:
+                return True, lo
+            left = False
+            prev = hi
+            fprev = ghi
+            x = hi
+            for _ in range(LEAVE_HALVINGS):
+                x = lo + 0.5 * (x - lo)
+                if x - lo <= xtol:
+                    break
+                fx = gap(x, sol)
+                if fx > eps:
+                    left = True
+                    break
+                prev = x
+                fprev = fx
+            if not left:  # it stays in contact (pressed): the start is the event
+                return True, lo
+            if fprev >= -eps:
+                return True, prev
+            lo, hi, ghi = x, prev, fprev
         if ghi >= -eps:
-            return True, lo
-        left, x, prev, fprev = _leave_contact(lo, hi, eps, xtol, sol)
-        if not left:
-            return True, lo
-        if fprev >= -eps:
-            return True, prev
-        lo, hi, ghi = x, prev, fprev
-    if ghi >= -eps:
-        return False, 0.0
-    x = hermite_zero(*herm, lo, hi, eps, xtol, _CHECKED, plist, geo)
-    return True, _polish(lo, hi, x, eps, xtol, sol, herm)
-
-
-@njit
-def _polish(lo, hi, x, eps, xtol, sol, herm):
-    """:func:`pounding.framework.engine.driver._polish` on ``exact``'s solution (:func:`stepped_gap`), with
-    the slope of the Hermite interpolant ``herm`` = (q0, v0, q1, v1, h), then :func:`_first_zero`."""
-    plist, geo = sol[3], sol[14]
-    for _ in range(4):
+            return False, 0.0
+        x = hermite_zero(*herm, lo, hi, eps, xtol, _CHECKED, plist, geo)
+    for _ in range(4):  # Newton with the interpolant's slope
         if not lo < x < hi:
             break
-        fx = stepped_gap(x, sol)
+        fx = gap(x, sol)
         if abs(fx) <= eps:
-            return x
+            return True, x
         lo, hi, x, more = newton_bracket(lo, hi, x, fx, hermite_slope(*herm, x, plist, geo))
         if not more:
             break
-    return _first_zero(lo, hi, eps, xtol, sol)
-
-
-@njit
-def _leave_contact(lo, hi, eps, xtol, sol):
-    """:func:`pounding.framework.engine.driver._leave_contact` on ``exact``'s solution: (left, x, prev, f(prev)),
-    left False when the pair stays in contact down to xtol past lo."""
-    prev = hi
-    fprev = stepped_gap(hi, sol)
-    x = hi
-    for _ in range(LEAVE_HALVINGS):
-        x = lo + 0.5 * (x - lo)
-        if x - lo <= xtol:
-            break
-        fx = stepped_gap(x, sol)
-        if fx > eps:
-            return True, x, prev, fprev
-        prev = x
-        fprev = fx
-    return False, x, prev, fprev
-
-
-@njit
-def _first_zero(lo, hi, eps, xtol, sol):
-    """:func:`pounding.framework.engine.driver._first_zero` on ``exact``'s solution: regula falsi with the
-    Illinois rule, bisection down to xtol."""
-    flo = stepped_gap(lo, sol)
+    flo = gap(lo, sol)  # regula falsi, Illinois rule
     if flo <= eps:
-        return lo
-    fhi = stepped_gap(hi, sol)
+        return True, lo
+    fhi = gap(hi, sol)
     side = 0.0
     for _ in range(ILLINOIS_ITERATIONS):
         if hi - lo <= xtol:
             break
         x = illinois_point(lo, hi, flo, fhi)
-        fx = stepped_gap(x, sol)
+        fx = gap(x, sol)
         if abs(fx) <= eps:
-            return x
+            return True, x
         lo, hi, flo, fhi, side = illinois_bracket(lo, hi, flo, fhi, side, x, fx)
-    return lo
+    return True, lo
