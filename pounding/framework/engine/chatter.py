@@ -31,6 +31,7 @@ that move by less than 1 ms between those steps).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import numpy as np
 
@@ -62,8 +63,6 @@ def merge_chatter(strikes: list, tau: np.ndarray) -> list:
     of its strikes' (nan when none has a force: impulses); its impulse and the energy it
     dissipated the sums; ``strikes`` counts what it merged.
     """
-    from pounding.framework.engine.results import ContactEpisode
-
     by_pair: dict[int, list] = {}
     for e in sorted(strikes, key=lambda e: (e.start, e.end)):
         by_pair.setdefault(int(e.pair), []).append(e)
@@ -75,20 +74,19 @@ def merge_chatter(strikes: list, tau: np.ndarray) -> list:
             if e.start - end < tau[p]:
                 group.append(e)
             else:
-                out.append(_merged(group, ContactEpisode))
+                out.append(_merged(group))
                 group = [e]
             end = max(end, e.end)
-        out.append(_merged(group, ContactEpisode))
+        out.append(_merged(group))
     return sorted(out, key=lambda e: (e.start, e.pair))
 
 
-def _merged(group: list, cls):
+def _merged(group: list):
     """One episode of the strikes ``group`` (by start) of one pair."""
     first = group[0]
     if len(group) == 1:
         return first
     forces = [e.peak_force for e in group if not math.isnan(e.peak_force)]
-    return cls(first.start, max(e.end for e in group), first.pair, first.point, first.normal, first.approach_velocity,
-               max(forces) if forces else math.nan, max(e.peak_penetration for e in group),
-               float(sum(e.impulse for e in group)), float(sum(e.energy_dissipated for e in group)),
-               strikes=int(sum(e.strikes for e in group)))
+    return replace(first, end=max(e.end for e in group), peak_force=max(forces) if forces else math.nan,
+                   peak_penetration=max(e.peak_penetration for e in group), impulse=float(sum(e.impulse for e in group)),
+                   energy_dissipated=float(sum(e.energy_dissipated for e in group)), strikes=int(sum(e.strikes for e in group)))
