@@ -182,26 +182,38 @@ def _peaks(result) -> np.ndarray:
     return [result.peaks(n)[:, :2] for n in result.names]
 
 
-@pytest.mark.parametrize("law", ["kelvin", "penalty", "hertz", "hertzdamp", "jankowski"])
+#: the window of the peak tests [s]: two contact episodes (1.9 s and 2.5 s), each several contacts.
+#: The whole record's figures (and hertzdamp's strikes at 4.66 s and 5.26 s, which set the 40 steps)
+#: are benchmarks/bench_contact_step.py's: a test stays within seconds
+WINDOW = 2.6
+FORCE_LAWS = ["kelvin", "penalty", "hertz", "hertzdamp", "jankowski"]
+
+
+@pytest.mark.parametrize("law", FORCE_LAWS)
 def test_default_step_peaks_are_within_half_a_percent_of_the_converged_run(law):
-    """The paper's pair at 0.03 m with each force law at its default parameters, over the first 2.6 s
-    (two contact episodes, at 1.9 s and 2.5 s, each several contacts): the peak |u| and |v| of every
-    slab at the default step are within 0.5 % of the converged run, relative to the building's
-    largest peak in that direction. The converged run is the default step / 8; its own error is
-    estimated by its difference from the default step / 4 (the error falls about as dt, so the
-    finer run's error is about that difference) and counted against the 0.5 %. The approach
-    speed bound holds: no contact closes faster."""
-    base = paper(contact=law, contact_params={}, dt=None, duration=2.6)
+    """The paper's pair at 0.03 m with each force law at its default parameters, over a window of a
+    few contact episodes (WINDOW): the peak |u| and |v| of every slab at the default step are within
+    0.5 % of the converged run, relative to the building's largest peak in that direction. The
+    converged run is the default step / 4; its own error is estimated by its difference from the
+    default step / 2 (the error falls about as dt, so the finer run's error is about that
+    difference) and counted against the 0.5 %. The approach speed bound holds: no contact of the
+    converged run closes faster than its pair's bound."""
+    base = paper(contact=law, contact_params={}, dt=None, duration=WINDOW)
     default = run(base)
     dt = default.dt
     assert default.info["contact_time"]["steps_per_contact"] >= STEPS_PER_CONTACT and len(default.contacts) >= 2
-    half, fine = run(base.with_analysis(dt=dt / 4)), run(base.with_analysis(dt=dt / 8))
+    half, fine = run(base.with_analysis(dt=dt / 2)), run(base.with_analysis(dt=dt / 4))
     for p_def, p_half, p_fine in zip(_peaks(default), _peaks(half), _peaks(fine)):
         scale = p_fine.max(axis=0)  # (2,): the building's largest peak along u and along v
         err = np.abs(p_def - p_fine) / scale
         own = np.abs(p_half - p_fine) / scale
         assert np.all(err + own <= 5e-3), (law, err.max(), own.max())
-    assert max(e.approach_velocity for e in fine.contacts) <= default.info["contact_time"]["approach_speed"]
+    from pounding.framework.engine.contact_step import pair_bounds, record_peaks
+    from pounding.framework.engine.driver import Model
+
+    model = Model(base)
+    _, v0 = pair_bounds(model.geo, model.n, *record_peaks(model, base))
+    assert all(e.approach_velocity <= v0[e.pair] for e in fine.contacts)
 
 
 # ------------------------------------------------------------------ contact episodes

@@ -18,15 +18,17 @@ per shortest significant period.
 
 With a force contact law the step also resolves the shortest contact of the run: dt <= tau_c /
 ``STEPS_PER_CONTACT``, tau_c the duration the law declares for the pair's effective mass and
-approach speed (:mod:`pounding.framework.engine.contact_step`). ``STEPS_PER_CONTACT`` = 20 is
-measured: on the paper's pair at 0.03 m (its HHT integrator, the first 8 s of El Centro, every
-force law at its default parameters), the peak |u| of every slab against the same law at dt = 7.8e-5 s
-(160 to 300 steps per declared duration) is off by at most (0.95, 0.53, 3.1, 0.57, 0.52) x 1e-3 at about 19
-steps per declared duration for hertz, jankowski, hertzdamp, kelvin and penalty, and by up to
-7.7e-3 (hertzdamp) at about 9.5: the error falls roughly as 1/N (a contact begins and ends
-inside a step), and hertzdamp, whose damping divides by the approach speed at the first touch,
-is the most sensitive. The default step is the largest 2^a 5^b divisor of the record's sample
-interval under that bound, so a run takes 20 to 32 steps per declared duration.
+approach speed (:mod:`pounding.framework.engine.contact_step`). ``STEPS_PER_CONTACT`` = 40 is
+measured on the paper's pair at 0.03 m (its HHT integrator, El Centro at 0.32 g, every force law
+at its default parameters), the peaks |u|, |v| of every slab against the same law at a step 8 or more
+times finer, relative to the building's largest peak (benchmarks/bench_contact_step.py, docs/accuracy.md).
+Over the first 8 s, about 20 steps per declared duration put every law within 1e-3 of its
+converged run but hertzdamp (3e-3), and about 10 steps leave hertzdamp 7.7e-3 off. Over 15 s,
+hertzdamp at 23 and 29 steps is 5.2e-3 off: its contact at 4.66 s is not seen to end before
+the next strike at 5.26 s, which then reuses the first one's approach speed in its damping
+factor; at 37 and 46 steps the strikes part and the peaks are within 1e-4. 40 steps give every
+law a margin on that record. The default step is the largest 2^a 5^b divisor of the record's
+sample interval under the bound, so a run takes 40 to 64 steps per declared duration.
 """
 
 from __future__ import annotations
@@ -40,7 +42,7 @@ STEPS_PER_PERIOD = 32
 #: steps per shortest significant period for the exact integrator (sampling only)
 EXACT_STEPS_PER_PERIOD = 8
 #: steps per shortest contact duration with a force contact law (see the module docstring)
-STEPS_PER_CONTACT = 20
+STEPS_PER_CONTACT = 40
 #: the step when the record has no uniform sample interval [s] (an upper bound, divided as above)
 FALLBACK_DT = 0.01
 
