@@ -272,9 +272,10 @@ def human_summary(result, out: Path) -> str:
 
         eps = result.contact_episodes()
         per = Counter(result.impact_storey(e) for e in eps)
+        word = ("impact", "impacts") if not result.contacts else ("contact", "contacts") if not result.impacts else \
+            ("impact or contact", "impacts or contacts")
         lines.append(f"{plural(len(eps), 'contact episode')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items()))
-                     + f"; {plural(sum(e.strikes for e in eps), 'impact or contact', 'impacts or contacts')} in them, "
-                     f"a chatter merged into one episode)")
+                     + f"; {plural(sum(e.strikes for e in eps), *word)} in them: a pair's chatter is one episode)")
         lines.append(f"converge as dt falls: {', '.join(CONVERGES_WITH_DT)}; not: {', '.join(DEPENDS_ON_DT)}")
     for name in result.names:
         pk = result.peaks(name)

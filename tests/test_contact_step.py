@@ -259,5 +259,5 @@ def test_summary_and_printed_summary_report_episodes_and_what_converges(tmp_path
     assert any("impacts" in x for x in s["convergence"]["depend_on_dt"])
     assert s["contact_time"]["duration"] is None  # the impulse law has none
     text = human_summary(r, tmp_path / "out")
-    assert f"{len(eps)} contact episodes" in text and f"{len(r.impacts)} impacts or contacts in them" in text
+    assert f"{len(eps)} contact episodes" in text and f"{len(r.impacts)} impacts in them" in text
     assert "converge as dt falls" in text
