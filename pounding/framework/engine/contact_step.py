@@ -11,12 +11,16 @@ m_eff, a lower bound
     A contact at point Q with unit normal n has the Delassus entry a = w.w of its modal row
     (:func:`pounding.framework.engine.pairs.pair_row`): 1 / a is the pair's effective mass there,
     m1 m2 / (m1 + m2) for two floors struck through their centres, less at a corner, where the
-    slabs also turn. For each candidate point, a(n) is a quadratic form in n whose largest value
-    over unit n is the largest eigenvalue of the 2 x 2 Gram matrix of the rows along x and y; it
-    is convex in Q (the row is affine in Q), so over a slab its largest value is at a vertex. Q
-    lies on both slabs, so 1 / m_eff <= the smaller of the two slabs' largest vertex values.
+    slabs also turn. At a point, a(n) is a quadratic form in n whose largest value over unit n is
+    the largest eigenvalue of the 2 x 2 Gram matrix of the rows along x and y. Q lies on the
+    boundary of both slabs where one can reach the other: the candidates are points along either
+    slab's edges (SAMPLES_PER_EDGE per edge, vertices included) within the rest gap plus the
+    largest relative displacement of the run (the absolute sum of the modal peak displacements
+    along the rows) of the other slab, and 1 / m_eff is the largest a over them. a is convex
+    along an edge (the row is affine in Q), so between samples it exceeds the sampled values by
+    at most its variation over 1/SAMPLES_PER_EDGE of the edge.
 v0, an upper bound
-    The closing speed at Q along n is w . q'. Each mode's peak speed V_i over the record without
+    The closing speed at Q along n is w . q', over the same candidate points. Each mode's peak speed V_i over the record without
     contact is computed by the exact (piecewise-linear record) modal recurrence at the record's
     sample interval; then |w . q'| <= sum_i |w_i| V_i (the absolute sum of the modal peaks,
     larger than any combination in time), and over the normals |w_i| <= the norm of the x and y
