@@ -261,3 +261,27 @@ def test_summary_and_printed_summary_report_episodes_and_what_converges(tmp_path
     text = human_summary(r, tmp_path / "out")
     assert f"{len(eps)} contact episodes" in text and f"{len(r.impacts)} impacts in them" in text
     assert "converge as dt falls" in text
+
+
+def test_a_zeno_chatter_is_one_episode_and_a_fresh_approach_another():
+    """A ball-like chatter of one pair: rebound speeds r_k = e^k r_0 against a steady closing
+    acceleration a, so the strikes come 2 r_k / a apart and the sequence ends 2 r_0 / (a (1 - e))
+    after its first strike (a geometric series). With every interval below tau the whole sequence
+    is one episode lasting that long, holding every strike, its impulses summed; a strike that
+    comes more than tau after it starts a second one; a sequence whose first interval exceeds tau
+    keeps its first strike apart and merges the rest (the intervals only shrink)."""
+    from pounding.framework.engine.chatter import merge_chatter
+    from pounding.framework.engine.results import ContactEpisode
+
+    def strike(t, impulse, pair=0):
+        return ContactEpisode(t, t, pair, np.zeros(2), np.array([1.0, 0.0]), 0.1, math.nan, 0.0, impulse, 1.0)
+
+    e, a, r0, tau = 0.5, 10.0, 0.2, np.array([0.073])
+    times = np.concatenate([[0.0], np.cumsum(2.0 * r0 * e ** np.arange(30) / a)])  # 31 strikes
+    seq = [strike(t, 1.0) for t in times]
+    got = merge_chatter(seq + [strike(times[-1] + 2 * tau[0], 5.0)], tau)
+    assert len(got) == 2 and got[0].strikes == 31 and got[1].strikes == 1
+    assert got[0].end - got[0].start == pytest.approx(2.0 * r0 / (a * (1.0 - e)) * (1.0 - e**30), rel=1e-12)
+    assert got[0].impulse == pytest.approx(31.0) and got[1].impulse == 5.0
+    slow = merge_chatter([strike(t, 1.0) for t in times * 3.0], tau)  # first interval 0.12 s > tau, then 0.06 s
+    assert [x.strikes for x in slow] == [1, 30]
