@@ -267,6 +267,16 @@ def human_summary(result, out: Path) -> str:
                      f"energy dissipated {sum(e.energy_dissipated for e in result.contacts) / 1e3:.2f} kJ")
     if not result.impacts and not result.contacts:
         lines.append("no impacts")
+    else:  # the count that converges with dt (chatter merged: pounding.framework.engine.chatter)
+        from pounding.framework.engine.chatter import CONVERGES_WITH_DT, DEPENDS_ON_DT
+
+        eps = result.contact_episodes()
+        per = Counter(result.impact_storey(e) for e in eps)
+        word = ("impact", "impacts") if not result.contacts else ("contact", "contacts") if not result.impacts else \
+            ("impact or contact", "impacts or contacts")
+        lines.append(f"{plural(len(eps), 'contact episode')} (" + ", ".join(f"storey {s}: {n}" for s, n in sorted(per.items()))
+                     + f"; {plural(sum(e.strikes for e in eps), *word)} in them: a pair's chatter is one episode)")
+        lines.append(f"converge as dt falls: {', '.join(CONVERGES_WITH_DT)}; not: {', '.join(DEPENDS_ON_DT)}")
     for name in result.names:
         pk = result.peaks(name)
         lines.append(f"{name}: peak |u| {pk[:, 0].max() * 1e3:.1f} mm, |v| {pk[:, 1].max() * 1e3:.1f} mm, |phi| {pk[:, 2].max() * 1e3:.3f} mrad (top storey {pk[-1, 0] * 1e3:.1f} mm in x)")

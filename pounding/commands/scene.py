@@ -114,18 +114,23 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
+    from pounding.framework.engine.contact_laws import pair_laws
+    from pounding.framework.engine.contact_step import run_dt
+    from pounding.framework.engine.driver import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
-    from pounding.framework.engine.timestep import default_dt
+    from pounding.framework.model.registry import CONTACT_LAWS
 
     integrator = chosen_integrator(scene)
     int_src = "" if an.integrator else " (chosen for the scene)"
+    m = Model(scene)  # as the driver chooses (pounding.framework.engine.timestep, contact_step)
+    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), integrator)
     if an.dt:
-        dt, dt_src = an.dt, ""
-    else:  # as the driver chooses (pounding.framework.engine.timestep)
-        from pounding.framework.engine.driver import Model
-
-        m = Model(scene)
-        dt, dt_src = default_dt(m.systems, m.directions, gm.dt, integrator), " (chosen for accuracy from the significant modes)"
+        dt_src = ""
+    elif contact_time.duration < float("inf"):
+        dt_src = (f" (chosen for accuracy from the significant modes and the shortest {contact_time.law} contact, "
+                  f"{contact_time.duration * 1e3:.3g} ms, in {contact_time.duration / dt:.3g} steps)")
+    else:
+        dt_src = " (chosen for accuracy from the significant modes)"
     duration = an.duration or gm.duration
     dur_src = "" if an.duration else " (the record's)"
     steps = int(np.ceil(duration / dt - 1e-9))

@@ -56,7 +56,10 @@ a default and its meaning:
    then calls :meth:`~ContactLaw.impulses` at every impact).
 5. Force laws: :meth:`ContactLaw.forces`, which takes one :class:`ContactState`
    (never more positional arguments: a field added to the bundle breaks no law).
-6. Register the class under the entry-point group ``pounding.contact``, or pass the
+6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
+   and approach speed (force laws; the default, inf, suits impulse laws). The default time step
+   resolves it.
+7. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
    buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
@@ -66,6 +69,7 @@ a default and its meaning:
 
 from __future__ import annotations
 
+import math
 from abc import ABC
 from typing import ClassVar, NamedTuple
 
@@ -239,6 +243,16 @@ class ContactLaw(ABC):
         the gaps at the step's end are ``contact.gap + contact.S_q @ lambda`` (see
         :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
+
+    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
+        """How long one contact of this law lasts [s]: two free bodies of effective mass ``m_eff``
+        [kg] meeting at ``approach_speed`` [m/s] stay in contact this long.
+
+        The default step resolves it (:mod:`pounding.framework.engine.contact_step`), so a law
+        that cannot give it exactly gives a lower bound (a shorter duration asks for a finer
+        step). inf (the default): the law acts at instants (impulses) or not at all, and puts
+        no bound on the step."""
+        return math.inf
 
     def describe(self) -> dict:
         """Name and parameters, for summary.json."""

@@ -19,12 +19,32 @@ Jankowski, R. (2005). Non-linear viscoelastic modelling of earthquake-induced st
 
 from __future__ import annotations
 
+import math
 from typing import ClassVar
 
 import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.pointwise import CONCRETE_HERTZ_STIFFNESS, PointwiseLaw, check_exponent, check_stiffness
+
+
+def hertz_contact_duration(k_h: float, n: float, m_eff: float, v0: float) -> float:
+    """Duration [s] of one elastic Hertz contact F = k_h delta^n [N] between bodies of effective
+    mass m_eff [kg] meeting at v0 [m/s] (inf when v0 <= 0).
+
+    Energy gives the closing speed at penetration delta, v^2 = v0^2 - 2 k_h delta^(n+1) / ((n+1) m_eff),
+    so the largest penetration is delta_max = ((n+1) m_eff v0^2 / (2 k_h))^(1/(n+1)) and the contact,
+    symmetric in time, lasts 2 (delta_max / v0) integral_0^1 (1 - x^(n+1))^(-1/2) dx
+    = 2 (delta_max / v0) sqrt(pi) Gamma(1 + 1/(n+1)) / Gamma(1/2 + 1/(n+1)): 2.943 delta_max / v0 with
+    delta_max = (5 m_eff v0^2 / (4 k_h))^(2/5) for n = 1.5, and pi sqrt(m_eff / k_h) for n = 1.
+    It falls as v0^(-(n-1)/(n+1)) (v0^(-1/5) for n = 1.5): a larger v0 gives a shorter contact.
+    """
+    if not v0 > 0.0:
+        return math.inf
+    p = n + 1.0
+    delta_max = (p * m_eff * v0 * v0 / (2.0 * k_h)) ** (1.0 / p)
+    shape = math.sqrt(math.pi) * math.gamma(1.0 + 1.0 / p) / math.gamma(0.5 + 1.0 / p)
+    return 2.0 * delta_max / v0 * shape
 
 
 @njit
@@ -63,6 +83,11 @@ class Hertz(PointwiseLaw):
         super().__init__(restitution=restitution, tolerance=tolerance)
         self.stiffness = check_stiffness(stiffness, "N/m^n")
         self.exponent = check_exponent(exponent)
+
+    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
+        """Duration [s] of one contact of effective mass ``m_eff`` [kg] met at ``approach_speed`` [m/s]
+        (:func:`hertz_contact_duration`)."""
+        return hertz_contact_duration(self.stiffness, self.exponent, m_eff, approach_speed)
 
     def params(self, m_eff: np.ndarray) -> np.ndarray:
         """(k_h, n) at each of m points (m, 2)."""

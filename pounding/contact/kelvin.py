@@ -49,6 +49,31 @@ def anagnostopoulos_damping_ratio(e: float) -> float:
     return -ln / math.sqrt(math.pi**2 + ln**2)
 
 
+def kelvin_contact_duration(k: float, m_eff: float, xi: float, tension: bool) -> float:
+    """Duration [s] of one Kelvin contact of stiffness k [N/m] and damping ratio xi [-] between
+    bodies of effective mass m_eff [kg]; it does not depend on the approach speed.
+
+    With omega = sqrt(k / m_eff) and, for xi < 1, omega_d = omega sqrt(1 - xi^2), the penetration is
+    delta = (v0 / omega_d) exp(-xi omega t) sin(omega_d t). A dashpot that may pull keeps the slabs
+    together until delta returns to zero: pi / omega_d. A compression-only contact ends where the
+    force k delta + c delta' first returns to zero, tan(omega_d t) = -2 xi sqrt(1 - xi^2) / (1 - 2 xi^2),
+    that is omega_d t = pi - 2 arcsin(xi): (pi - 2 arcsin xi) / omega_d, shorter; 2 / omega at
+    critical damping, and for xi > 1 (roots s1,2 = omega (-xi +- sqrt(xi^2 - 1))) the force's zero
+    t = ln((1 + 2 xi s2 / omega) / (1 + 2 xi s1 / omega)) / (s1 - s2). An overdamped dashpot that may
+    pull never lets delta return to zero: its force's positive phase, the compression-only time, is
+    returned as the bound.
+    """
+    omega = math.sqrt(k / m_eff)
+    if xi < 1.0:
+        phase = math.pi if tension else math.pi - 2.0 * math.asin(max(xi, 0.0))
+        return phase / (omega * math.sqrt(1.0 - xi * xi))
+    if xi == 1.0:
+        return 2.0 / omega
+    root = math.sqrt(xi * xi - 1.0)
+    s1, s2 = -xi + root, -xi - root  # in units of omega
+    return math.log((1.0 + 2.0 * xi * s2) / (1.0 + 2.0 * xi * s1)) / ((s1 - s2) * omega)
+
+
 @njit
 def kelvin_force(delta, rate, approach_rate, params):
     """Kelvin force of one contact: (F [N], dF/d delta [N/m], dF/d rate [N s/m]).
@@ -93,6 +118,11 @@ class Kelvin(PointwiseLaw):
             raise InputError(f"expected true or false, got {tension!r}", field="tension")
         self.tension = tension
         self.damping_ratio = anagnostopoulos_damping_ratio(self.restitution)
+
+    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
+        """Duration [s] of one contact of effective mass ``m_eff`` [kg], whatever the approach speed
+        (:func:`kelvin_contact_duration`)."""
+        return kelvin_contact_duration(self.stiffness, m_eff, self.damping_ratio, self.tension)
 
     def params(self, m_eff: np.ndarray) -> np.ndarray:
         """(k, c = 2 xi sqrt(k m_eff), tension) at each of m points (m, 3)."""

@@ -78,6 +78,15 @@ class Penalty(ContactLaw):
 
         return anagnostopoulos_damping_ratio(k)
 
+    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
+        """Duration [s] of one contact of effective mass ``m_eff`` [kg] on the spring k_p: the force
+        never pulls, so it is the compression-only Kelvin contact's
+        (:func:`pounding.contact.kelvin.kelvin_contact_duration`). A facade point's spring in series
+        with the struck element is softer, its contact longer: k_p gives the lower bound."""
+        from pounding.contact.kelvin import kelvin_contact_duration
+
+        return kelvin_contact_duration(self.stiffness, m_eff, self.damping_ratio, False)
+
     def forces(self, contact: ContactState) -> np.ndarray:
         """End-of-step forces (see :meth:`ContactLaw.forces`): lambda = k delta + C delta' on the
         points that push, solved with the step, ``(I + K S_q + C S_v) lambda = -K gap - C rate``

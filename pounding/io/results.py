@@ -63,7 +63,7 @@ IMPACT_COLUMNS = [
 CONTACT_COLUMNS = [
     "start [s]", "end [s]", "law", "building_a", "storey_a", "building_b", "storey_b", "point_x [m]", "point_y [m]",
     "normal_x", "normal_y", "approach_velocity [m/s]", "peak_force [N]", "peak_penetration [m]", "impulse [N s]",
-    "energy_dissipated [J]",
+    "energy_dissipated [J]", "episode",
 ]
 
 
@@ -84,12 +84,43 @@ def contact_rows(result: Result) -> list[list]:
     laws = pair_law_names(result)
     episodes = [(ContactEpisode.of_impact(imp), f) for imp, f in zip(result.impacts, equivalent)]
     episodes += [(e, e.peak_force) for e in result.contacts]
+    merged = result.contact_episodes()
     rows = []
     for e, force in sorted(episodes, key=lambda x: (x[0].start, x[0].pair)):
         a, fa, b, fb, _ = result.pairs[e.pair]
+        # the 1-based contact episode (chatter merged: Result.contact_episodes) the row belongs to
+        episode = next(k + 1 for k, m in enumerate(merged) if m.pair == e.pair and m.start <= e.start <= m.end)
         rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, result.names[b], fb + 1, e.point[0], e.point[1],
-                     e.normal[0], e.normal[1], e.approach_velocity, force, e.peak_penetration, e.impulse, e.energy_dissipated])
+                     e.normal[0], e.normal[1], e.approach_velocity, force, e.peak_penetration, e.impulse, e.energy_dissipated,
+                     episode])
     return rows
+
+
+def episodes_summary(result: Result) -> dict:
+    """summary.json's ``contact_episodes``: the contact episodes with each pair's chatter merged
+    (:meth:`Result.contact_episodes`, the count that converges with dt), how many per storey, how
+    many impacts or force contacts they hold, and the merge interval of every pair [s]."""
+    from pounding.framework.engine.chatter import CHATTER_FRACTION, merge_intervals
+
+    eps = result.contact_episodes()
+    tau = merge_intervals(result.systems, result.pairs)
+    return {
+        "n": len(eps),
+        "per_storey": {str(k): v for k, v in sorted(Counter(result.pairs[e.pair][1] + 1 for e in eps).items())},
+        "strikes": int(sum(e.strikes for e in eps)),
+        "most_strikes": int(max((e.strikes for e in eps), default=0)),
+        "merge_interval_s": {f"{result.names[a]}.{fa + 1}-{result.names[b]}.{fb + 1}": float(t)
+                             for (a, fa, b, fb, _), t in zip(result.pairs, tau)},
+        "rule": (f"a pair's impacts (or force contacts) form one episode while each begins less than {CHATTER_FRACTION:g} "
+                 "of the faster fundamental period of the pair's two buildings after the previous one ended"),
+    }
+
+
+def convergence_note() -> dict:
+    """summary.json's ``convergence``: which results converge as dt falls and which do not."""
+    from pounding.framework.engine.chatter import CONVERGES_WITH_DT, DEPENDS_ON_DT
+
+    return {"converge_with_dt": list(CONVERGES_WITH_DT), "depend_on_dt": list(DEPENDS_ON_DT)}
 
 
 def contacts_summary(result: Result) -> dict:
@@ -146,6 +177,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         }
     balance = energy_balance(result)
     balance["energy_creating_rule"] = energy_creating_rule(result)
+    episodes = episodes_summary(result)
     return {
         "steps": result.steps,
         "runtime_s": result.runtime_s,
@@ -161,6 +193,9 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "impact_energy_loss": float(sum(i.energy_loss for i in result.impacts)),
         "n_contacts": result.n_impacts,
         "contacts": contacts_summary(result),
+        "n_contact_episodes": episodes["n"],
+        "contact_episodes": episodes,
+        "convergence": convergence_note(),
         "energy_balance": balance,
         "peaks_over": _peaks_over(result),
         **result.info,

@@ -157,16 +157,19 @@ def _integrator(scene) -> tuple[tuple, str | None]:
 
 def _time_grid(scene) -> tuple[float, int]:
     """(dt [s], steps) the tool would use: the scene's, or its default step (pounding.framework.engine.timestep)."""
-    from pounding.framework.model.assembly import assemble
     from pounding.framework.engine.integrator_choice import chosen_integrator
-    from pounding.framework.engine.timestep import default_dt
 
     an, gm = scene.analysis, scene.ground_motion
     if an.dt is not None:
         dt = float(an.dt)
-    else:
-        systems = [assemble(b) for b in scene.buildings]
-        dt = float(default_dt(systems, np.asarray(gm.directions(), dtype=float).reshape(-1, 2), gm.dt, chosen_integrator(scene)))
+    else:  # as the driver chooses: the modes and the shortest contact (pounding.framework.engine.contact_step)
+        from pounding.framework.engine.contact_laws import pair_laws
+        from pounding.framework.engine.contact_step import run_dt
+        from pounding.framework.engine.driver import Model
+        from pounding.framework.model.registry import CONTACT_LAWS
+
+        m = Model(scene)
+        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), chosen_integrator(scene))[0]
     duration = float(an.duration or gm.duration)
     return dt, max(1, int(np.ceil(duration / dt - 1e-9)))
 

@@ -287,24 +287,25 @@ class Driver:
         self.model = model or Model(scene)
         gm = scene.ground_motion
         self.gm = gm
+        from pounding.framework.engine.contact_step import run_dt
+        from pounding.framework.engine.contact_laws import pair_laws
         from pounding.framework.engine.integrator_choice import chosen_integrator
-        from pounding.framework.engine.timestep import default_dt
 
         integrator = chosen_integrator(scene)
-        # without a dt the step is chosen for accuracy from the significant modes (pounding.framework.engine.timestep)
-        self.dt = float(an.dt or default_dt(self.model.systems, self.model.directions, gm.dt, integrator))
+        self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+        #: every pair's law (:func:`~pounding.framework.engine.contact_laws.pair_laws`): self.laws[self.pair_law[p]]
+        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law)
+        # without a dt the step is chosen for accuracy from the significant modes and the shortest
+        # contact (pounding.framework.engine.timestep, contact_step); contact_time goes to Result.info
+        self.dt, self.contact_time = run_dt(scene, self.model, self.laws, self.pair_law, integrator)
         duration = float(an.duration or gm.duration)
         # cover the whole requested duration: a duration that is not a multiple of dt ends on
         # the first grid point at or after it (summary.json reports the duration covered)
         self.nsteps = max(1, int(np.ceil(duration / self.dt - 1e-9)))
         self.every = an.output_every
         self.integrator = INTEGRATORS.get(integrator)(**an.integrator_params)
-        self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
         from pounding.framework.engine.contact_episodes import Episodes
-        from pounding.framework.engine.contact_laws import pair_laws
 
-        #: every pair's law (:func:`~pounding.framework.engine.contact_laws.pair_laws`): self.laws[self.pair_law[p]]
-        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law)
         #: the force laws' contact episodes (the pairs' histories and what the run reports)
         self.episodes = Episodes()
         self.tol = max(float(law.tolerance) for law in self.laws)
@@ -590,7 +591,9 @@ class Driver:
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
                   # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
                   "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)},
-                  "pair_checks": self._pair_checks()},
+                  "pair_checks": self._pair_checks(),
+                  # the shortest contact and how many steps span it (pounding.framework.engine.contact_step)
+                  "contact_time": self.contact_time.report(self.dt)},
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
             springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},

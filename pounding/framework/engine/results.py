@@ -88,6 +88,9 @@ class ContactEpisode:
         episode (each step's mean force times its displacement:
         :meth:`pounding.framework.engine.contact_episodes.Episodes.commit`), or the kinetic energy an
         impulse removed.
+    strikes : int
+        How many impacts or stretches of touching it holds: 1, or more for the merged episodes of
+        :meth:`Result.contact_episodes` (a chatter).
     """
 
     start: float
@@ -100,6 +103,7 @@ class ContactEpisode:
     peak_penetration: float
     impulse: float
     energy_dissipated: float
+    strikes: int = 1
 
     @property
     def time(self) -> float:
@@ -248,6 +252,14 @@ class Result:
         impacts (:meth:`ContactEpisode.of_impact`), one table for both kinds of law."""
         out = [ContactEpisode.of_impact(i) for i in self.impacts] + list(self.contacts)
         return sorted(out, key=lambda e: (e.start, e.pair))
+
+    def contact_episodes(self) -> list[ContactEpisode]:
+        """The run's contact episodes as they converge with the step: :meth:`episodes` with each
+        pair's chatter merged into one (:func:`pounding.framework.engine.chatter.merge_chatter`; a
+        maximal stretch with the pair in contact or chattering), by start time."""
+        from pounding.framework.engine.chatter import merge_chatter, merge_intervals
+
+        return merge_chatter(self.episodes(), merge_intervals(self.systems, self.pairs))
 
     def impact_storey(self, imp: Impact) -> int:
         """1-based storey of an impact (the first slab's storey)."""

@@ -41,6 +41,30 @@ def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
     from pounding.framework.post.response import impact_force_model
 
     result.info["impact_force"] = impact_force_model(scene.analysis.impact_force)  # stated in summary.json
+    warn_if_contact_unresolved(result)  # a given step too coarse for a force law's contact
     warn_if_energy_created(result)  # a contact rule that creates energy is flagged
     warn_if_sign_broken(result)  # a term whose sign breaks physics is named
     return result
+
+
+def warn_if_contact_unresolved(result: Result) -> str | None:
+    """Warn (:class:`~pounding.errors.AnalysisWarning`) when the run's step spans its shortest contact
+    (``result.info["contact_time"]``, :mod:`pounding.framework.engine.contact_step`) in fewer than
+    :data:`~pounding.framework.engine.timestep.STEPS_PER_CONTACT` steps, with the numbers; returns the
+    message (None: resolved, or no force law). Only a given ``[analysis] dt`` can: the default resolves it."""
+    import warnings
+
+    from pounding.errors import AnalysisWarning
+    from pounding.framework.engine.timestep import STEPS_PER_CONTACT
+
+    ct = result.info.get("contact_time") or {}
+    steps = ct.get("steps_per_contact")
+    if steps is None or steps >= STEPS_PER_CONTACT * (1.0 - 1e-9):
+        return None
+    a, fa, b, fb, _ = result.pairs[ct["pair"]]
+    message = (f"dt = {result.dt:g} s spans the shortest {ct['law']} contact ({ct['duration'] * 1e3:.3g} ms, "
+               f"{result.names[a]} storey {fa + 1} against {result.names[b]} storey {fb + 1}) in {steps:.3g} steps; "
+               f"the default step takes {STEPS_PER_CONTACT} per contact (peaks within 0.5 % of the converged run on the paper's "
+               f"pair): dt <= {ct['resolving_dt']:.3g} s resolves it (leave [analysis] dt out for the default step)")
+    warnings.warn(message, AnalysisWarning, stacklevel=3)
+    return message
