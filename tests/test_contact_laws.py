@@ -63,10 +63,11 @@ def test_kelvin_with_tension_rebounds_with_exactly_e(e):
 
 
 def test_the_rebound_table_in_the_docs_is_what_rebound_table_computes():
-    """docs/contact-laws.md holds the table :func:`rebound_table` computes (4 decimals), and the table
-    holds exactly e for kelvin with tension and 1 for hertz (elastic)."""
+    """docs/contact-laws.md and README.md hold the table :func:`rebound_table` computes (4 decimals), and
+    the table holds exactly e for kelvin with tension and 1 for hertz (elastic)."""
     table = rebound_table()
-    assert table_markdown(table) in (ROOT / "docs" / "contact-laws.md").read_text()
+    for page in (ROOT / "docs" / "contact-laws.md", ROOT / "README.md"):
+        assert table_markdown(table) in page.read_text(), page.name
     assert np.allclose(table["kelvin, tension = true"], TABLE_RESTITUTIONS, atol=ODE_ACCURACY, rtol=0)
     assert np.allclose(table["hertz"], 1.0, atol=ODE_ACCURACY, rtol=0)
 
