@@ -35,8 +35,11 @@ demo: $(VENV)/.stamp-base warm
 
 # The openseespy 3.7.1 wheel (Python 3.11) needs BLAS/LAPACK; tests load the
 # copies it bundles (pounding.peer.opensees), so no system package is needed.
+# The tests run in TEST_JOBS processes (pytest-xdist), each test file whole in one of them (its
+# module fixtures, such as the OpenSees runs, computed once); TEST_JOBS=0 runs them in this process.
+TEST_JOBS ?= 2
 test: $(VENV)/.stamp-test warm
-	$(PY) -m pytest -q -p no:cacheprovider $(PYTEST_ARGS)
+	$(PY) -m pytest -q -p no:cacheprovider -n $(TEST_JOBS) --dist loadfile $(PYTEST_ARGS)
 
 bench: $(VENV)/.stamp-test warm
 	$(PY) benchmarks/run.py
