@@ -35,7 +35,6 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import PairArrays  # noqa: F401 (the bundle these functions take)
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
 
 
