@@ -54,7 +54,8 @@ def per_run_cost(records, repeat=20):
     from pounding.framework.post.run import run
     from pounding.framework.studies.fragility import contact_free_run
     from pounding.framework.studies.gap import gap_from_result, no_contact
-    from pounding.io.ground_motion import G, read_at2
+    from pounding.framework.model.units import G
+    from pounding.io.ground_motion import read_at2
     from pounding.io.scene import load_scene
 
     scene = load_scene(PAPER)

@@ -101,9 +101,9 @@ def update_readme(path: Path, table: str, info: dict) -> None:
         return
     head, rest = text.split(start, 1)
     _, tail = rest.split(end, 1)
+    # the commit stays in results/machine.json: the README states the present figures, not their history
     stamp = (f"_Measured {info['when']} on {info['cpus']} CPUs (load average {info['load_average_1_5_15'][0]} at start, "
-             f"{info['load_average_at_end'][0]} at end), commit {info['git_commit']}"
-             f"{' with uncommitted changes' if info['git_dirty_files'] else ''}._")
+             f"{info['load_average_at_end'][0]} at end); the code's commit is in results/machine.json._")
     path.write_text(head + start + "\n" + stamp + "\n\n" + table + "\n" + end + tail)
 
 

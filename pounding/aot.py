@@ -37,7 +37,7 @@ from pathlib import Path
 
 
 from pounding import compiler, warmup
-from pounding.compiler.prebuilt import MODULE, _MANIFEST, _manifest, _state, _to_json, enabled, environment, fingerprint, folder  # noqa: F401
+from pounding.compiler.prebuilt import MODULE, _MANIFEST, _manifest, _state, _to_json, environment, fingerprint, folder
 
 
 # --------------------------------------------------------------------------- build

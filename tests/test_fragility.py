@@ -21,7 +21,8 @@ from pounding.framework.studies.fragility import (
     pounding_probability,
     run_fragility,
 )
-from pounding.framework.studies.gap import minimum_gap, with_gap
+from pounding.framework.model.placement import with_gap
+from pounding.framework.studies.gap import minimum_gap
 from pounding.framework.post.lognormal import fit_lognormal
 from pounding.io.ground_motion import read_at2
 from pounding.io.scene import load_scene
@@ -306,7 +307,8 @@ def test_ductility_amplification_is_the_ratio_of_the_runs_peak_ductilities(recor
     from pounding.framework.post.run import run
     from pounding.framework.studies.fragility import peak_ductility
     from pounding.framework.studies.fragility_inputs import record_set
-    from pounding.framework.studies.gap import no_contact, with_gap
+    from pounding.framework.model.placement import with_gap
+    from pounding.framework.studies.gap import no_contact
 
     scene = load_scene(YIELDING)
     short = {"duration": 3.0}

@@ -14,16 +14,8 @@ import pytest
 from pounding.contact.geometry import ccw, signed_gap
 from pounding.errors import InputError
 from pounding.framework.post.run import run
-from pounding.framework.studies.gap import (
-    correlation,
-    direction_vector,
-    minimum_gap,
-    no_contact,
-    rest_gap,
-    translation_to_contact,
-    verify_gap,
-    with_gap,
-)
+from pounding.framework.model.placement import direction_vector, rest_gap, translation_to_contact, with_gap
+from pounding.framework.studies.gap import correlation, minimum_gap, no_contact, verify_gap
 from pounding.io.scene import load_scene
 from scenes_for_tests import scene as build, side_by_side
 

@@ -17,7 +17,8 @@ import pytest
 
 from pounding.framework.engine import peaks
 from pounding.framework.post.run import run
-from pounding.framework.studies.gap import adjacent_pairs, gap_from_result, minimum_gap, no_contact, pair_sites, verify_gap
+from pounding.framework.model.placement import adjacent_pairs, pair_sites
+from pounding.framework.studies.gap import gap_from_result, minimum_gap, no_contact, verify_gap
 from scenes_for_tests import scene as build, side_by_side
 
 
@@ -138,7 +139,8 @@ def test_a_stepped_building_between_two_equal_ones_screens_them_and_faces_both()
     left-middle and middle-right share no level yet meet at the facades: both adjacent. Each pair's required
     gap from the run of the row equals the pair's run alone (without contact the buildings are independent:
     the same modal histories, so the same numbers to the rounding of the report, 1e-12 relative)."""
-    from pounding.framework.studies.gap import facing_storeys, minimum_gaps, pair_scene
+    from pounding.framework.model.placement import facing_storeys, pair_scene
+    from pounding.framework.studies.gap import minimum_gaps
     from scenes_for_tests import box_building
 
     data = _stepped(duration=1.5)

@@ -18,7 +18,8 @@ import pytest
 from pounding.errors import AnalysisWarning, InputError
 from pounding.framework.engine.driver import Driver, Model
 from pounding.framework.post.run import run
-from pounding.io.ground_motion import G, load_record
+from pounding.framework.model.units import G
+from pounding.io.ground_motion import load_record
 from pounding.io.scene import load_scene, parse_scene
 
 from tests import strategies as S

@@ -29,7 +29,8 @@ import pytest
 from scipy import signal
 
 from pounding.framework.post.intensity import MEASURES, intensity, oscillator_peaks, scale_factor, spectra
-from pounding.io.ground_motion import G, GroundMotion, load_record
+from pounding.framework.model.units import G
+from pounding.io.ground_motion import GroundMotion, load_record
 from pounding.io.motion_pair import GroundMotionPair
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -185,7 +185,8 @@ def test_gap_of_a_row_reports_each_adjacent_pair_as_if_it_stood_alone():
     gap from the one run of the row equals minimum_gap of that pair alone: without contact the
     buildings do not interact, so the two runs give the same histories to rounding; tolerance
     1e-12 of the gap (a few roundings of coordinates ~20 m against gaps of ~0.05 m: 1e-14 m)."""
-    from pounding.framework.studies.gap import adjacent_pairs, minimum_gap, minimum_gaps, pair_scene
+    from pounding.framework.model.placement import adjacent_pairs, pair_scene
+    from pounding.framework.studies.gap import minimum_gap, minimum_gaps
 
     from scenes_for_tests import scene
 
@@ -205,7 +206,8 @@ def test_the_ends_of_a_row_face_each_other_above_a_low_middle_building():
     """left and third (3 storeys) with a 1-storey building between: at storeys 2-3 nothing stands
     between the ends, so they are adjacent there (a gap across the low roof), and every pair is
     reported; the ends' required gap counts those storeys only (12.02 m apart at rest, far more than needed)."""
-    from pounding.framework.studies.gap import adjacent_pairs, facing_storeys, minimum_gaps
+    from pounding.framework.model.placement import adjacent_pairs, facing_storeys
+    from pounding.framework.studies.gap import minimum_gaps
 
     from scenes_for_tests import scene
 
@@ -264,7 +266,7 @@ def test_adjacency_in_the_row_of_five_example():
     along the facades of the buildings between and its midpoint falls in a gap (west_end-b4)."""
     from pathlib import Path
 
-    from pounding.framework.studies.gap import adjacent_pairs, facing_storeys
+    from pounding.framework.model.placement import adjacent_pairs, facing_storeys
 
     sc = load_scene(Path(__file__).resolve().parents[1] / "examples" / "row" / "row.toml")
     adjacent, screened = adjacent_pairs(sc)

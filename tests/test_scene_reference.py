@@ -145,7 +145,7 @@ def test_toml_values_read_back_as_written():
 
 def test_with_gap_sets_the_clear_distance_at_rest():
     """Scene.with_gap(g, direction) moves the second building so that the clear distance along the direction is g."""
-    from pounding.framework.studies.gap import rest_gap
+    from pounding.framework.model.placement import rest_gap
 
     scene = load_scene(PAPER / "pair_gap_0.03.toml")
     for g in (0.0, 0.1, 0.75):

@@ -15,7 +15,7 @@ import pytest
 
 from pounding.errors import InputError
 from pounding.framework.post.run import run
-from pounding.framework.studies.gap import with_gap
+from pounding.framework.model.placement import with_gap
 from pounding.framework.studies.sweep import build_cases, parse_values, read_table, run_sweep
 from pounding.io.scene import load_scene
 

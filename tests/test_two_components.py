@@ -19,7 +19,8 @@ import pytest
 from pounding.framework.engine.driver import Driver, Model
 
 from pounding.framework.post.run import run
-from pounding.io.ground_motion import G, GroundMotion, load_record
+from pounding.framework.model.units import G
+from pounding.io.ground_motion import GroundMotion, load_record
 from pounding.io.motion_pair import GroundMotionPair, common_time_base
 from pounding.io.scene import load_scene
 

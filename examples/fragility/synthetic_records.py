@@ -32,7 +32,8 @@ def write_at2(path: Path, acc_g: np.ndarray, dt: float, title: str) -> Path:
 
 def synthetic_records(folder, n: int = 22, seed: int = 1940) -> Path:
     """Write ``n`` records ``syn01.at2`` ... into ``folder`` (created) and return it."""
-    from pounding.io.ground_motion import G, read_at2
+    from pounding.framework.model.units import G
+    from pounding.io.ground_motion import read_at2
 
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)

@@ -44,7 +44,8 @@ def add_parser(sub) -> None:
 
 
 def cmd_gap(args: argparse.Namespace) -> int:
-    from pounding.framework.studies.gap import direction_vector, minimum_gap, verify_gap
+    from pounding.framework.model.placement import direction_vector
+    from pounding.framework.studies.gap import minimum_gap, verify_gap
     from pounding.io.scene import load_scene
 
     direction = direction_vector(args.direction)
@@ -81,7 +82,8 @@ def cmd_gap(args: argparse.Namespace) -> int:
 def _row(args, scene, direction) -> int:
     """Three or more buildings: the required gap of every adjacent pair, each checked alone."""
     from pounding.errors import InputError
-    from pounding.framework.studies.gap import minimum_gaps, pair_scene, pair_sites, verify_gap
+    from pounding.framework.model.placement import pair_scene, pair_sites
+    from pounding.framework.studies.gap import minimum_gaps, verify_gap
 
     for opt in ("angles", "history"):
         if getattr(args, opt) is not None:

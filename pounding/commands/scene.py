@@ -189,7 +189,7 @@ def describe(scene, path: Path | None = None) -> str:
 def _facing(scene) -> list[str]:
     """The clear distance at rest between the slabs of every two buildings at a common level."""
     from pounding.contact.geometry import signed_gap
-    from pounding.framework.studies.gap import adjacent_pairs
+    from pounding.framework.model.placement import adjacent_pairs
     from pounding.framework.model.levels import common_levels
 
     out = []

@@ -73,7 +73,7 @@ import math
 
 import numpy as np
 
-from pounding.compiler import interpreted, njit  # noqa: F401 (njit re-exported for plugins)
+from pounding.compiler import interpreted, njit
 
 
 EPS_REL = 1e-12

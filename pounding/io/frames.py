@@ -28,7 +28,8 @@ PEAK_UNITS = {
     "peak_floor_acceleration": "m/s2", "peak_floor_velocity_jump": "m/s", "peak_floor_acceleration_impact": "m/s2",
 }
 
-#: what the storey forces hold, stated next to every storey shear and moment (summary.json: ``storey_forces``)
+#: what the storey forces hold, stated next to every storey shear and moment (summary.json: the flag
+#: ``storey_shear_includes_damping_forces``, false)
 STOREY_FORCES_NOTE = ("storey shears and overturning moments are the elements' elastic forces: viscous damping forces "
                       "and P-Delta shears of gravity loads are not included")
 

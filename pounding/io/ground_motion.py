@@ -34,7 +34,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.framework.model.units import G  # noqa: F401 - standard gravity [m/s2], read here by the record readers
+from pounding.framework.model.units import G  # standard gravity [m/s2]
 
 __all__ = [
     "G",

@@ -43,7 +43,8 @@ from typing import Any, Sequence
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.io.ground_motion import G, GroundMotion
+from pounding.framework.model.units import G
+from pounding.io.ground_motion import GroundMotion
 
 __all__ = ["GroundMotionPair", "common_time_base", "baseline_corrected", "BASELINES"]
 

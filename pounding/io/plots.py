@@ -32,7 +32,7 @@ from typing import Sequence
 
 import numpy as np
 
-from pounding.io.plot_style import COLOURS, DPI, MARKERS, _figure, _save  # noqa: F401 - the figures' common look
+from pounding.io.plot_style import COLOURS, MARKERS, _figure, _save
 from pounding.framework.post.energy_account import energy_balance
 
 def _bindex(result, building) -> int:

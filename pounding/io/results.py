@@ -169,9 +169,8 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             **_true_drift_peaks(result, s.name, response_peaks(histories[s.name])),
             # the smooth part omits forces of sustained/penalty contact, which a run does not record
             "floor_acceleration_includes_contact_forces": not contact_forces,
-            # said next to every storey shear (pounding.io.frames.STOREY_FORCES_NOTE)
-            "storey_forces": "elastic forces of the elements: viscous damping forces and P-Delta shears are not included",
-            # storey and base shears and overturning moments are the elements' forces: the damping matrix is tied to no element
+            # storey and base shears and overturning moments are the elements' forces: the damping matrix is tied to no
+            # element (docs/outputs.md; said next to every storey shear: pounding.io.frames.STOREY_FORCES_NOTE)
             "storey_shear_includes_damping_forces": False,
             "energy": balances[s.name],
         }

@@ -24,7 +24,7 @@ from typing import Any, Mapping
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.framework.model.levels import LEVEL_TOL as LENGTH_TOL, distance_to_polygon, same_level, unchecked_pairs  # noqa: F401 - the scene checks' rule
+from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, same_level
 from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
@@ -184,7 +184,7 @@ def _strictly_inside(vertices: np.ndarray, p: np.ndarray) -> bool:
     a, b = vertices, np.roll(vertices, -1, axis=0)
     ab, ap = b - a, p - a
     t = np.clip(np.einsum("ij,ij->i", ap, ab) / np.einsum("ij,ij->i", ab, ab), 0.0, 1.0)
-    on_boundary = np.min(np.hypot(*(ap - t[:, None] * ab).T)) <= LENGTH_TOL
+    on_boundary = np.min(np.hypot(*(ap - t[:, None] * ab).T)) <= LEVEL_TOL
     return not on_boundary and distance_to_polygon(vertices, p) == 0.0
 
 
@@ -193,7 +193,7 @@ def _check_on_slabs(element, slabs, where: list) -> None:
     for f in element.floors:
         slab = slabs[f - 1]
         for name, p in (("start", a), ("end", b)):
-            if distance_to_polygon(slab.vertices, p) > LENGTH_TOL:
+            if distance_to_polygon(slab.vertices, p) > LEVEL_TOL:
                 raise InputError(
                     f"the element's {name} point ({p[0]:g}, {p[1]:g}) lies outside the slab of storey {f}",
                     field=_path(where),
@@ -206,7 +206,7 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
     Storey k of a building is the prism of its slab k between the floor below
     (elevation z_{k-1}, the ground for k = 1) and its own level z_k: its columns
     and walls stand there. Two storeys whose height ranges share more than
-    LENGTH_TOL and whose plans overlap (or lie one inside the other) are one
+    LEVEL_TOL and whose plans overlap (or lie one inside the other) are one
     space claimed twice, whether or not their slabs are at a common level.
     """
     from pounding.contact.geometry import rest_gap as signed_gap  # interpreted: compiles nothing
@@ -219,22 +219,22 @@ def _check_apart_at_rest(buildings: list[Building]) -> None:
                 za = (a.slabs[fa - 1].elevation if fa else 0.0, sa.elevation)
                 for fb, sb in enumerate(b.slabs):
                     zb = (b.slabs[fb - 1].elevation if fb else 0.0, sb.elevation)
-                    if min(za[1], zb[1]) - max(za[0], zb[0]) <= LENGTH_TOL:
+                    if min(za[1], zb[1]) - max(za[0], zb[0]) <= LEVEL_TOL:
                         continue  # the storeys share no height
                     (lo_a, hi_a), (lo_b, hi_b) = boxes[i][fa], boxes[j][fb]
-                    if np.any(lo_a > hi_b + LENGTH_TOL) or np.any(lo_b > hi_a + LENGTH_TOL):
+                    if np.any(lo_a > hi_b + LEVEL_TOL) or np.any(lo_b > hi_a + LEVEL_TOL):
                         continue  # plan boxes apart: so are the polygons
                     g = signed_gap(sa.vertices, sb.vertices)
                     # a slab lying over another (even coincident) has its centroid inside the other
                     nested = distance_to_polygon(sb.vertices, interior_point(sa.vertices)) == 0.0 or distance_to_polygon(sa.vertices, interior_point(sb.vertices)) == 0.0
-                    if not (g < -LENGTH_TOL or (nested and g >= -LENGTH_TOL)):
+                    if not (g < -LEVEL_TOL or (nested and g >= -LEVEL_TOL)):
                         continue
                     if same_level(sa.elevation, sb.elevation):
                         where = f"the slabs of {a.name!r} and {b.name!r} at storey {fa + 1}"
                     else:
                         where = (f"storey {fa + 1} of {a.name!r} ({za[0]:g}-{za[1]:g} m) and storey {fb + 1} of {b.name!r} "
                                  f"({zb[0]:g}-{zb[1]:g} m), at different levels but sharing heights,")
-                    how = f"overlap by {-g:.4g} m at rest" if g < -LENGTH_TOL else "lie on top of each other at rest"
+                    how = f"overlap by {-g:.4g} m at rest" if g < -LEVEL_TOL else "lie on top of each other at rest"
                     raise InputError(f"{where} {how}", field=_path(["building", j, "slab"]))
 
 

@@ -29,7 +29,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from pounding.peer.opensees_links import _material, storey_links  # noqa: F401 - the storey springs' links
+from pounding.peer.opensees_links import storey_links
 
 #: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
 MASTER_FIX = (0, 0, 1, 1, 1, 0)

@@ -37,7 +37,7 @@ from pounding.framework.model.levels import common_levels
 from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
-from pounding.framework.engine.bundles import EventLog, Ground, Modes, PairArrays, Recorder, Settings, Status, Transition
+from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, Modes, PairArrays, Recorder, Settings, Status, Transition
 from pounding.framework.model.scene import Scene
 from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 from pounding.framework.engine.results import Impact, Result
@@ -852,8 +852,9 @@ class Driver:
         p0, p1 = self.load(t), self.load(t + h)
         if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
             p0, p1 = p0 - e0, p1 - e1
+        contact = HeldContact(float(self.tol), 1e3 * float(self.v_min), float(self.touch))
         z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
-                                            float(h), m.c2, m.om2, held, self.tol, 1e3 * self.v_min, self.touch, gap0, W0, m.geo)
+                                            float(h), m.modes, held, contact, gap0, W0, m.geo)
         return Step(z0, z1, f0, f1)
 
     def stop_closing(self, t: float) -> None:

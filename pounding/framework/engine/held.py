@@ -30,7 +30,7 @@ import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import Status
+from pounding.framework.engine.bundles import HeldContact, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.engine.pairs import closing, features_of, pair_gap
@@ -89,20 +89,22 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, touch, gap0, W, geo):
-    """One step of size h [s] from state z (n, 3) with the pairs ``held`` in rigid sustained contact.
+def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
+    """One step of size h [s] from state z (n, 3) with the pairs ``held`` (int64) in rigid sustained contact.
 
-    v_cut [m/s]: the largest opening speed of a pressed point that is rounding, not a rebound.
-    touch [m]: the gap up to which a point touches (:func:`touch_gap`; inf: every point within the
-    tolerance, the paper's rules). A point that is apart and would reach contact within the step
+    contact : :class:`~pounding.framework.engine.bundles.HeldContact`, the tolerance, the largest
+    opening speed v_cut [m/s] of a pressed point that is rounding, and the gap ``touch`` [m] up to
+    which a point touches (:func:`touch_gap`; inf: every point within the tolerance, the paper's
+    rules). A point that is apart and would reach contact within the step
     has its closing speed removed at the step's start by unilateral plastic impulses
     (:func:`stop_closing`, with the touching points as constraints); the touching points' leftover
     normal velocity (rounding) is projected out as before.
     gap0 (m,), W (m, n) are the held pairs' touching features at the start
     (:func:`~pounding.framework.engine.pairs.features_of` with ``deep``: gaps and modal rows).
-    g0, g1 (n,) are the modal ground-motion loads at the step's ends; A (n, 3, 3),
-    B (n, 3, 2) the integrator's transition for h; c2 = 2 zeta omega and
-    om2 = omega^2 (n,). Unilateral and rigid: no touching point of a held pair
+    g0, g1 (n,) are the modal loads at the step's ends; A (n, 3, 3),
+    B (n, 3, 2) the integrator's transition for h; ``modes`` the
+    :class:`~pounding.framework.engine.bundles.Modes` (c2 = 2 zeta omega and
+    om2 = omega^2 (n,) are read). Unilateral and rigid: no touching point of a held pair
     closes further during the step than it was at its start (never deeper than
     half the tolerance) and no force pulls (the projection of the touching points'
     leftover normal velocity, at most v_cut, is bilateral: rounding).
@@ -126,6 +128,8 @@ def held_step(z, g0, g1, A, B, h, c2, om2, held, tol, v_cut, touch, gap0, W, geo
     found : bool, gap1 (k,), W1 (k, n) : when ``found``, the held pairs' features at the end
     state (the next step's start features).
     """
+    c2, om2 = modes.c2, modes.om2
+    tol, v_cut, touch = contact.tol, contact.v_cut, contact.touch
     n = z.shape[0]
     z0 = z.copy()
     for i in range(n):
@@ -330,7 +334,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     closes at the end of step k - 1).
     """
     A, B = tr.A, tr.B
-    L, c2, om2, bidx = modes.L, modes.c2, modes.om2, modes.bidx
+    L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
     E = rec.E
     tol, overlap, v_min = settings.tol, settings.overlap, settings.v_min
@@ -339,6 +343,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     g0 = np.empty(n)
     g1 = np.empty(n)
     touch = touch_gap(tol) if rules is None else np.inf
+    contact = HeldContact(tol, 1e3 * v_min, touch)
     have = False  # start features known (the last step's end features)
     gapS = np.empty(0)
     WS = np.empty((0, n))
@@ -355,7 +360,7 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
-        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, c2, om2, held, tol, 1e3 * v_min, touch, gapS, WS, geo)
+        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, modes, held, contact, gapS, WS, geo)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
             if held_mask[p]:

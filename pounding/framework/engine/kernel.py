@@ -24,10 +24,10 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.base import newton_group
-from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, displaced, signed_gap
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, signed_gap
 from pounding.framework.engine.bundles import Status
 from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, slab_state, suspect_given
-from pounding.framework.engine.pairs import building_groups, closing, pair_gap, touching_features
+from pounding.framework.engine.pairs import building_groups, closing, slab_polygon, touching_features
 from pounding.framework.engine.peaks import cubic_abs_max
 
 
@@ -91,7 +91,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     A, B = tr.A, tr.B
     L = modes.L
     dt, ag = ground.dt, ground.ag
-    pair_a, pair_b, rows, off, n_modes, verts, nvert, centres, radii, rest_gap, axis, _, _ = geo
+    pair_a, pair_b, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
+    verts, nvert, centres, radii, rest_gap, axis = geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
     n = z.shape[0]
     z0 = np.empty((n, 3))
@@ -162,7 +163,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
                                    verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
                     continue
-                g = _pair_gap(verts[sa, : nvert[sa]], centres[sa], da, verts[sb, : nvert[sb]], centres[sb], db)
+                g = signed_gap(slab_polygon(sa, da, geo), slab_polygon(sb, db, geo))
                 if g < overlap:
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
@@ -421,11 +422,6 @@ def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
             y = cubic_abs_max(d0[j], d1[j], h * w0[j], h * w1[j])
             if y > peak[s, j]:
                 peak[s, j] = y
-
-
-@njit
-def _pair_gap(va, ca, da, vb, cb, db):
-    return signed_gap(displaced(va, ca, da[0], da[1], da[2]), displaced(vb, cb, db[0], db[1], db[2]))
 
 
 @njit

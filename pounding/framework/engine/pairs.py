@@ -35,7 +35,6 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import PairArrays  # noqa: F401 (the bundle these functions take)
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
 
 
@@ -50,6 +49,28 @@ def slab_dofs(rows, off, n_modes, building, storey, x, out):
         for i in range(nb):
             acc += rows[s, r, i] * x[i0 + i]
         out[r] = acc
+
+
+@njit
+def slab_polygon(s, d, geo):
+    """The polygon (k, 2) [m] of slab s (index into ``geo.verts``) displaced by its (u, v, phi) = d (3,)
+    [m, m, rad], turned about its centre of mass."""
+    return displaced(geo.verts[s, : geo.nvert[s]], geo.centres[s], d[0], d[1], d[2])
+
+
+@njit
+def pair_polygons(q, p, da, db, geo):
+    """The displaced polygons of pair p's two slabs for modal displacements q (n,).
+
+    Fills da, db (3,) with the slabs' (u, v, phi) [m, m, rad]; returns (A, B, sa, sb): the
+    polygons (k, 2) [m] of the first and the second slab and their slab indices.
+    """
+    pa, pb, off = geo.pa, geo.pb, geo.off
+    slab_dofs(geo.rows, off, geo.n_modes, pa[p, 0], pa[p, 1], q, da)
+    slab_dofs(geo.rows, off, geo.n_modes, pb[p, 0], pb[p, 1], q, db)
+    sa = off[pa[p, 0]] + pa[p, 1]
+    sb = off[pb[p, 0]] + pb[p, 1]
+    return slab_polygon(sa, da, geo), slab_polygon(sb, db, geo), sa, sb
 
 
 @njit
@@ -90,9 +111,7 @@ def dofs_gap(da, db, p, cutoff, geo):
                           verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1])
     if sep > cutoff:
         return sep, False
-    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
-    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
-    return signed_gap(A, B), True
+    return signed_gap(slab_polygon(sa, da, geo), slab_polygon(sb, db, geo)), True
 
 
 @njit
@@ -124,18 +143,10 @@ def pair_features(q, p, tol, n, geo):
         Modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
         apart changes q' by W[k] I_k.
     """
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
-    da = np.empty(3)
-    db = np.empty(3)
-    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
-    slab_dofs(rows, off, n_modes, a, fa, q, da)
-    slab_dofs(rows, off, n_modes, b, fb, q, db)
-    sa = off[a] + fa
-    sb = off[b] + fb
-    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
-    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    A, B, sa, sb = pair_polygons(q, p, np.empty(3), np.empty(3), geo)
     count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
     W = np.zeros((MAX_FEATURES, n))
+    a, b = geo.pa[p, 0], geo.pb[p, 0]
     for k in range(count):
         contact_row(geo, q, a, sa, b, sb, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
     return count, Q, N, gap, who, idx, face, W
@@ -263,20 +274,14 @@ def closing(q, v, p, tol, v_min, n, geo):
     """Whether a touching point of pair p (within ``tol``) closes faster than v_min [m/s],
     n . (v_Q(a) - v_Q(b)) > v_min with n from a to b, for modal displacements q and
     velocities v (n,): the velocity condition of an impact (eq. 7 of the paper)."""
-    pa, pb, rows, off, n_modes, verts, nvert, centres, radii, rest, axis, _, _ = geo
+    pa, pb, centres = geo.pa, geo.pb, geo.centres
     da = np.empty(3)
     db = np.empty(3)
     va = np.empty(3)
     vb = np.empty(3)
-    a, fa, b, fb = pa[p, 0], pa[p, 1], pb[p, 0], pb[p, 1]
-    slab_dofs(rows, off, n_modes, a, fa, q, da)
-    slab_dofs(rows, off, n_modes, b, fb, q, db)
-    slab_dofs(rows, off, n_modes, a, fa, v, va)
-    slab_dofs(rows, off, n_modes, b, fb, v, vb)
-    sa = off[a] + fa
-    sb = off[b] + fb
-    A = displaced(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2])
-    B = displaced(verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2])
+    A, B, sa, sb = pair_polygons(q, p, da, db, geo)
+    slab_dofs(geo.rows, geo.off, geo.n_modes, pa[p, 0], pa[p, 1], v, va)
+    slab_dofs(geo.rows, geo.off, geo.n_modes, pb[p, 0], pb[p, 1], v, vb)
     count, Q, N, _, _, _, _ = contact_points(A, B, tol)
     cax, cay = centres[sa, 0] + da[0], centres[sa, 1] + da[1]
     cbx, cby = centres[sb, 0] + db[0], centres[sb, 1] + db[1]

@@ -33,10 +33,10 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.geometry import axis_separation, clearance_bound
 from pounding.framework.engine.bundles import Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
-from pounding.framework.engine.kernel import _accumulate, _pair_gap, _slab_dofs, modal_load, update_peaks
+from pounding.framework.engine.kernel import _accumulate, modal_load, update_peaks
+from pounding.framework.engine.pairs import pair_gap_into
 from pounding.framework.engine.links import law_update
 
 
@@ -247,26 +247,6 @@ def _spring_work(GA, GB, gc, gw, WA1, WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0
 
 
 @njit
-def _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
-    """Whether slab pair p ends within ``tol`` [m] of contact (or overlapping) at the modal state z
-    (n, 3): the cascade of :func:`pounding.framework.engine.kernel.advance` (cheap clearance bound,
-    separating axis, exact gap) on the arrays of :class:`PairArrays`; da, db (3,) work arrays."""
-    ba = pa[p, 0]
-    bb = pb[p, 0]
-    sa = off[ba] + pa[p, 1]
-    sb = off[bb] + pb[p, 1]
-    _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
-    _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-    if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
-        return False
-    va, vb = verts[sa, : nvert[sa]], verts[sb, : nvert[sb]]
-    ca, cb = centres[sa], centres[sb]
-    if axis_separation(va, ca, da[0], da[1], da[2], vb, cb, db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
-        return False
-    return _pair_gap(va, ca, da, vb, cb, db) <= tol
-
-
-@njit
 def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lrec):
     """Grid steps k0 -> k1 of a model with links, until a slab pair comes within the contact tolerance.
 
@@ -274,7 +254,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     ``Driver.commit``): the modal step with the remainders' start load -g, the links' Newton
     (:func:`_solve_springs`), the end load, the energy audit (the remainders' work booked to
     ``lrec.work`` per building and to the contact column as the Python path books it), the records.
-    After the step every slab pair is checked (:func:`_pair_within`): when a pair ends within
+    After the step every slab pair is checked (:func:`~pounding.framework.engine.pairs.pair_gap_into`): when a pair ends within
     ``tol`` of contact (or overlapping), the step is rolled back (state, links and energy
     untouched) and the stretch returns (k, OVERLAP, pair): the driver takes that step in Python,
     where contact is handled. A model without pairs (contact off) steps to k1.
@@ -302,8 +282,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     L, c2, bidx = modes.L, modes.c2, modes.bidx
     dt, ag = ground.dt, ground.ag
     every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
-    pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
-    verts, nvert, centres, radii, rest, axis = geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
+    rows, n_modes = geo.rows, geo.n_modes
     law, G, bounds, gmodes, kel, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
     f, g, state = now.f, now.g, now.state
     peak, tangent, work, counts, hist = lrec.peak, lrec.tangent, lrec.work, lrec.counts, lrec.hist
@@ -323,6 +302,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     per = np.empty(nb)
     da = np.empty(3)
     db = np.empty(3)
+    q1 = np.empty(n)  # the end displacements, for the pair check
     xw = np.empty(4)
     m = _largest_group(bounds)
     dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m)
@@ -366,8 +346,11 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
             for r in range(3):
                 z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
         # contact check: within the tolerance, the Python step decides
-        for p in range(pa.shape[0]):
-            if _pair_within(pa, pb, off, n_modes, rows, radii, rest, verts, nvert, centres, axis, p, z, tol, da, db):
+        for i in range(n):
+            q1[i] = z[i, 0]
+        for p in range(geo.pa.shape[0]):
+            # within the tolerance (or overlapping): pair_gap's cascade, whose bounds exceed tol
+            if pair_gap_into(q1, p, tol, da, db, geo) <= tol:
                 for i in range(n):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]

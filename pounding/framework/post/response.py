@@ -44,7 +44,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pounding.framework.engine.event_record import contact_row, impact_instants, impact_velocity_changes  # noqa: F401 - the run's impulses, read here
+from pounding.framework.engine.event_record import contact_row, impact_velocity_changes
 
 HERTZ_CONCRETE = 2.75e9  # [N/m^1.5] Jankowski (2005)
 DEFAULT_DURATION = 0.005  # [s]

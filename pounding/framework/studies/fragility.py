@@ -186,7 +186,7 @@ def consequence_run(scene, motion, scale: float, gap: float, direction, row: dic
     Never raises.
     """
     from pounding.framework.post.run import run
-    from pounding.framework.studies.gap import with_gap
+    from pounding.framework.model.placement import with_gap
 
     t0 = time.perf_counter()
     row = dict(row, gap_m=gap, scale=scale)
@@ -470,12 +470,12 @@ def prepare_study(scene_path, *, records=None, im: str = "pga", levels, directio
     records : None (the scene's own record) or a records folder (see :mod:`pounding.framework.studies.fragility_inputs`)
     im : intensity measure name
     levels : list of intensity levels (> 0) in the measure's unit
-    direction : direction of the gap (see :func:`pounding.framework.studies.gap.direction_vector`)
+    direction : direction of the gap (see :func:`pounding.framework.model.placement.direction_vector`)
     overrides : {"dt": s, "duration": s}, optional
     consequence_gaps : gaps [m] for runs with contact, optional
     """
     from pounding.framework.studies.fragility_inputs import intensity_measure, record_set
-    from pounding.framework.studies.gap import direction_vector, rest_gap
+    from pounding.framework.model.placement import direction_vector, rest_gap
     from pounding.framework.studies.window import check_window
     from pounding.io.scene import load_scene
 

@@ -66,19 +66,15 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.framework.model.placement import (  # noqa: F401 - the study's geometry, and its public names
-    translation_to_contact,
-    direction_vector,
-    pair_sites,
-    _site_level,
-    _site_facade,
-    _pair_of,
-    facing_storeys,
-    adjacent_pairs,
-    pair_scene,
+from pounding.framework.model.placement import (
     _oriented,
-    rest_gap,
-    with_gap,
+    _pair_of,
+    _site_facade,
+    _site_level,
+    adjacent_pairs,
+    facing_storeys,
+    pair_scene,
+    translation_to_contact,
 )
 from pounding.framework.model.scene import Scene
 
@@ -89,13 +85,9 @@ __all__ = [
     "GapCheck",
     "GapReport",
     "correlation",
-    "direction_vector",
     "gap_from_result",
     "minimum_gap",
-    "rest_gap",
-    "translation_to_contact",
     "verify_gap",
-    "with_gap",
 ]
 
 
@@ -157,7 +149,7 @@ class GapReport:
     struck: str
     edge: int
     point: np.ndarray  # contact point in plan at the governing instant, second building at min_gap
-    required: list  # per site (:func:`pair_sites`): (storey a, storey b, required gap, time); see ``facades``
+    required: list  # per site (:func:`~pounding.framework.model.placement.pair_sites`): (storey a, storey b, required gap, time); see ``facades``
     periods: tuple[float, float]
     damping: tuple[float, float]
     peaks: tuple[float, float]  # peak displacement along d of the facing points at the governing storey
@@ -247,7 +239,7 @@ class _Side:
 
 
 def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
-    """The two sides of ``site`` (:func:`pair_sites`) in ``result``: the slabs' motion, or the facade
+    """The two sides of ``site`` (:func:`~pounding.framework.model.placement.pair_sites`) in ``result``: the slabs' motion, or the facade
     the driver uses (:func:`pounding.framework.model.facade.facade`, from the run's assembled system);
     ``vertices``: {building name: ``result.vertices(name)``}."""
     from pounding.framework.model.facade import facade
@@ -279,7 +271,7 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     block by block, until the bound (raised by 1e-12 of the coordinates against rounding) falls
     below the best exact value found. The answer is the same (same values, same governing step on
     ties); ``clearance`` then holds ``inf`` at the steps not evaluated. ``storeys``: only these
-    sites (:func:`pair_sites`; a pair of a row, where it faces). Sites are slabs at a common level
+    sites (:func:`~pounding.framework.model.placement.pair_sites`; a pair of a row, where it faces). Sites are slabs at a common level
     and slabs against the other building's facade between two of its floors.
     """
     a, b, common = _pair_of(scene, storeys)
@@ -454,7 +446,7 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     ----------
     scene : Scene
         Exactly two buildings that can meet: a storey at a common level, or a slab between
-        two floors of the other (:func:`pair_sites`).
+        two floors of the other (:func:`~pounding.framework.model.placement.pair_sites`).
     direction : None, "x", "y", angle [degrees] or (dx, dy)
         The direction the gap is measured and the second building moved along
         (oriented from the first building towards the second). Default: the
@@ -478,7 +470,7 @@ class RowGaps:
 
     ``reports`` holds one :class:`GapReport` per adjacent pair (scene order), each found from
     one run of the whole scene without contact, over the storeys where the pair faces
-    (:func:`facing_storeys`), and measured as if the pair stood alone (the second building of
+    (:func:`~pounding.framework.model.placement.facing_storeys`), and measured as if the pair stood alone (the second building of
     the pair is the one moved); ``screened`` names the pairs with slabs at a
     common level (or slab-facade sites) that never face each other (a building between them
     at every such level).
@@ -492,7 +484,7 @@ class RowGaps:
 
 
 def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
-    """:func:`minimum_gap` of every adjacent pair (:func:`adjacent_pairs`) from one run without contact.
+    """:func:`minimum_gap` of every adjacent pair (:func:`~pounding.framework.model.placement.adjacent_pairs`) from one run without contact.
 
     ``direction`` applies to every pair (None: each pair's own facing normal).
     """

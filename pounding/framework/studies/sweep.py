@@ -3,7 +3,7 @@
 The grid is the Cartesian product of
 
 * gaps: the clear distance at rest between the two buildings along a direction
-  (:func:`pounding.framework.studies.gap.with_gap`; the second building is moved),
+  (:func:`pounding.framework.model.placement.with_gap`; the second building is moved),
 * PGA scale factors (applied after the scene's own ``pga``/``scale``),
 * records (AT2 files replacing the scene's record, scaled as the scene says), or
   the pairs of a record set (``fema-p695:farfield``: the 22 far-field pairs of
@@ -271,7 +271,7 @@ def run_case(spec: dict, case: dict, record_text: str | None = None) -> dict:
             row["warnings"] = "; ".join(dict.fromkeys(f"{w.category.__name__}: {w.message}" for w in caught))
         if case["gap"] is None:
             try:
-                from pounding.framework.studies.gap import rest_gap
+                from pounding.framework.model.placement import rest_gap
 
                 row["gap"] = rest_gap(scene, spec.get("direction"))[0]
             except InputError:
@@ -329,7 +329,7 @@ def prepare(scene_path, *, gaps=None, pga_scales=None, records=None, restitution
     direction, parameter ranges, integrator names, the records folder); a bad
     record *file* fails only its own runs.
     """
-    from pounding.framework.studies.gap import direction_vector, rest_gap
+    from pounding.framework.model.placement import direction_vector, rest_gap
     from pounding.io.ground_motion import BUILTIN_RECORDS
     from pounding.framework.model.levels import common_levels
     from pounding.io.scene import load_scene
@@ -606,7 +606,7 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     min_gap : also find each run's minimum gap for no contact (one more run without contact);
         default: when ``angles`` are given
     integrators : list of integrator names, optional
-    direction : direction of the gap (see :func:`pounding.framework.studies.gap.direction_vector`)
+    direction : direction of the gap (see :func:`pounding.framework.model.placement.direction_vector`)
     overrides : {"dt": s, "duration": s}, optional
     keep : also write every run's result folder into ``out/runs/run_NNNN``
     workers : worker processes of the local cluster (default: the number of cores)
