@@ -8,7 +8,6 @@ import sys
 from pathlib import Path
 
 from pounding.commands.cluster_options import add_cluster_options, check_cluster_options
-from pounding.errors import InputError
 
 
 def add_parser(sub) -> None:

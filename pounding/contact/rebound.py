@@ -24,7 +24,6 @@ control meets with smaller steps.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np

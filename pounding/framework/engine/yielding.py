@@ -34,7 +34,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.framework.engine.bundles import LinkRecord, Links, LinkTrial, Status
-from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, spring_set
+from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
 
 
 class Group:
