@@ -141,24 +141,6 @@ def test_a_uniform_face_of_m_points_carries_the_laws_force(law, coupled):
 
 
 @pytest.mark.parametrize("law", laws(0.5), ids=lambda law: law.name)
-def test_the_force_is_continuous_as_one_end_of_a_face_lifts_off(law):
-    """The face rule shares the law by penetration: as one end of a two-point face lifts off (its
-    penetration delta_2 -> 0 while the other end stays at delta_1), the pair's total force tends to
-    what the other end carries alone, F(delta_1) (the force once the lifting point has left the
-    contact, when the geometry gives one point). Points apart (S = 0), same rate: at delta_2 = eps
-    delta_1 the total differs from F(delta_1) by the lifting point's share eps / (1 + eps) of
-    F(delta_1) - F(delta_2), at most eps F(delta_1)."""
-    a, d1, rate, v0 = 1.0 / 5e4, 2e-3, -0.1, 0.5
-    alone = law.forces(contact(-d1, rate, 0.0, 0.0, a, 0, v0))[0]
-    assert alone > 0.0
-    W = np.full((2, 2), a)
-    for eps in (1e-3, 1e-6, 1e-9):
-        face = law.forces(contact(np.array([-d1, -eps * d1]), np.full(2, rate), 0.0 * W, 0.0 * W, W, np.zeros(2), np.full(2, v0)))
-        assert abs(face.sum() - alone) <= eps * alone * (1.0 + 1e-9)
-        assert face[1] <= eps * alone * (1.0 + 1e-9)
-
-
-@pytest.mark.parametrize("law", laws(0.5), ids=lambda law: law.name)
 @pytest.mark.parametrize("rate", [0.3, 0.0, -0.2])
 def test_the_tangents_are_the_derivatives_of_the_force(law, rate):
     """d F / d delta and d F / d delta' the law gives (Newton's Jacobian) are the central differences of

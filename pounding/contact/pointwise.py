@@ -29,20 +29,16 @@ The face rule
 -------------
 The law gives the force of one *contact*: two slabs pressed together at one storey. Where they
 meet face to face the geometry gives several points (the ends of the common facade), each with
-its own penetration; the m points of one slab pair pressed in a step share the law in proportion
-to their penetrations,
+its own penetration; the m points of one slab pair pressed in a step share the law equally,
 
-    lambda_i = s_i F(delta_i, delta'_i, delta'_0; m_eff,i),   s_i = delta0_i / sum_j delta0_j,
-    m_eff,i = 1 / W_ii,
+    lambda_i = F(delta_i, delta'_i, delta'_0; m_eff,i) / m,     m_eff,i = 1 / W_ii,
 
-the sum over the pair's points and delta0 the penetrations the step would end with without
-contact forces (known before the solve, so the shares are not unknowns of it). A uniform
-penetration of a face of m points (all points with the same row, W_ii = a) gives s_i = 1/m and
-the law's force F(delta; 1 / a), as one point would; a corner alone (m = 1) carries the whole law.
-With rotation the points' penetrations differ and each carries its share at its own penetration.
-As one end of a face lifts off, its penetration and its share fall to zero together and the
-other end's share grows to 1: the force is continuous when a point starts or stops pressing (a
-share of 1/m per point would jump from 1/2 to 1 there).
+so that a uniform penetration of a face of m points (all points with the same row, W_ii = a)
+gives the law's force F(delta; 1 / a), as one point would. With rotation the points'
+penetrations differ and each carries its share of the law at its own penetration. A corner
+(m = 1) carries the whole law. The share changes when a point of a face starts or stops
+pressing (from 1/2 to 1 as one end of a face lifts off): the force is continuous there for the
+elastic part of every law (F(0) = 0 at the lifting point) but not in the other point's share.
 
 The solve
 ---------
@@ -149,19 +145,15 @@ class PointwiseLaw(ContactLaw):
         m_eff = 1.0 / np.diag(W)
         return solve_point_forces(self.law_force, -gap, -np.asarray(contact.rate, dtype=float),
                                   np.asarray(contact.approach, dtype=float), self.params(m_eff),
-                                  face_shares(np.asarray(contact.pair), -gap), np.asarray(contact.S_q, dtype=float),
+                                  face_shares(np.asarray(contact.pair)), np.asarray(contact.S_q, dtype=float),
                                   np.asarray(contact.S_v, dtype=float))
 
 
-def face_shares(pair: np.ndarray, penetration: np.ndarray) -> np.ndarray:
-    """Share (m,) of the law each of m points carries: its penetration over the sum of the
-    penetrations [m] (m,) of its slab pair's points (the face rule of the module docstring; 1 / the
-    pair's number of points where none penetrates)."""
-    pair = np.asarray(pair)
-    pen = np.maximum(np.asarray(penetration, dtype=float), 0.0)
+def face_shares(pair: np.ndarray) -> np.ndarray:
+    """Share (m,) of the law each of m points carries: 1 / (number of points of its slab pair)
+    (the face rule of the module docstring)."""
     _, inverse, counts = np.unique(pair, return_inverse=True, return_counts=True)
-    total = np.bincount(inverse, weights=pen)[inverse]
-    return np.where(total > 0.0, pen / np.where(total > 0.0, total, 1.0), 1.0 / counts[inverse])
+    return 1.0 / counts[inverse]
 
 
 def evaluate(law_force, delta: np.ndarray, rate: np.ndarray, approach: np.ndarray, params: np.ndarray):
