@@ -74,12 +74,12 @@ class StepContacts:
 def _by_pair(pair: np.ndarray):
     """(pair, selector) of every pair among the points ``pair`` (m,): a slice over all of them when
     there is one pair (the common case, without masks), else a boolean mask."""
-    if len(pair) == 0:
+    ids = pair.tolist()  # a handful of points: Python's set is cheaper than numpy's reductions here
+    if not ids:
         return []
-    first = int(pair[0])
-    if bool(np.all(pair == first)):
-        return [(first, slice(None))]
-    return [(p, pair == p) for p in dict.fromkeys(pair.tolist())]
+    if len(set(ids)) == 1:
+        return [(ids[0], slice(None))]
+    return [(p, pair == p) for p in dict.fromkeys(ids)]
 
 
 def crossing(t: float, h: float, g0: float, g1: float) -> tuple[float, float]:
@@ -162,8 +162,8 @@ class Episodes:
         that end the step overlapping or pushing."""
         out = {}
         for p, idx in _by_pair(c.pair):
-            force = float(c.force[idx].sum())
-            pen = float(max(-c.gap[idx].min(), 0.0))
+            force = sum(c.force[idx].tolist())
+            pen = max(-min(c.gap[idx].tolist()), 0.0)
             if force > 0.0 or pen > 0.0:
                 whole = isinstance(idx, slice) and c.modal is not None
                 out[p] = (idx, force, c.modal if whole else c.rows[idx].T @ c.force[idx], pen)

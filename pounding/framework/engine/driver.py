@@ -828,9 +828,10 @@ class Driver:
         pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
         near, near_gap = pair, gap
         keep = gap < 0
-        if not np.any(keep):
+        if not keep.any():
             return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(near, near_gap, self.model.n))
-        pair, gap, Wr, Qf, Nf = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep]
+        if not keep.all():
+            pair, gap, Wr, Qf, Nf = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep]
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
