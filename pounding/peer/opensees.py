@@ -333,12 +333,13 @@ def run_transient(
 
     masters = [built[b.name][0] for b in buildings]
     out = [np.zeros((n_steps + 1, b.n_storeys, 3)) for b in buildings]
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+
+    def record(k):
         for arr, tags in zip(out, masters):
             for f, tag in enumerate(tags):
                 arr[k, f] = (ops.nodeDisp(tag, 1), ops.nodeDisp(tag, 2), ops.nodeDisp(tag, 6))
+
+    step_through(ops, n_steps, dt, record)
     ops.wipeAnalysis()
     if single:
         return out[0]
@@ -441,15 +442,14 @@ def run_face_pounding(ops, scene, material, dt: float, n_steps: int, *, out_of_p
 
     ux = {b.name: np.zeros((n_steps + 1, b.n_storeys)) for b in scene.buildings}
     forces = np.zeros((n_steps + 1, len(springs), 2))
-    iterations = 0
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
-        iterations += ops.testIter()
+
+    def record(k):
         for name, tags_ in masters.items():
             ux[name][k] = [ops.nodeDisp(t, 1) for t in tags_]
         for f, row in enumerate(springs):
             forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
+
+    iterations = step_through(ops, n_steps, dt, record)
     ops.wipe()
     return ux, forces, iterations, clear
 
@@ -537,6 +537,19 @@ def point_effective_mass(slab_a, slab_b, y: float) -> float:
 
 
 # --------------------------------------------------------------------------- P-Delta peer
+def step_through(ops, n_steps: int, dt: float, record) -> int:
+    """Run the analysis set up in ``ops`` for n_steps steps of dt [s], calling ``record(k)`` after
+    step k (1..n_steps); returns the Newton iterations taken in all (``ops.testIter()`` summed).
+    A step OpenSees cannot take raises :class:`RuntimeError` naming it."""
+    iterations = 0
+    for k in range(1, n_steps + 1):
+        if ops.analyze(1, float(dt)) != 0:
+            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
+        iterations += ops.testIter()
+        record(k)
+    return iterations
+
+
 def newmark_along_x(ops, gm, who: str, tol: float, max_iter: int) -> None:
     """Shake along x with the one component of ``gm`` (UniformExcitation) and set up a Newton,
     Newmark average-acceleration transient analysis (the gap and spring peers' set-up)."""

@@ -100,7 +100,7 @@ def run_springs_transient(
     built = {}
     for i, b in enumerate(buildings):
         built[b.name] = build_spring_building(ops, b, 100_000 * i, boucwen_tol)
-    from pounding.peer.opensees import building_rayleigh, rayleigh_damping, transient_analysis, uniform_excitation
+    from pounding.peer.opensees import building_rayleigh, rayleigh_damping, step_through, transient_analysis, uniform_excitation
 
     rayleigh_damping(ops, [built[b.name][1:3] for b in buildings], building_rayleigh(buildings))
 
@@ -109,17 +109,16 @@ def run_springs_transient(
 
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in buildings}
     forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in buildings}
-    iterations = 0
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
-        iterations += ops.testIter()
+
+    def record(k):
         for b in buildings:
             masters, _, _, links = built[b.name]
             arr = disp[b.name]
             for f, tag in enumerate(masters):
                 arr[k, f] = (ops.nodeDisp(tag, 1), ops.nodeDisp(tag, 2), ops.nodeDisp(tag, 6))
             forces[b.name][k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
+
+    iterations = step_through(ops, n_steps, dt, record)
     ops.wipe()
     return disp, forces, iterations
 
@@ -150,17 +149,14 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
     rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
     masters = {name: parts[0] for name, parts in built.items()}
     gaps, _ = face_gap_springs(ops, scene.buildings, masters, stiffness, _Tags(1_000_000))
-    from pounding.peer.opensees import newmark_along_x
+    from pounding.peer.opensees import newmark_along_x, step_through
 
     newmark_along_x(ops, scene.ground_motion, "run_springs_gap_pounding", tol, max_iter)
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
     forces = {b.name: np.zeros((n_steps + 1, len(built[b.name][3]))) for b in scene.buildings}
     gap_forces = np.zeros((n_steps + 1, len(gaps), 2))
-    iterations = 0
-    for k in range(1, n_steps + 1):
-        if ops.analyze(1, float(dt)) != 0:
-            raise RuntimeError(f"OpenSees analysis failed at step {k} (t = {k * dt:g} s)")
-        iterations += ops.testIter()
+
+    def record(k):
         for b in scene.buildings:
             masters, _, _, links = built[b.name]
             for f, t in enumerate(masters):
@@ -168,5 +164,7 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
             forces[b.name][k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
         for f, row in enumerate(gaps):
             gap_forces[k, f] = [ops.eleResponse(e, "basicForce")[0] for e in row]
+
+    iterations = step_through(ops, n_steps, dt, record)
     ops.wipe()
     return disp, forces, gap_forces, iterations
