@@ -227,3 +227,26 @@ class LinkRecord(NamedTuple):
     work: np.ndarray  #: (n_buildings,) work of the remainders' modal loads [J]
     counts: np.ndarray  #: (n_groups, 3) int64, Newton iterations, steps that iterated, tangent changes (compiled steps)
     hist: np.ndarray  #: (3, n_out, ns) deformation [m], force [N], dissipated energy [J] at the output rows
+
+
+class NewtonWork(NamedTuple):
+    """Work buffers of the links' Newton (:func:`pounding.framework.engine.spring_core.solve_group`),
+    allocated once per stretch or step (:func:`pounding.framework.engine.spring_core.newton_work`);
+    ns links, m of them in the largest group."""
+
+    dl: np.ndarray  #: (ns,) the linear step's end deformations [m]
+    sf: np.ndarray  #: (ns,) S f, the start remainders' share of them [m] (kept until f changes)
+    d: np.ndarray  #: (ns,) the end deformations being solved [m]
+    kt: np.ndarray  #: (ns,) the step's tangents [N/m]
+    J: np.ndarray  #: (m, m) the active links' Jacobian
+    x: np.ndarray  #: (2 m,) residuals, then the active rows' right-hand side
+    act: np.ndarray  #: (m,) int64, the active links (off their initial branch)
+
+
+class LinkStepping(NamedTuple):
+    """The links of a compiled stretch (:func:`pounding.framework.engine.spring_core.stretch`)."""
+
+    links: Links  #: the links and their laws' parameters
+    S: np.ndarray  #: (ns, ns) the grid step's compliance [m/N] (block diagonal by group)
+    now: LinkTrial  #: the committed links, updated in place
+    record: LinkRecord  #: what the run records of them, updated in place

@@ -38,6 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pounding.compiler import njit
 from pounding.framework.engine import pairs as pg
 
 
@@ -125,8 +126,8 @@ def pair_bounds(geo, n: int, peak_disp: np.ndarray, peak_speed: np.ndarray) -> t
         A, B = geo.verts[sa, : geo.nvert[sa]], geo.verts[sb, : geo.nvert[sb]]
         points = np.concatenate([_boundary_samples(A), _boundary_samples(B)])
         dist = np.concatenate([_distance_to(_boundary_samples(A), B), _distance_to(_boundary_samples(B), A)])
-        rows = np.array([[pg.pair_row(q, p, float(x), float(y), 1.0, 0.0, geo), pg.pair_row(q, p, float(x), float(y), 0.0, 1.0, geo)]
-                         for x, y in points])  # (m, 2, n): along x and along y
+        rows = np.empty((len(points), 2, n))  # (m, 2, n): along x and along y
+        _rows_at(q, p, np.ascontiguousarray(points), geo, rows)
         size = np.hypot(rows[:, 0], rows[:, 1])  # (m, n): a mode's largest share of the gap over the normals
         reach = float(np.max(size @ peak_disp))
         near = dist <= max(float(geo.rest[p]), 0.0) + reach
@@ -152,15 +153,41 @@ def modal_peaks(integrator_cls, omega: np.ndarray, zeta: np.ndarray, L: np.ndarr
         Ground acceleration samples [m/s^2] every ``dt`` [s].
     """
     tr = integrator_cls().transition(np.ascontiguousarray(omega, dtype=float), np.ascontiguousarray(zeta, dtype=float), float(dt))
-    A, B = tr.A, tr.B
-    load = -(np.asarray(ag, dtype=float) @ L.T)  # (m, n)
-    z = np.zeros((len(omega), 3))
-    z[:, 2] = load[0]  # at rest, the acceleration is the load's
+    load = np.ascontiguousarray(-(np.asarray(ag, dtype=float) @ L.T))  # (m, n)
     peak = np.zeros((len(omega), 2))
-    for k in range(load.shape[0] - 1):
-        z = np.einsum("irc,ic->ir", A, z) + B[:, :, 0] * load[k][:, None] + B[:, :, 1] * load[k + 1][:, None]
-        np.maximum(peak, np.abs(z[:, :2]), out=peak)
+    _step_peaks(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), load, peak)
     return peak[:, 0], peak[:, 1]
+
+
+@njit
+def _rows_at(q, p, points, geo, rows):
+    """rows (m, 2, n) <- the modal rows of pair p at the points (m, 2) [m], along x and along y
+    (:func:`~pounding.framework.engine.pairs.pair_row`, in one compiled loop: a call from Python
+    per point cost about 40 ms a run)."""
+    for j in range(points.shape[0]):
+        rows[j, 0] = pg.pair_row(q, p, points[j, 0], points[j, 1], 1.0, 0.0, geo)
+        rows[j, 1] = pg.pair_row(q, p, points[j, 0], points[j, 1], 0.0, 1.0, geo)
+
+
+@njit
+def _step_peaks(A, B, load, peak):
+    """peak (n, 2) <- the largest |q| and |q'| of every mode stepped from rest by the transition
+    A (n, 3, 3), B (n, 3, 2) under the modal loads ``load`` (m, n) at the samples (a record of a
+    few thousand samples: compiled, as a Python loop it cost about 40 ms a run)."""
+    n = load.shape[1]
+    z = np.zeros((n, 3))
+    z1 = np.empty(3)
+    for i in range(n):
+        z[i, 2] = load[0, i]  # at rest, the acceleration is the load's
+    for k in range(load.shape[0] - 1):
+        for i in range(n):
+            for r in range(3):
+                z1[r] = (A[i, r, 0] * z[i, 0] + A[i, r, 1] * z[i, 1] + A[i, r, 2] * z[i, 2]
+                         + B[i, r, 0] * load[k, i] + B[i, r, 1] * load[k + 1, i])
+            for r in range(3):
+                z[i, r] = z1[r]
+            peak[i, 0] = max(peak[i, 0], abs(z1[0]))
+            peak[i, 1] = max(peak[i, 1], abs(z1[1]))
 
 
 def shortest_contact(model, laws: list, pair_law: np.ndarray, peaks) -> ContactTime:

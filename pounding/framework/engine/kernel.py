@@ -104,8 +104,6 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     gaps = np.full((pair_a.shape[0], 7), np.nan)
     kin = np.empty((pair_a.shape[0], 2, 18))  # the pairs' slab_state at the last two step ends, by k % 2
     kin_at = np.full((pair_a.shape[0], 2), -1, dtype=np.int64)  # the grid index each slot describes
-    GA, GB, gc, gw, WA1, WA2, WM = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
-    c2, bidx = modes.c2, modes.bidx
     xw = np.empty(4)
     for k in range(k0, k1):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
@@ -174,7 +172,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     # keep checking the other pairs: one of them may overlap in this same step
                     status = Status.CONTACT
                     hit = p
-        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
+        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
         if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
             update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
         held = False
@@ -204,8 +202,7 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
     xw = np.empty(4)
     for k in range(k0, k1):
         _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
-        _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag[k], ag[k + 1], z0, z,
-                    no_force, no_force, rec.E, xw)
+        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
         if rec.every > 1:
             update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
@@ -444,14 +441,14 @@ def _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E):
     int q'^2 = x WM x), Gauss points on it (GA, GB, gc, gw), or the trapezoidal rule on the
     step-end velocities (no points: average acceleration's exact identity).
     """
-    _accumulate(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM, modes.L, modes.c2, modes.bidx, dt, ag0, ag1, z0, z, f0, f1, E,
-                np.empty(4))
+    _accumulate(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E, np.empty(4))
 
 
 @njit
-def _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, f0, f1, E, x):
-    """:func:`_accumulate_forces` on the bundles' arrays, x (4,) a work array: for the stretches'
-    every step, where unpacking the bundles at each call cost a tenth of a free step."""
+def _accumulate(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E, x):
+    """:func:`_accumulate_forces` with a work array x (4,) given (the stretches allocate it once)."""
+    GA, GB, gc, gw, WA1, WA2, WM = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
+    L, c2, bidx = modes.L, modes.c2, modes.bidx
     n = z.shape[0]
     nq = gc.shape[0]
     maps = WA1.shape[0] > 0

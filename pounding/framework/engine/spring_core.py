@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import Status
+from pounding.framework.engine.bundles import LinkTrial, NewtonWork, Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.framework.engine.kernel import _accumulate, modal_load, update_peaks
 from pounding.framework.engine.pairs import pair_gap_into
@@ -41,16 +41,16 @@ from pounding.framework.engine.links import law_update
 
 
 @njit
-def solve_group(laws, lo, hi, law, params, k0, h, dl, sf, S, f, state, tol, trial, d, f1, kt, J, x, act):
-    """Newton on ``u + S f(u) = dl`` for links lo..hi-1 (one building), for a step of h [s].
+def solve_group(laws, j, links, h, S, now, out, ws):
+    """Newton on ``u + S f(u) = dl`` for the links of group j (one building), for a step of h [s].
 
-    dl (ns,) the linear step's end deformations [m]; sf (ns,) = S f, the start remainders' share
-    (the predictor keeps them through the step); S (ns, ns) the step's compliance (block diagonal
-    by building); f (ns,) the remainders at the step's start [N]; state the committed law states;
-    law, params, k0 the links' law indices, parameters and initial stiffnesses (:class:`Links`);
-    tol the residual tolerance [m]. Writes the end deformations d, remainders f1, tangents kt (the
-    step's, dr/du + dr/dv / h) and trial states (rows lo..hi-1); J (m, m), x (2 m,), act (m,) int
-    are work buffers, m >= hi - lo.
+    links : :class:`Links` (the group's bounds, law indices, parameters, initial stiffnesses and
+    residual tolerance [m] are read); S (ns, ns) the step's compliance (block diagonal by group);
+    now : :class:`LinkTrial`, the committed remainders f [N] and states; ws : :class:`NewtonWork`,
+    whose ``dl`` holds the linear step's end deformations [m] and ``sf`` = S f (the predictor keeps
+    the start remainders through the step). Writes the end deformations ``ws.d``, tangents
+    ``ws.kt`` (the step's, dr/du + dr/dv / h) and the group's rows of ``out.f`` (end remainders)
+    and ``out.state`` (trial states).
 
     The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the links off their
     initial branch (the active set a): (I + S_aa D_a) x_a = res_a is solved, and every row follows
@@ -58,6 +58,10 @@ def solve_group(laws, lo, hi, law, params, k0, h, dl, sf, S, f, state, tol, tria
 
     Returns the Newton iterations taken, or -1 when it did not converge in MAX_ITER.
     """
+    lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
+    law, params, k0 = links.law, links.params, links.k0
+    f, state, trial, f1 = now.f, now.state, out.state, out.f
+    dl, sf, d, kt, J, x, act = ws.dl, ws.sf, ws.d, ws.kt, ws.J, ws.x, ws.act
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
     for it in range(MAX_ITER + 1):
@@ -89,8 +93,8 @@ def solve_group(laws, lo, hi, law, params, k0, h, dl, sf, S, f, state, tol, tria
                 d[a] -= x[a - lo]
             continue
         for i in range(na):
-            for j in range(na):
-                J[i, j] = S[act[i], act[j]] * (kt[act[j]] - k0[act[j]])
+            for c in range(na):
+                J[i, c] = S[act[i], act[c]] * (kt[act[c]] - k0[act[c]])
             J[i, i] += 1.0
         y = x[hi - lo : hi - lo + na]  # the active rows' right-hand side, after the residuals
         for i in range(na):
@@ -152,6 +156,15 @@ def _largest_group(bounds):
 
 
 @njit
+def newton_work(bounds):
+    """Fresh :class:`NewtonWork` for the links of groups ``bounds`` (:attr:`Links.bounds`)."""
+    ns = bounds[-1]
+    m = _largest_group(bounds)
+    return NewtonWork(np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m),
+                      np.empty(m, dtype=np.int64))
+
+
+@njit
 def solve_springs(laws, links, S, h, q_lin, now, out):
     """Every group's Newton (:func:`solve_group`) for a step of h [s] whose linear part ends at the
     modal displacements q_lin (n,), from the committed links ``now`` (:class:`LinkTrial`).
@@ -159,31 +172,24 @@ def solve_springs(laws, links, S, h, q_lin, now, out):
     Writes the trial ``out`` (:class:`LinkTrial`: end remainders, trial states, their modal load).
     Returns the index of a group whose Newton diverged, or -1.
     """
-    law, G, bounds, gmodes, k0, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
-    ns = now.f.shape[0]
-    m = _largest_group(bounds)
-    sf = np.empty(ns)
-    compliance_load(now.f, S, bounds, sf)
-    j = _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, now.f, now.state, out.state, out.f,
-                       np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m), np.empty(m, dtype=np.int64),
-                       np.zeros((ntol.shape[0], 3), dtype=np.int64))
+    ws = newton_work(links.bounds)
+    compliance_load(now.f, S, links.bounds, ws.sf)
+    j = _solve_springs(laws, links, S, h, q_lin, now, out, ws, np.zeros((links.tol.shape[0], 3), dtype=np.int64))
     if j < 0:
-        end_load(out.f, G, bounds, gmodes, out.g)
+        end_load(out.f, links.G, links.bounds, links.gmodes, out.g)
     return j
 
 
 @njit
-def _solve_springs(laws, law, G, bounds, gmodes, params, k0, ntol, S, h, q_lin, sf, f, state, trial, f1, dl, d, kt, J, x, act,
-                   counts):
-    """The groups' Newton (:func:`solve_group`) with S f and the work buffers given: dl, d, kt (ns,),
-    J (m, m), x (2 m,), act (m,) for the largest group of m links (the stretch allocates them once,
-    and keeps S f until f changes). Adds every group's iterations, and a step that iterated, to
-    counts (n_groups, 3) columns 0 and 1. The links' arrays are :class:`Links`' (the entry points
-    unpack the bundle once: a leaf called at every step takes arrays). Returns the index of a group
-    that diverged, or -1."""
-    deformations(q_lin, G, bounds, gmodes, dl)
+def _solve_springs(laws, links, S, h, q_lin, now, out, ws, counts):
+    """Every group's Newton (:func:`solve_group`) with ``ws.sf`` = S f given (the stretch keeps it
+    until f changes) and the work buffers ``ws`` (:class:`NewtonWork`). Adds every group's
+    iterations, and a step that iterated, to counts (n_groups, 3) columns 0 and 1. Returns the
+    index of a group that diverged, or -1."""
+    bounds = links.bounds
+    deformations(q_lin, links.G, bounds, links.gmodes, ws.dl)
     for j in range(bounds.shape[0] - 1):
-        it = solve_group(laws, bounds[j], bounds[j + 1], law, params, k0, h, dl, sf, S, f, state, ntol[j], trial, d, f1, kt, J, x, act)
+        it = solve_group(laws, j, links, h, S, now, out, ws)
         if it < 0:
             return j
         counts[j, 0] += it
@@ -210,16 +216,11 @@ def forces_at(laws, links, h, q1, now, out):
 @njit
 def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
     """out (n,) <- work [J] in a step of h [s] of a modal load w linear in it (w0 at its start, w1
-    at its end), on the integrator's trajectory driven by the modal ground loads (pg0, pg1 (n,) at
-    the ends) and the total extra loads ftot0, ftot1 (n,): the three rules of
-    :func:`pounding.framework.engine.kernel._accumulate_forces` (closed-form maps, Gauss points on the
-    trajectory, or the trapezoidal rule)."""
-    _spring_work(tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out)
-
-
-@njit
-def _spring_work(GA, GB, gc, gw, WA1, WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
-    """:func:`spring_work` on the arrays of the :class:`Transition` (the stretch's every step)."""
+    at its end), on the integrator's trajectory (``tr``, the :class:`Transition`) driven by the
+    modal ground loads (pg0, pg1 (n,) at the ends) and the total extra loads ftot0, ftot1 (n,): the
+    three rules of :func:`pounding.framework.engine.kernel._accumulate_forces` (closed-form maps,
+    Gauss points on the trajectory, or the trapezoidal rule)."""
+    GA, GB, gc, gw, WA1, WA2 = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2
     n = z0.shape[0]
     for i in range(n):
         p0 = pg0[i]
@@ -247,13 +248,13 @@ def _spring_work(GA, GB, gc, gw, WA1, WA2, h, pg0, pg1, z0, z1, ftot0, ftot1, w0
 
 
 @njit
-def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lrec):
+def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     """Grid steps k0 -> k1 of a model with links, until a slab pair comes within the contact tolerance.
 
     Each step is the driver's Python step without contact (``Driver.spring_trial`` and
     ``Driver.commit``): the modal step with the remainders' start load -g, the links' Newton
     (:func:`_solve_springs`), the end load, the energy audit (the remainders' work booked to
-    ``lrec.work`` per building and to the contact column as the Python path books it), the records.
+    ``run.record.work`` per building and to the contact column as the Python path books it), the records.
     After the step every slab pair is checked (:func:`~pounding.framework.engine.pairs.pair_gap_into`): when a pair ends within
     ``tol`` of contact (or overlapping), the step is rolled back (state, links and energy
     untouched) and the stretch returns (k, OVERLAP, pair): the driver takes that step in Python,
@@ -267,10 +268,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     z : (n, 3) modal state, updated in place
     k0, k1 : int, the grid steps to take
     tol : contact tolerance [m]
-    links : :class:`~pounding.framework.engine.bundles.Links`
-    S : (ns, ns) the grid step's compliance
-    now : :class:`~pounding.framework.engine.bundles.LinkTrial`, the committed links, updated in place
-    lrec : :class:`~pounding.framework.engine.bundles.LinkRecord`, updated in place
+    run : :class:`~pounding.framework.engine.bundles.LinkStepping`, the links, the grid step's
+        compliance, the committed links and their record (the last two updated in place)
 
     Returns
     -------
@@ -278,14 +277,15 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     or DIVERGED (Newton failed in step k, state at its start); the pair that stopped it, or -1.
     """
     # the bundles unpacked once, by name: the leaves called at every step take arrays
-    A, B, GA, GB, gc, gw, WA1, WA2, WM = tr.A, tr.B, tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
-    L, c2, bidx = modes.L, modes.c2, modes.bidx
+    A, B = tr.A, tr.B
+    L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
     every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
     rows, n_modes = geo.rows, geo.n_modes
-    law, G, bounds, gmodes, kel, ntol, params = links.law, links.G, links.bounds, links.gmodes, links.k0, links.tol, links.params
+    links, S, now, lrec = run.links, run.S, run.now, run.record
+    G, bounds, gmodes = links.G, links.bounds, links.gmodes
     f, g, state = now.f, now.g, now.state
-    peak, tangent, work, counts, hist = lrec.peak, lrec.tangent, lrec.work, lrec.counts, lrec.hist
+    work, counts, hist = lrec.work, lrec.counts, lrec.hist
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -304,11 +304,9 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
     db = np.empty(3)
     q1 = np.empty(n)  # the end displacements, for the pair check
     xw = np.empty(4)
-    m = _largest_group(bounds)
-    dl, d, kt, J, x = np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m)
-    act = np.empty(m, dtype=np.int64)
-    sf = np.empty(ns)
-    compliance_load(f, S, bounds, sf)  # S f, kept until f changes (the same numbers solve_springs computes)
+    out = LinkTrial(f1, trial, g1)
+    ws = newton_work(bounds)
+    compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers solve_springs computes)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -325,8 +323,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
             for r in range(3):
                 z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
             qlin[i] = z[i, 0]
-        if _solve_springs(laws, law, G, bounds, gmodes, params, kel, ntol, S, dt, qlin, sf, f, state, trial, f1, dl, d, kt, J, x,
-                          act, counts) >= 0:
+        if _solve_springs(laws, links, S, dt, qlin, now, out, ws, counts) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
@@ -360,8 +357,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
         for i in range(n):
             ftot0[i] = 0.0 - g[i]
             ftot1[i] = 0.0 - g1[i]
-        _accumulate(GA, GB, gc, gw, WA1, WA2, WM, L, c2, bidx, dt, ag0, ag1, z0, z, ftot0, ftot1, E, xw)
-        _spring_work(GA, GB, gc, gw, WA1, WA2, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
+        _accumulate(tr, modes, dt, ag0, ag1, z0, z, ftot0, ftot1, E, xw)
+        spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
         for b in range(nb):
             per[b] = 0.0
         for i in range(n):
@@ -373,8 +370,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
         for i in range(n):
             g[i] = g1[i]
         if changed:
-            compliance_load(f1, S, bounds, sf)
-        _commit_links(bounds, kel, f1, trial, kt, f, state, peak, tangent, counts)
+            compliance_load(f1, S, bounds, ws.sf)
+        _commit_links(links, out, ws.kt, now, lrec)
         if every > 1:
             update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, slab_peak)
         if (k + 1) % every == 0:
@@ -390,10 +387,14 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, links, S, now, lr
 
 
 @njit
-def _commit_links(bounds, k0, f1, trial, kt, f, state, peak, tangent, counts):
-    """Commit a step's remainders f1 (ns,), trial states and tangents kt (ns,) into f and state; count
-    the tangent changes (a link yields or unloads: its tangent moves by more than 1e-9 k0) per group
-    in counts[:, 2], remembering the tangents, and update the running peaks (:class:`LinkRecord`'s arrays)."""
+def _commit_links(links, out, kt, now, lrec):
+    """Commit a step's trial links ``out`` (:class:`LinkTrial`: remainders, trial states) and their
+    tangents kt (ns,) into ``now``; count the tangent changes (a link yields or unloads: its tangent
+    moves by more than 1e-9 k0) per group in ``lrec.counts[:, 2]``, remembering the tangents, and
+    update the running peaks (:class:`LinkRecord`)."""
+    bounds, k0 = links.bounds, links.k0
+    f1, trial, f, state = out.f, out.state, now.f, now.state
+    peak, tangent, counts = lrec.peak, lrec.tangent, lrec.counts
     for j in range(bounds.shape[0] - 1):
         for s in range(bounds[j], bounds[j + 1]):
             if abs(kt[s] - tangent[s]) > 1e-9 * k0[s]:

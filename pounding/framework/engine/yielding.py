@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.framework.engine.bundles import LinkRecord, Links, LinkTrial, Status
+from pounding.framework.engine.bundles import LinkRecord, Links, LinkStepping, LinkTrial, Status
 from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
 
 
@@ -242,8 +242,9 @@ class Yielding:
 
         tr = driver.transition(driver.dt)
         S = self.S(np.ascontiguousarray(tr.B[:, 0, 1]))
+        run = LinkStepping(self.links, S, self.now, self.rec)
         k, status, pair = stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
-                                  driver.kgeo, float(driver.tol), self.links, S, self.now, self.rec)
+                                  driver.kgeo, float(driver.tol), run)
         if status == Status.DIVERGED:
             raise FloatingPointError(f"the yielding springs' Newton iteration did not converge in the step starting at "
                                      f"t = {k * driver.dt:g} s (try a smaller dt)")
