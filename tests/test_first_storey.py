@@ -338,3 +338,50 @@ def test_first_storey_from_the_api_is_checked_too():
         assert err.value.field == "first_storey"
     e = StoreySprings.build(table, storey_heights=[1.0, 3.0, 3.5], first_storey=2)
     assert e.building_floors == (2, 3) and e.heights == (3.0, 3.5) and e.storey_floors() == [(1, 2), (2, 3)]
+
+
+# --------------------------------------------------------------------------- isolator outputs
+def test_a_bilinear_loop_dissipates_4_q_d_minus_dy():
+    """A bilinear law (k0, F_y, b) cycled quasi-statically between +-D > u_y dissipates the loop's area
+    E_D = 4 Q (D - u_y), Q = F_y (1 - b) (AASHTO's form); the law is exact for any increment, so the
+    only error is the rounding of summing 3 x 2000 increments (3 x 2000 eps of E_D)."""
+    from pounding.framework.post.isolators import CYCLE_STEPS, cycle_energy
+    from pounding.hysteresis.bilinear import Bilinear
+
+    k0, fy, b = 4.0e7, 2.0e5, 0.1
+    law = Bilinear()
+    for D in (0.01, 0.05, 0.2):
+        expected = 4 * fy * (1 - b) * (D - fy / k0)
+        assert abs(cycle_energy(law, law.pack(k0, fy, b), D) - expected) <= 3 * CYCLE_STEPS * EPS * expected
+    assert cycle_energy(law, law.pack(k0, fy, b), 0.5 * fy / k0) == 0.0  # within the elastic range: no loop
+
+
+def test_summary_reports_the_isolators_per_line(tmp_path):
+    """summary.json of the isolated building (bilinear isolators, frames from storey 2), per line (all yield): the
+    peak force is the bilinear envelope at the peak displacement, F_y (1 - b) + b k0 D (kinematic
+    hardening bounds |r| by it, reached when loading at the peak; to 10 eps of F), so
+    K_eff = F / D, and beta_eff = 4 Q (D - u_y) / (2 pi K_eff D^2). Along x (two x lines, the y lines
+    count (d . e)^2 = 0): T_eff = 2 pi sqrt(M / (K_eff,1 + K_eff,2)), longer than with the isolators'
+    initial stiffness (the secant is softer)."""
+    import json
+
+    from pounding.framework.post.isolators import CYCLE_STEPS
+    from pounding.framework.post.run import run
+    from pounding.io.results import write_results
+
+    scene = parse_scene(scene_of(isolated(isolators(2.0e5) + superstructure_frames()), angle=30.0))
+    write_results(run(scene), tmp_path / "out")
+    iso = json.loads((tmp_path / "out" / "summary.json").read_text())["buildings"]["isolated"]["isolators"]
+    k0s, fy, b = (4.0e7, 3.0e7, 3.5e7, 3.5e7), 2.0e5, 0.1
+    assert [line["element"] for line in iso["lines"]] == [0, 1, 2, 3]
+    for line, k0 in zip(iso["lines"], k0s):
+        D, F = line["peak_displacement"], line["peak_force"]
+        assert D > fy / k0  # they yield
+        assert abs(F - (fy * (1 - b) + b * k0 * D)) <= 10 * EPS * F
+        assert line["effective_stiffness"] == pytest.approx(F / D, rel=4 * EPS)
+        beta = 4 * fy * (1 - b) * (D - fy / k0) / (2 * np.pi * (F / D) * D * D)
+        assert line["effective_damping"] == pytest.approx(beta, rel=3 * CYCLE_STEPS * EPS + 20 * EPS)  # the loop's sum
+    M = 675000.0
+    Kx = iso["lines"][0]["effective_stiffness"] + iso["lines"][1]["effective_stiffness"]
+    assert iso["mass"] == M and iso["effective_period"]["x"] == pytest.approx(2 * np.pi * np.sqrt(M / Kx), rel=4 * EPS)
+    assert iso["effective_period"]["x"] > 2 * np.pi * np.sqrt(M / (k0s[0] + k0s[1]))

@@ -163,18 +163,11 @@ def storey_stiffness(b, direction) -> np.ndarray:
     return shear / drift
 
 
-def isolation_layer(b) -> bool:
-    """True when storey 1 of building ``b`` is an isolation layer: every element in it is a line of storey
-    springs spanning storey 1 alone (``spring_line``, one floor), and an element stands on floor 1. Its
-    low stiffness is the design, not a soft storey."""
-    in_storey_1 = [e for e in b.elements if 1 in e.building_floors]
-    return (b.n_storeys > 1 and bool(in_storey_1) and all(e.spring_line and len(e.floors) == 1 for e in in_storey_1)
-            and any(e.base_floor == 1 for e in b.elements))
-
-
 def _soft_storeys(b) -> list[Finding]:
+    from pounding.framework.model.isolation import isolation_layer
+
     out = []
-    skip = {0} if isolation_layer(b) else set()  # storey 1 (0-based 0) is meant to be soft
+    skip = {0} if isolation_layer(b) else set()  # storey 1 (0-based 0): an isolation layer is soft by design
     for axis, direction in (("x", (1.0, 0.0)), ("y", (0.0, 1.0))):
         try:
             k = storey_stiffness(b, direction)
