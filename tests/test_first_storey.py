@@ -385,3 +385,23 @@ def test_summary_reports_the_isolators_per_line(tmp_path):
     Kx = iso["lines"][0]["effective_stiffness"] + iso["lines"][1]["effective_stiffness"]
     assert iso["mass"] == M and iso["effective_period"]["x"] == pytest.approx(2 * np.pi * np.sqrt(M / Kx), rel=4 * EPS)
     assert iso["effective_period"]["x"] > 2 * np.pi * np.sqrt(M / (k0s[0] + k0s[1]))
+
+
+def test_a_third_party_element_stands_on_a_floor_for_free():
+    """The example plugin ``Brace`` (examples/plugin_element, written before ``first_storey`` existed)
+    braces its own storey 1; built with ``first_storey = 3`` in a building of storey heights
+    (3.0, 3.0, 3.5) it braces storey 3: its height is 3.5 m, and placed it acts on the relative drift
+    of floors 2 and 3 with k [[1, -1], [-1, 1]], k = E A cos^2(theta) / L, L = sqrt(b^2 + h^2)."""
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "examples" / "plugin_element"))
+    try:
+        from pounding_brace import Brace
+    finally:
+        sys.path.pop(0)
+    E, A, b, h = 200e9, 0.002, 6.0, 3.5
+    brace = Brace.build({"start": [0.0, 0.0], "end": [b, 0.0], "storey": 1, "E": E, "A": A},
+                        storey_heights=[3.0, 3.0, h], first_storey=3)
+    L = np.hypot(b, h)
+    k = E * A * (b / L) ** 2 / L
+    floors, K = brace.placed_stiffness()
+    assert brace.building_floors == (3,) and floors == (2, 3)
+    np.testing.assert_allclose(K, k * np.array([[1.0, -1.0], [-1.0, 1.0]]), rtol=4 * EPS)

@@ -88,17 +88,6 @@ def _elements_by_kind(building):
             )
 
 
-def stand_on(ops, tag: int, floor: int, slaves: list[list[int]]) -> None:
-    """Fix the base node ``tag`` of an element to what it stands on: the ground (``floor`` 0: all six
-    DOFs) or floor ``floor`` (1-based): a slave of that floor's diaphragm in ux, uy, rz and fixed in
-    uz, rx, ry, as a base fixed to a slab that is rigid in its plane and does not tilt."""
-    if floor == 0:
-        ops.fix(tag, 1, 1, 1, 1, 1, 1)
-    else:
-        ops.fix(tag, 0, 0, 1, 1, 1, 0)
-        slaves[floor - 1].append(tag)
-
-
 def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], list[int], list[int]]:
     """Build one building; return (master tags per floor, all node tags, all element tags)."""
     if not out_of_plane > 0.0:
@@ -109,10 +98,10 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
     nodes: list[int] = []
     elements: list[int] = []
 
+    from pounding.peer.opensees_links import stand_on, storey_links
+
     for kind, e in _elements_by_kind(building):
         if kind == "springs":
-            from pounding.peer.opensees_links import storey_links
-
             elements.extend(storey_links(ops, e, tags, slaves, nodes, heights=building.storey_heights))
             continue
         p = np.asarray(e.point, dtype=float)
@@ -137,7 +126,10 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
                 tag = tags()
                 ops.node(tag, float(x), float(y), float(zl))
                 nodes.append(tag)
-                stand_on(ops, tag, e.base_floor, slaves) if level == 0 else slaves[e.building_floors[level - 1] - 1].append(tag)
+                if level == 0:
+                    stand_on(ops, tag, e.base_floor, slaves)
+                else:
+                    slaves[e.building_floors[level - 1] - 1].append(tag)
                 row.append(tag)
             grid.append(row)
         if kind == "frame":
@@ -199,7 +191,7 @@ def build_building(ops, building, *, out_of_plane: float = 1e-6, tag_offset: int
       condenses;
     * base nodes are fixed in all six DOFs on the ground; an element standing on floor b > 0
       (``first_storey`` = b + 1) has its base nodes at that floor's elevation, slaves of its
-      diaphragm and fixed in uz, rx, ry (:func:`stand_on`);
+      diaphragm and fixed in uz, rx, ry (:func:`pounding.peer.opensees_links.stand_on`);
     * every floor has a master node at the slab's centre of mass carrying
       ``mass(m, m, 0, 0, 0, J)`` [kg, kg m^2], fixed in uz, rx, ry and free in
       ux, uy, rz, tied to all element nodes of that floor by

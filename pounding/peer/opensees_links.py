@@ -9,7 +9,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.peer.opensees import stand_on
+
+def stand_on(ops, tag: int, floor: int, slaves: list[list[int]]) -> None:
+    """Fix the base node ``tag`` of an element to what it stands on: the ground (``floor`` 0: all six
+    DOFs) or floor ``floor`` (1-based): a slave of that floor's diaphragm in ux, uy, rz and fixed in
+    uz, rx, ry, as a base fixed to a slab that is rigid in its plane and does not tilt."""
+    if floor == 0:
+        ops.fix(tag, 1, 1, 1, 1, 1, 1)
+    else:
+        ops.fix(tag, 0, 0, 1, 1, 1, 0)
+        slaves[floor - 1].append(tag)
 
 
 def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
