@@ -72,7 +72,7 @@ class PlanarElement(ABC):
     first_storey: int = 1
     #: True for a line of storey springs (one spring per storey between its floor and the one below, nothing
     #: else): one such line spanning storey 1 alone, under elements standing on floor 1, is an isolation layer
-    #: (:mod:`pounding.framework.post.plausibility` does not call it a soft storey).
+    #: (:mod:`pounding.framework.model.isolation`: no soft-storey warning, isolator outputs per line).
     spring_line: ClassVar[bool] = False
 
     @classmethod
@@ -135,10 +135,6 @@ class PlanarElement(ABC):
         """``floors`` in the building's numbering (1-based): each shifted by :attr:`base_floor`."""
         return tuple(self.base_floor + int(f) for f in self.floors)
 
-    def building_storey(self, storey: int) -> int:
-        """The building's storey (1-based) of the element's own (1-based) ``storey``."""
-        return self.base_floor + int(storey)
-
     def placed_stiffness(self) -> tuple[tuple[int, ...], np.ndarray]:
         """(building floors, stiffness [N/m] (m, m)) over which the framework places the element.
 
@@ -179,7 +175,8 @@ class PlanarElement(ABC):
         table : mapping
             The ``[[building.element]]`` table, without ``type``.
         storey_heights : sequence of float
-            Storey heights of the building [m], bottom first.
+            Heights [m] of the building's storeys from the element's first storey up, bottom first
+            (all of them for an element on the ground; :meth:`build` slices them).
 
         Raises
         ------
