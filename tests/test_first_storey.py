@@ -405,3 +405,25 @@ def test_a_third_party_element_stands_on_a_floor_for_free():
     floors, K = brace.placed_stiffness()
     assert brace.building_floors == (3,) and floors == (2, 3)
     np.testing.assert_allclose(K, k * np.array([[1.0, -1.0], [-1.0, 1.0]]), rtol=4 * EPS)
+
+
+def test_walls_on_soft_isolators_are_not_a_unit_slip():
+    """Three shear walls (12 m and 8 m long, 0.25 m thick) standing on the base slab over four lines of
+    isolators (1e7 N/m each): the walls are over 2000 times stiffer than the isolators, whose median would flag them as a
+    unit slip (``stiff_element``: 1000 x the median). An isolation layer's lines are soft by design and
+    stay out of that median; the same walls on the ground beside soft springs in every storey are flagged."""
+    from pounding.framework.model.stiffness_scale import STIFF_RATIO, element_stiffness
+    from pounding.framework.post.plausibility import findings
+
+    wall = lambda start, end, first: {"type": "shear_wall", "first_storey": first, "start": start, "end": end,  # noqa: E731
+                                      "thickness": 0.25, "E": E_RC, "nu": 0.2}
+    walls = [wall([0.0, 0.0], [12.0, 0.0], 2), wall([0.0, 0.0], [0.0, 8.0], 2), wall([12.0, 0.0], [12.0, 8.0], 2)]
+    soft = (1.0e7,) * 4  # [N/m] per line
+    scene = parse_scene(scene_of(isolated(isolators(stiffness=soft) + walls)))
+    b = scene.buildings[0]
+    k = [element_stiffness(e) for e in b.elements]
+    assert min(k[4:]) > STIFF_RATIO * np.median(k)  # what the median with the isolators would say
+    assert not [f for f in findings(scene) if f.check == "stiff_element"]
+    on_springs = isolated([{**t, "storeys": 5, "stiffness": [t["stiffness"]] * 5} for t in isolators(stiffness=soft)]
+                          + [{**w, "first_storey": 1} for w in walls])
+    assert [f for f in findings(parse_scene(scene_of(on_springs))) if f.check == "stiff_element"]
