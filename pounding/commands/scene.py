@@ -175,8 +175,9 @@ def describe(scene, path: Path | None = None) -> str:
         for k, e in enumerate(b.elements):
             a, c = (np.round(p, 9) + 0.0 for p in e.plan_segment())
             angle = float(np.degrees(np.arctan2(e.direction[1], e.direction[0])))
-            fl = e.floors
+            fl = e.building_floors
             span = f"floor {fl[0]}" if len(fl) == 1 else f"floors {fl[0]}-{fl[-1]}"
+            span += f", standing on floor {e.base_floor}" if e.base_floor else ""
             lines.append(f"  element[{k}] {e.name}: ({a[0]:g}, {a[1]:g}) to ({c[0]:g}, {c[1]:g}) m, at {angle:g} deg, {span}")
     pairs = _facing(scene)
     if pairs:

@@ -4,22 +4,37 @@ A planar element (a frame, a shear wall, a brace...) is stiff in its own
 vertical plane and has no stiffness out of it. It knows nothing of slabs: it
 reports
 
-1. ``floors``: the 1-based floor numbers whose lateral displacement it resists
-   (its base is fixed to the ground);
+1. ``floors``: the 1-based floor numbers whose lateral displacement it resists,
+   counted from the floor it stands on (its base, fixed to that floor: the
+   ground unless the framework places it higher, see *Standing on a floor*);
 2. ``point`` (2,) and ``direction`` (2,): a point of its plan line and the unit
    vector along it, in global plan coordinates [m];
 3. :meth:`lateral_stiffness`: its statically condensed stiffness (n, n) [N/m]
    over the in-plane displacements of those floors along ``direction``;
 4. :meth:`plan_segment`: the plan extent (start, end) [m], used to check that
    the element stands on its slabs and to draw it;
-5. :meth:`outline`: lines and panels in its own (s along the line, z up)
-   coordinates, for drawing;
+5. :meth:`outline`: lines and panels in its own (s along the line, z up from
+   its base) coordinates, for drawing;
 6. optionally :meth:`point_stiffness`: its local stiffness against a point load
    between two floors (a neighbour's slab striking it), nan where it has none.
 
 The framework places it: the displacement along ``direction`` at floor f with
 centre of mass c is ``d . (u, v) + phi * ((p - c) x d)`` (phi counter-clockwise,
 a x b = a_x b_y - a_y b_x), and ``K += T^T k T``.
+
+Standing on a floor
+-------------------
+Every element takes ``first_storey`` (1-based, default 1: on the ground) from the
+framework, not from its own table: it then spans the building's storeys
+``first_storey .. first_storey + n - 1`` and stands on floor ``first_storey - 1``
+(an isolated building's superstructure on its base slab). The element sees none
+of it: :meth:`build` parses and checks ``first_storey``, hands :meth:`from_table`
+the storey heights from its first storey up, and sets ``first_storey`` on the
+built element; the framework then maps its floors with :attr:`building_floors`
+and places its stiffness with :meth:`placed_stiffness`, where the base floor's
+displacement is subtracted from every floor's (the element resists relative
+displacements only). ``dataclasses.replace`` of an element returns one on the
+ground: use :meth:`replaced`.
 
 To add an element type: subclass :class:`PlanarElement`, set ``name``, give a
 JSON ``schema`` for its scene table (validated before :meth:`from_table` is
@@ -53,6 +68,102 @@ class PlanarElement(ABC):
     floors: tuple[int, ...]
     point: np.ndarray
     direction: np.ndarray
+    #: The building's storey (1-based) of the element's lowest storey; set by :meth:`build` (default 1: on the ground).
+    first_storey: int = 1
+    #: True for a line of storey springs (one spring per storey between its floor and the one below, nothing
+    #: else): one such line spanning storey 1 alone, under elements standing on floor 1, is an isolation layer
+    #: (:mod:`pounding.framework.model.isolation`: no soft-storey warning, isolator outputs per line).
+    spring_line: ClassVar[bool] = False
+
+    @classmethod
+    def build(cls, table: Mapping[str, Any], *, storey_heights: Sequence[float], first_storey: Any = 1) -> "PlanarElement":
+        """The element of ``table`` standing on floor ``first_storey - 1`` of a building of ``storey_heights``.
+
+        The template the framework calls (the scene loader, :func:`pounding.io.scene.load_scene`):
+        checks ``first_storey`` (:func:`check_first_storey`) and, when the table gives ``storeys``, that
+        the element ends at or below the building's top; calls :meth:`from_table` with the storey
+        heights from ``first_storey`` up (so ``storeys`` omitted means every storey above its base);
+        sets ``first_storey`` on the result.
+
+        Parameters
+        ----------
+        table : mapping
+            The element's table, without ``type`` and the framework's keys.
+        storey_heights : sequence of float
+            The building's storey heights [m], bottom first.
+        first_storey : int
+            1-based storey of the element's lowest storey.
+
+        Raises
+        ------
+        pounding.errors.InputError
+            With ``field`` set to ``first_storey``, ``storeys`` or the plugin's own key.
+        """
+        n = len(storey_heights)
+        first = check_first_storey(first_storey, n)
+        storeys = table.get("storeys")
+        if isinstance(storeys, int) and not isinstance(storeys, bool) and first + storeys - 1 > n:
+            from pounding.errors import InputError
+
+            raise InputError(f"with first_storey = {first} the element would span storeys {first} to {first + storeys - 1}, "
+                             f"but the building has {n}: at most storeys = {n - first + 1}", field="storeys")
+        return cls.from_table(table, storey_heights=tuple(storey_heights[first - 1:])).replaced(first_storey=first)
+
+    def replaced(self, **changes: Any) -> "PlanarElement":
+        """A copy with ``changes``: dataclass fields (``dataclasses.replace``, for dataclass elements) and
+        ``first_storey``, which the copy keeps unless changed. The element itself is not modified."""
+        import copy
+        from dataclasses import is_dataclass, replace
+
+        first = changes.pop("first_storey", self.first_storey)
+        if is_dataclass(self):
+            out = replace(self, **changes)
+        elif changes:
+            raise TypeError(f"element type {self.name!r} is not a dataclass: only first_storey can be replaced")
+        else:
+            out = copy.copy(self)
+        object.__setattr__(out, "first_storey", int(first))  # frozen dataclasses too: set once, on a new copy
+        return out
+
+    @property
+    def base_floor(self) -> int:
+        """The building's floor the element stands on (0: the ground)."""
+        return self.first_storey - 1
+
+    @property
+    def building_floors(self) -> tuple[int, ...]:
+        """``floors`` in the building's numbering (1-based): each shifted by :attr:`base_floor`."""
+        return tuple(self.base_floor + int(f) for f in self.floors)
+
+    def placed_stiffness(self) -> tuple[tuple[int, ...], np.ndarray]:
+        """(building floors, stiffness [N/m] (m, m)) over which the framework places the element.
+
+        On the ground: :attr:`building_floors` and :meth:`lateral_stiffness`. Standing on floor b > 0:
+        the element resists its floors' displacements relative to floor b, d = u_f - u_b, so with
+        E = [-1 | I] ((n, n + 1), columns (b, floors)) its stiffness is E^T k E over (b, floors): a
+        rigid translation of the element with its base floor (E 1 = 0) costs nothing.
+        """
+        k = np.asarray(self.lateral_stiffness(), dtype=float)
+        if self.base_floor == 0:
+            return self.building_floors, k
+        n = k.shape[0]
+        E = np.hstack([-np.ones((n, 1)), np.eye(n)])
+        return (self.base_floor, *self.building_floors), E.T @ k @ E
+
+    def base_elevation(self, storey_heights: Sequence[float]) -> float:
+        """Height [m] above the ground of the floor the element stands on, in a building of ``storey_heights``
+        [m]: what lifts its :meth:`outline` (drawn from its base) to the building's."""
+        return float(np.sum(storey_heights[: self.base_floor]))
+
+    def building_point_stiffness(self, storey: int, a: float, normal: np.ndarray) -> float:
+        """:meth:`point_stiffness` at the building's (0-based) ``storey``: nan below the element's first storey."""
+        own = int(storey) - self.base_floor
+        return self.point_stiffness(own, a, normal) if own >= 0 else float("nan")
+
+    def storey_floors(self) -> list[tuple[int, int]]:
+        """(floor below, floor above) in the building's numbering (0: the ground) of each of the element's
+        own storeys 1..len(floors), bottom first: the two floors a storey spring acts between."""
+        return [(self.base_floor + f - 1, self.base_floor + f) for f in range(1, len(self.floors) + 1)]
 
     @classmethod
     @abstractmethod
@@ -64,7 +175,8 @@ class PlanarElement(ABC):
         table : mapping
             The ``[[building.element]]`` table, without ``type``.
         storey_heights : sequence of float
-            Storey heights of the building [m], bottom first.
+            Heights [m] of the building's storeys from the element's first storey up, bottom first
+            (all of them for an element on the ground; :meth:`build` slices them).
 
         Raises
         ------
@@ -109,6 +221,19 @@ class PlanarElement(ABC):
         ``spring_parameters()`` ((len(floors), n_params) the law's parameters per storey).
         False (the default): the element is linear, its ``lateral_stiffness()`` is all it gives."""
         return False
+
+
+def check_first_storey(value: Any, n_storeys: int) -> int:
+    """``value`` as the first storey of an element in a building of ``n_storeys`` storeys: an int in
+    1..n_storeys (a float, even 2.0, or a bool is refused). InputError with ``field = "first_storey"``."""
+    from pounding.errors import InputError
+
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
+        raise InputError(f"expected a whole storey number (1 = on the ground), got {value!r}", field="first_storey")
+    if not 1 <= int(value) <= n_storeys:
+        raise InputError(f"expected a storey from 1 (on the ground) to {n_storeys} (the building has {n_storeys}), "
+                         f"got {int(value)}", field="first_storey")
+    return int(value)
 
 
 def point_compliance(E: float, I: float, L: float, a: float, GAs: float = np.inf) -> float:

@@ -110,7 +110,7 @@ class Frame(PlanarElement):
             ),
             "storeys": {
                 "type": "integer", "minimum": 1, "units": "-",
-                "description": "Number of storeys the frame spans from the ground (default: all).", "examples": [3],
+                "description": "Number of storeys the frame spans from its first storey (default: all above it).", "examples": [3],
             },
         },
         "oneOf": [{"required": ["angle"], "not": {"required": ["end"]}}, {"required": ["end"], "not": {"required": ["angle"]}}],

@@ -47,7 +47,7 @@ class ShearWall(PlanarElement):
         "type": "object",
         "required": ["start", "end", "thickness", "E"],
         "additionalProperties": False,
-        "description": "Planar shear wall: a Timoshenko cantilever (bending and shear) fixed at the base.",
+        "description": "Planar shear wall: a Timoshenko cantilever (bending and shear) fixed at its base (the ground, or the floor it stands on).",
         "properties": {
             "start": documented(POINT_SCHEMA, "One end of the wall in plan [x, y].", [0.0, 0.0]),
             "end": documented(POINT_SCHEMA, "The other end; the wall's length is the distance between them.", [0.0, 8.0]),
@@ -64,7 +64,7 @@ class ShearWall(PlanarElement):
             },
             "storeys": {
                 "type": "integer", "minimum": 1, "units": "-",
-                "description": "Number of storeys the wall spans from the ground (default: all).", "examples": [3],
+                "description": "Number of storeys the wall spans from its first storey (default: all above it).", "examples": [3],
             },
         },
         "oneOf": [{"required": ["G"], "not": {"required": ["nu"]}}, {"required": ["nu"], "not": {"required": ["G"]}}],

@@ -80,6 +80,7 @@ class StoreySprings(PlanarElement):
     """
 
     name: ClassVar[str] = "storey_springs"
+    spring_line: ClassVar[bool] = True
     schema: ClassVar[dict[str, Any]] = {
         "type": "object",
         "required": ["start", "end", "stiffness"],
@@ -101,7 +102,8 @@ class StoreySprings(PlanarElement):
                            "description": "Hysteresis law: a name (`bilinear`, `bouc_wen`, or a plugin's), or a table "
                            "`{ name = ..., parameter = ... }` with the law's parameters."},
             "storeys": {"type": "integer", "minimum": 1, "units": "-", "examples": [3],
-                        "description": "Number of storeys the springs span from the ground (default: all)."},
+                        "description": "Number of storeys the springs span from their first storey (default: all above it; "
+                        "`storeys = 1` with `first_storey = 1`: an isolation layer when the rest stands on floor 1)."},
         },
     }
 

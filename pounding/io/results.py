@@ -173,6 +173,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
             # element (docs/outputs.md; said next to every storey shear: pounding.io.frames.STOREY_FORCES_NOTE)
             "storey_shear_includes_damping_forces": False,
             "energy": balances[s.name],
+            **_isolators(result, s),
         }
     balance = energy_balance(result)
     balance["energy_creating_rule"] = energy_creating_rule(result)
@@ -199,6 +200,16 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "peaks_over": _peaks_over(result),
         **result.info,
     }
+
+
+def _isolators(result: Result, system) -> dict:
+    """``{"isolators": ...}`` for a base-isolated building (:mod:`pounding.framework.post.isolators`), else {}."""
+    from pounding.framework.post.isolators import isolator_summary
+
+    if getattr(result, "scene", None) is None:
+        return {}
+    iso = isolator_summary(result.scene.building(system.name), system, result.cm(system.name), getattr(result, "springs", {}).get(system.name))
+    return {"isolators": iso} if iso else {}
 
 
 def _peaks_over(result: Result) -> str:

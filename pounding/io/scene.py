@@ -135,7 +135,7 @@ def _building(table: Mapping, index: int) -> Building:
         modifiers.append(float(etable.get("stiffness_modifier", 1.0)))
         body = {key: val for key, val in etable.items() if key not in framework_element_keys()}  # checked by scene_problems
         try:
-            element = cls.from_table(body, storey_heights=heights)
+            element = cls.build(body, storey_heights=heights, first_storey=etable.get("first_storey", 1))
         except InputError as exc:
             raise exc.located(field_prefix=_path(ewhere)) from None
         _check_on_slabs(element, slabs, ewhere)
@@ -190,7 +190,8 @@ def _strictly_inside(vertices: np.ndarray, p: np.ndarray) -> bool:
 
 def _check_on_slabs(element, slabs, where: list) -> None:
     a, b = element.plan_segment()
-    for f in element.floors:
+    base = (element.base_floor,) if element.base_floor > 0 else ()  # the slab it stands on carries it too
+    for f in base + element.building_floors:
         slab = slabs[f - 1]
         for name, p in (("start", a), ("end", b)):
             if distance_to_polygon(slab.vertices, p) > LEVEL_TOL:

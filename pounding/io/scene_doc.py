@@ -358,7 +358,12 @@ def reference_markdown(*, installed: bool = False) -> str:
         table_section("[building.damping]", DAMPING, "An inline table inside `[[building]]`, e.g. "
                       "`damping = { type = \"rayleigh\", ratio = 0.05, modes = [1, 3] }`. " + DAMPING["description"]),
         "## Elements\n\nEach `[[building.element]]` table has `type = \"NAME\"` and the keys of that element type. "
-        "Element types are plugins (entry-point group `pounding.elements`); the types registered here:\n",
+        "Element types are plugins (entry-point group `pounding.elements`); the types registered here, after "
+        "the keys every type takes.\n",
+        "#" + table_section("Keys of every element", BUILDING["properties"]["element"]["items"],
+                            "Taken by the framework, whatever the `type`. An element with `first_storey = s` stands on floor "
+                            "s - 1 and spans storeys s to s + `storeys` - 1 (`storeys` omitted: every storey up to the top); "
+                            "first_storey + storeys - 1 may not exceed the building's storeys."),
     ]
     def names(registry):
         return registry.names() if installed else registry.builtin_names()
@@ -548,8 +553,11 @@ def template_text(element: str = "frame") -> str:
         if not from_plugin:
             lines.append(f"# the element type {element!r} gives no example tables: this one is made of its keys' examples;")
             lines.append("# place it on the slab and add elements until the building resists x, y and torsion")
+        element_keys = BUILDING["properties"]["element"]["items"]
         for k, table in enumerate(tables):
             lines += ["", "  [[building.element]]", f'  type = "{element}"']
+            if k == 0:  # a framework key every element type takes, at its default
+                lines += ["  " + _comment(element_keys, "first_storey"), "  # first_storey = 1"]
             for key, value in _shifted(table, eschema, dx).items():
                 if k == 0:
                     lines.append("  " + _comment(eschema, key))

@@ -183,12 +183,22 @@ BUILDING = {
                         "description": "Factor on the element's condensed lateral stiffness (cracked sections, like an ETABS "
                         "property modifier applied to every member's E: e.g. 0.7); any element type.",
                         "examples": [0.7],
-                    }
+                    },
+                    "first_storey": {
+                        "type": "integer",
+                        "minimum": 1,
+                        "default": 1,
+                        "units": "-",
+                        "description": "The building's storey where the element begins: it stands on floor first_storey - 1 "
+                        "(1: on the ground) and spans `storeys` storeys from there (`storeys` omitted: every storey above); "
+                        "a base-isolated building's superstructure starts at 2, over its isolators in storey 1; any element type.",
+                        "examples": [2],
+                    },
                 },
             },
             "minItems": 1,
             "description": "The planar elements (`[[building.element]]`, repeated); `type` picks the plugin, whose keys "
-            "are listed under *Elements*; every element also takes `stiffness_modifier`.",
+            "are listed under *Elements*; every element also takes `stiffness_modifier` and `first_storey`.",
         },
         "p_delta": P_DELTA,
     },

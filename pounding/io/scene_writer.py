@@ -57,7 +57,8 @@ def _building(b) -> dict[str, Any]:
         out["p_delta"] = {"loads": list(b.p_delta.loads)} if b.p_delta.loads is not None else {"load_factor": b.p_delta.load_factor}
     modifiers = b.element_modifiers()
     out["element"] = [
-        {"type": e.name, **e.to_table(), **({"stiffness_modifier": m} if m != 1.0 else {})}
+        {"type": e.name, **({"first_storey": e.first_storey} if e.first_storey != 1 else {}), **e.to_table(),
+         **({"stiffness_modifier": m} if m != 1.0 else {})}
         for e, m in zip(b.elements, modifiers)
     ]
     return out
@@ -224,6 +225,10 @@ def _compare(a: Any, b: Any, where: str, ulps: int, out: list[str]) -> None:
         for f in fields(a):
             if f.name not in provenance and not (where == "scene" and f.name == "source"):
                 _compare(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}", ulps, out)
+        # attributes set beside the fields (an element's first_storey, set by the framework): part of what it is
+        extra_a, extra_b = ({k: v for k, v in vars(x).items() if k not in {f.name for f in fields(x)}} for x in (a, b))
+        if extra_a or extra_b:
+            _compare(extra_a, extra_b, where, ulps, out)
         return
     if hasattr(a, "__dict__") and not isinstance(a, type):
         _compare(vars(a), vars(b), where, ulps, out)

@@ -281,22 +281,23 @@ class Drawing:
             for e_idx, el in enumerate(bld.elements):
                 p0, d = np.asarray(el.point, float), np.asarray(el.direction, float)
                 out = el.outline()
+                z_base = el.base_elevation(bld.storey_heights)  # the outline is drawn from the element's base
 
-                def at(s: float, z: float) -> int:
+                def at(s: float, z: float, p0=p0, d=d, z_base=z_base) -> int:
                     x, y = p0 + s * d
-                    return point(b, float(x), float(y), float(z))
+                    return point(b, float(x), float(y), float(z + z_base))
 
                 for s0, z0, s1, z1 in out.get("lines", []):
                     cells.append((at(s0, z0), at(s1, z1)))
                     kinds.append(LINE)
                     cb.append(b)
-                    cs.append(_storey_of(levels, max(z0, z1)))
+                    cs.append(_storey_of(levels, max(z0, z1) + z_base))
                     ce.append(e_idx)
                 for s0, s1, z0, z1 in out.get("panels", []):
                     cells.append((at(s0, z0), at(s1, z0), at(s1, z1), at(s0, z1)))
                     kinds.append(PANEL)
                     cb.append(b)
-                    cs.append(_storey_of(levels, max(z0, z1)))
+                    cs.append(_storey_of(levels, max(z0, z1) + z_base))
                     ce.append(e_idx)
 
         points = np.array(pts, dtype=float).reshape(-1, 3)

@@ -98,17 +98,17 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
     nodes: list[int] = []
     elements: list[int] = []
 
+    from pounding.peer.opensees_links import stand_on, storey_links
+
     for kind, e in _elements_by_kind(building):
         if kind == "springs":
-            from pounding.peer.opensees_links import storey_links
-
-            elements.extend(storey_links(ops, e, tags, slaves, nodes))
+            elements.extend(storey_links(ops, e, tags, slaves, nodes, heights=building.storey_heights))
             continue
         p = np.asarray(e.point, dtype=float)
         d = np.asarray(e.direction, dtype=float)
         d = d / np.hypot(*d)
         n_hat = (-d[1], d[0], 0.0)  # horizontal normal of the element plane
-        z = np.concatenate([[0.0], np.cumsum(e.heights)])
+        z = e.base_elevation(building.storey_heights) + np.concatenate([[0.0], np.cumsum(e.heights)])
         # vecxz = the plane normal: for a column (local x = up) local y = +-d, for a
         # beam (local x = d) local y = vertical, so bending about local z (Iz) is in
         # the element plane in both cases; Iy is out of plane.
@@ -127,9 +127,9 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
                 ops.node(tag, float(x), float(y), float(zl))
                 nodes.append(tag)
                 if level == 0:
-                    ops.fix(tag, 1, 1, 1, 1, 1, 1)
+                    stand_on(ops, tag, e.base_floor, slaves)
                 else:
-                    slaves[e.floors[level - 1] - 1].append(tag)
+                    slaves[e.building_floors[level - 1] - 1].append(tag)
                 row.append(tag)
             grid.append(row)
         if kind == "frame":
@@ -189,7 +189,9 @@ def build_building(ops, building, *, out_of_plane: float = 1e-6, tag_offset: int
       and shear area As in plane (``Iy = J = out_of_plane * Iz``): the exact
       Timoshenko cantilever that :class:`~pounding.elements.shear_wall.ShearWall`
       condenses;
-    * base nodes are fixed in all six DOFs;
+    * base nodes are fixed in all six DOFs on the ground; an element standing on floor b > 0
+      (``first_storey`` = b + 1) has its base nodes at that floor's elevation, slaves of its
+      diaphragm and fixed in uz, rx, ry (:func:`pounding.peer.opensees_links.stand_on`);
     * every floor has a master node at the slab's centre of mass carrying
       ``mass(m, m, 0, 0, 0, J)`` [kg, kg m^2], fixed in uz, rx, ry and free in
       ux, uy, rz, tied to all element nodes of that floor by

@@ -10,6 +10,17 @@ from __future__ import annotations
 import numpy as np
 
 
+def stand_on(ops, tag: int, floor: int, slaves: list[list[int]]) -> None:
+    """Fix the base node ``tag`` of an element to what it stands on: the ground (``floor`` 0: all six
+    DOFs) or floor ``floor`` (1-based): a slave of that floor's diaphragm in ux, uy, rz and fixed in
+    uz, rx, ry, as a base fixed to a slab that is rigid in its plane and does not tilt."""
+    if floor == 0:
+        ops.fix(tag, 1, 1, 1, 1, 1, 1)
+    else:
+        ops.fix(tag, 0, 0, 1, 1, 1, 0)
+        slaves[floor - 1].append(tag)
+
+
 def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
     k0 = float(element.stiffness[storey])
     if not element.yields:
@@ -28,26 +39,24 @@ def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
         raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}")
 
 
-def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13) -> list[int]:
+def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13, *,
+                 heights) -> list[int]:
     """The ``twoNodeLink`` of every storey of one storey-springs element (module docstring); returns their tags.
 
+    ``heights``: the building's storey heights [m] (the elevation of the floor the element stands on);
     ``tags()`` gives the next free tag; each link's upper node (and its lower one above the ground) is
     appended to ``slaves[floor - 1]`` for the floor's ``rigidDiaphragm``, every node to ``nodes``.
     """
     d = np.asarray(element.direction, dtype=float)
     x, y = (float(c) for c in element.point)
-    z = np.concatenate([[0.0], np.cumsum(element.heights)])
+    z = np.concatenate([[0.0], np.cumsum(element.heights)]) + element.base_elevation(heights)
     links = []
-    for f in range(len(element.heights)):
+    for f, floors in enumerate(element.storey_floors()):  # (below, above) in the building's numbering, 0 = the ground
         ends = []
-        for level in (f, f + 1):
+        for level, floor in zip((f, f + 1), floors):
             tag = tags()
             ops.node(tag, x, y, float(z[level]))
-            if level == 0:
-                ops.fix(tag, 1, 1, 1, 1, 1, 1)
-            else:
-                ops.fix(tag, 0, 0, 1, 1, 1, 0)  # uz, rx, ry: no stiffness here
-                slaves[element.floors[level - 1] - 1].append(tag)
+            stand_on(ops, tag, floor, slaves)  # uz, rx, ry fixed: nothing stiffens them here
             nodes.append(tag)
             ends.append(tag)
         mat = tags()

@@ -60,7 +60,7 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
     for kind, e in _elements_by_kind(building):
         if kind != "springs":
             raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {kind}")
-        links = storey_links(ops, e, tags, slaves, nodes, boucwen_tol)
+        links = storey_links(ops, e, tags, slaves, nodes, boucwen_tol, heights=building.storey_heights)
         elements.extend(links)
         if e.yields:
             yielding.extend(links)

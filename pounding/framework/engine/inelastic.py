@@ -68,7 +68,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.model.kinematics import placement
+from pounding.framework.model.kinematics import relative_row
 from pounding.framework.model.scene import Building
 from pounding.hysteresis.bilinear import Bilinear
 
@@ -91,7 +91,8 @@ class SpringSet:
     params : ndarray (ns, n_params)
         Law parameters (k0 [N/m], Fy [N], b [-], ...), zero-padded to the widest law.
     element, storey : ndarray (ns,) int
-        Element index in the building (0-based) and storey (1 = first floor).
+        Element index in the building (0-based) and the building's storey (1 = ground to first floor;
+        an element standing on floor b has its springs from storey b + 1).
     height : ndarray (ns,)
         Storey height [m].
     """
@@ -140,14 +141,12 @@ def spring_set(building: Building, index: int = 0) -> SpringSet:
             continue
         if type(e.law) not in laws:
             laws.append(type(e.law))
-        T = placement(centres, e.floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
         P = e.spring_parameters()
-        for f in range(len(e.floors)):
-            row = T[f] - (T[f - 1] if f > 0 else 0.0)  # floor f minus the floor below (ground: 0)
-            rows.append(row)
+        for f, (below, above) in enumerate(e.storey_floors()):  # in the building's numbering, 0 = the ground
+            rows.append(relative_row(centres, below, above, np.asarray(e.point, float), np.asarray(e.direction, float), n))
             params.append(P[f])
             elem.append(e_idx)
-            storey.append(f + 1)
+            storey.append(above)
             height.append(e.heights[f])
             ids.append(laws.index(type(e.law)))
     if not laws:

@@ -113,7 +113,9 @@ class PlacedElement:
     T : ndarray (n_e, 3N)
         Placement: the element's floor displacements along its line are ``T x`` [m].
     floors : tuple of int
-        1-based floors it spans.
+        1-based floors of the building its stiffness acts on: the floors it spans, and first the
+        floor it stands on when that is not the ground
+        (:meth:`~pounding.elements.base.PlanarElement.placed_stiffness`).
     direction : ndarray (2,)
         Unit vector of its line.
     """
@@ -134,15 +136,17 @@ def placed_elements(building: Building) -> list[PlacedElement]:
     stiffness modifier (``Building.modifiers``), T (n_e, 3N) its placement
     (:func:`placement`): the element's floor displacements along its line are
     ``T x`` and its floor forces along the line ``k T x`` [N]. The one place
-    where element stiffness meets slab DOFs (assembly and storey forces both use it).
+    where element stiffness meets slab DOFs (assembly and storey forces both use it). An element
+    standing on a floor above the ground (``first_storey`` > 1) acts on that floor too, with the
+    stiffness of its floors relative to it (:meth:`~pounding.elements.base.PlanarElement.placed_stiffness`).
     """
     n = building.n_storeys
     centres = np.array([s.centre for s in building.slabs])
     out = []
     for e, factor in zip(building.elements, building.element_modifiers()):
-        k = factor * np.asarray(e.lateral_stiffness(), dtype=float)
-        T = placement(centres, e.floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
-        out.append(PlacedElement(k, T, tuple(e.floors), np.asarray(e.direction, dtype=float)))
+        floors, k = e.placed_stiffness()
+        T = placement(centres, floors, np.asarray(e.point, float), np.asarray(e.direction, float), n)
+        out.append(PlacedElement(factor * k, T, tuple(floors), np.asarray(e.direction, dtype=float)))
     return out
 
 

@@ -161,9 +161,10 @@ def struck(building, storey: int, a: float, point: np.ndarray, normal: np.ndarra
 
 def local_stiffness(element, storey: int, a: float, normal: np.ndarray) -> float:
     """Stiffness [N/m] of ``element`` against a point load along the plan unit ``normal`` at a [m]
-    above the bottom of its (0-based) ``storey``, relative to its ends (the floors): the element's
-    own :meth:`~pounding.elements.base.PlanarElement.point_stiffness` (nan where it knows none)."""
-    return float(element.point_stiffness(storey, a, np.asarray(normal, dtype=float)))
+    above the bottom of the building's (0-based) ``storey``, relative to its ends (the floors): the element's
+    own :meth:`~pounding.elements.base.PlanarElement.point_stiffness` at its own storey there (nan where it
+    knows none, and below the storeys it spans: :meth:`~pounding.elements.base.PlanarElement.building_point_stiffness`)."""
+    return float(element.building_point_stiffness(storey, a, np.asarray(normal, dtype=float)))
 
 
 def end_shears(a: float, L: float) -> tuple[float, float]:

@@ -20,3 +20,10 @@ def placement(slab_centres: np.ndarray, floors, point: np.ndarray, direction: np
         r = point - slab_centres[f - 1]
         T[row, 3 * (f - 1) : 3 * f] = (d[0], d[1], r[0] * d[1] - r[1] * d[0])
     return T
+
+
+def relative_row(slab_centres: np.ndarray, below: int, above: int, point: np.ndarray, direction: np.ndarray, n_storeys: int) -> np.ndarray:
+    """Row (3N,) of the displacement along ``direction`` at plan ``point`` of floor ``above`` relative to
+    floor ``below`` (1-based; ``below`` = 0: the ground, which does not move): a storey spring's deformation."""
+    rows = placement(slab_centres, [above] + ([below] if below > 0 else []), point, direction, n_storeys)
+    return rows[0] - (rows[1] if below > 0 else 0.0)

@@ -216,7 +216,7 @@ class Scene:
         for b in self.buildings:
             if b.name == name:
                 slabs = tuple(replace(s, vertices=s.vertices + offset, centre=s.centre + offset) for s in b.slabs)
-                elements = tuple(replace(e, point=e.point + offset) for e in b.elements)
+                elements = tuple(e.replaced(point=e.point + offset) for e in b.elements)
                 b = replace(b, slabs=slabs, elements=elements)
             out.append(b)
         return replace(self, buildings=tuple(out))

@@ -29,13 +29,19 @@ def outliers(building) -> list[tuple[int, float, float]]:
     """Elements far stiffer than the building's others: ``[(index, stiffness [N/m], median [N/m])]``.
 
     Empty with fewer than three elements (no median to stand against) or none above
-    :data:`STIFF_RATIO` times the median.
+    :data:`STIFF_RATIO` times the median. An isolation layer's lines
+    (:func:`pounding.framework.model.isolation.isolator_lines`) are left out: isolators are soft by
+    design, often 1000 times softer than the walls they carry, and would make those look like slips.
     """
-    if len(building.elements) < 3:
+    from pounding.framework.model.isolation import isolator_lines
+
+    isolators = set(isolator_lines(building))
+    index = [i for i in range(len(building.elements)) if i not in isolators]
+    if len(index) < 3:
         return []
-    k = np.array([element_stiffness(e) for e in building.elements])
+    k = np.array([element_stiffness(building.elements[i]) for i in index])
     med = float(np.median(k))
-    return [(i, float(k[i]), med) for i in range(len(k)) if med > 0 and k[i] > STIFF_RATIO * med]
+    return [(i, float(ki), med) for i, ki in zip(index, k) if med > 0 and ki > STIFF_RATIO * med]
 
 
 def describe(building, index: int, k: float, med: float) -> str:

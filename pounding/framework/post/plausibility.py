@@ -54,7 +54,8 @@ CHECKS = (
     Check("period", f"the first period per storey, T1 / storeys, is outside {PERIOD_PER_STOREY[0]:g}-{PERIOD_PER_STOREY[1]:g} s (usual 0.02-0.3 s)",
           "too short: mass too small (tonnes?) or stiffness too large (E or sections in the wrong units); too long: the reverse"),
     Check("soft_storey", f"a storey's lateral stiffness along x or y is below {100 * SOFT_RATIO:g} % of the storey above",
-          "an element missing or undersized in that storey, a wrong storey height, or an element's `storeys` too small"),
+          "an element missing or undersized in that storey, a wrong storey height, or an element's `storeys` too small "
+          "(not reported for an isolation layer: storey 1 of one-storey storey springs with elements standing on floor 1)"),
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
@@ -163,14 +164,17 @@ def storey_stiffness(b, direction) -> np.ndarray:
 
 
 def _soft_storeys(b) -> list[Finding]:
+    from pounding.framework.model.isolation import isolation_layer
+
     out = []
+    skip = {0} if isolation_layer(b) else set()  # storey 1 (0-based 0): an isolation layer is soft by design
     for axis, direction in (("x", (1.0, 0.0)), ("y", (0.0, 1.0))):
         try:
             k = storey_stiffness(b, direction)
         except np.linalg.LinAlgError:
             continue  # nothing resists this direction without torsion: the mechanism check speaks for it
         for f in range(b.n_storeys - 1):
-            if 0 < k[f] < SOFT_RATIO * k[f + 1]:
+            if f not in skip and 0 < k[f] < SOFT_RATIO * k[f + 1]:
                 out.append(Finding("soft_storey", f"building {b.name!r} storey {f + 1} along {axis}: lateral stiffness {k[f] / 1e6:.4g} MN/m is "
                                                   f"{100 * k[f] / k[f + 1]:.0f} % of storey {f + 2}'s ({k[f + 1] / 1e6:.4g} MN/m): an element "
                                                   "missing or undersized there, or a wrong storey height?"))
