@@ -1,0 +1,307 @@
+"""Friction pendulum isolators: the textbook parallelogram loop, the velocity-dependent friction, the
+energy identity of a step, OpenSees' equivalent zero-length material, and a base-isolated slab run.
+
+The law is driven on its own (a line of bearings under a prescribed deformation history), each trial
+from the committed state and committed, as a converged step would be; then in a scene as a
+``storey_springs`` line with ``storeys = 1``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pounding.errors import InputError
+from pounding.framework.model.registry import HYSTERESIS
+from pounding.hysteresis.friction_pendulum import FrictionPendulum, stored_energy
+
+W, R, MU, UY = 2.0e6, 2.0, 0.06, 5.0e-4  # [N], [m], [-], [m]
+EPS = np.finfo(float).eps
+
+
+def _law(**kw):
+    args = dict(weight=W, radius=R, friction=MU, yield_displacement=UY)
+    args.update(kw)
+    return FrictionPendulum(**args)
+
+
+def drive(law, path, rates=None):
+    """Forces (len(path),), tangents and states after each deformation of ``path`` [m], at the
+    rates ``rates`` [m/s] (default 0: rate-independent use)."""
+    cls = type(law)
+    params = np.atleast_2d(law.pack(*law.own_values()))
+    state, trial = np.zeros((1, cls.n_state)), np.zeros((1, cls.n_state))
+    rates = np.zeros(len(path)) if rates is None else rates
+    force, tangent, states = [], [], []
+    for u, v in zip(path, rates):
+        r, kt, _ = cls.update(float(u), float(v), state, params, trial, 0)
+        state[:] = trial
+        force.append(r)
+        tangent.append(kt)
+        states.append(state[0].copy())
+    return np.array(force), np.array(tangent), np.array(states)
+
+
+def cycle_path(amplitude, steps):
+    """0 -> D, then D -> -D -> D (one full cycle), ``steps`` increments per quarter; index of the first D."""
+    up = np.linspace(0.0, amplitude, steps + 1)
+    down = np.linspace(amplitude, -amplitude, 2 * steps + 1)[1:]
+    back = np.linspace(-amplitude, amplitude, 2 * steps + 1)[1:]
+    return np.concatenate([up, down, back]), steps
+
+
+def test_registered_and_sets_the_storey_values_from_its_own_parameters():
+    """The law is found by name, and fixes the element's values as a bilinear isolator does:
+    k0 = W/R + mu W/u_y, Fy = k0 u_y = W u_y / R + mu W (the force at which sliding starts),
+    b = (W/R) / k0 (post-sliding over initial stiffness), to rounding."""
+    assert HYSTERESIS.get("friction_pendulum") is FrictionPendulum
+    k0, fy, b = _law().own_values()
+    assert k0 == pytest.approx(W / R + MU * W / UY, rel=4 * EPS)
+    assert fy == pytest.approx(W * UY / R + MU * W, rel=4 * EPS)
+    assert b * k0 == pytest.approx(W / R, rel=4 * EPS)
+
+
+def test_slow_cycle_is_the_textbook_parallelogram():
+    """A slow cycle of amplitude D = 200 u_y (constant mu): the loop is the parallelogram of the
+    textbook bilinear isolator (Zayas et al. 1990; Naeim & Kelly 1999, ch. 5):
+
+    * off the elastic corners (2 u_y after each reversal) F = (W/R) u +- mu W: the slider's force
+      is the friction bound exactly, so they agree to rounding (a few ulps of the largest force);
+    * the dissipated energy per cycle is 4 mu W (D - u_y), the parallelogram's area: each sliding
+      branch runs over 2 (D - u_y) at the force mu W; the law's dissipation is exact per step, so
+      the sum equals it to the rounding of ~2000 additions (1e-12 relative);
+    * the effective stiffness at D is F(D) / D = W/R + mu W / D (exactly, since F(D) = W D / R + mu W);
+    * the effective damping E_D / (2 pi K_eff D^2) is the textbook 2 mu / (pi (mu + D/R)) times
+      (1 - u_y / D), the elastic corners' share (u_y / D of it)."""
+    law = _law()
+    D = 200.0 * UY
+    path, k_top = cycle_path(D, 500)
+    r, kt, st = drive(law, path)
+    fmax = W * D / R + MU * W
+    # off the corners: the reversals are at indices k_top and 3 k_top (every step is D / 500 = 0.4 u_y)
+    idx = np.arange(len(path))
+    sliding = np.ones(len(path), bool)
+    for rev in (k_top, 3 * k_top):
+        sliding[(idx > rev) & (idx <= rev + 5)] = False  # 2 u_y = 5 steps of 0.4 u_y
+    sliding[0:3] = False  # the first loading from rest: u_y = 2.5 steps
+    direction = np.sign(np.diff(path, prepend=0.0))  # of the step arriving at each point
+    expected = W * path / R + MU * W * direction
+    assert np.max(np.abs(r - expected)[sliding]) <= 8 * EPS * fmax
+    assert np.all(kt[sliding] == pytest.approx(W / R, rel=4 * EPS))
+    dissipated = st[-1, 2] - st[k_top, 2]
+    area = 4.0 * MU * W * (D - UY)
+    assert dissipated == pytest.approx(area, rel=1e-12)
+    k_eff = r[k_top] / D
+    assert k_eff == pytest.approx(W / R + MU * W / D, rel=8 * EPS)
+    beta_eff = dissipated / (2.0 * math.pi * k_eff * D * D)
+    textbook = 2.0 * MU / (math.pi * (MU + D / R))
+    assert beta_eff == pytest.approx(textbook * (1.0 - UY / D), rel=1e-12)  # = textbook - (u_y / D) textbook
+
+
+def test_rest_and_small_motions_are_exactly_the_initial_stiffness():
+    """Before the slider first slides the force is k0 u bit for bit (the stepping's exact elastic
+    reduction needs it: base.py, item 7), with tangent k0, and nothing is dissipated."""
+    law = _law()
+    k0 = law.own_values()[0]
+    path = np.linspace(-0.9 * UY, 0.9 * UY, 37)
+    r, kt, st = drive(law, path)
+    assert np.array_equal(r, k0 * path)
+    assert np.all(kt == k0)
+    assert np.all(st[:, 2] == 0.0)
+
+
+def test_steady_sliding_force_follows_the_velocity_dependent_friction():
+    """Sliding at a steady rate V with mu(v) = mu_fast - (mu_fast - mu_slow) exp(-a |v|) (OpenSees'
+    VelDependent): once the rate of a committed step is V, the force is (W/R) u + mu(V) W, to
+    rounding. The first step from rest slides at mu_slow (the rate at rest is 0). Three rates span
+    the transition (a V = 0.2, 2, 20)."""
+    slow, fast, a = 0.03, 0.09, 20.0
+    law = _law(friction=fast, friction_slow=slow, rate=a)
+    h = 1e-3
+    for V in (0.01, 0.1, 1.0):
+        n = 200
+        path = V * h * np.arange(1, n + 1)
+        r, _, _ = drive(law, path, np.full(n, V))
+        mu_v = fast - (fast - slow) * math.exp(-a * V)
+        later = path > 3 * UY  # past the elastic start (the slider's u_y at mu_slow is smaller)
+        later[0] = False
+        expected = W * path / R + mu_v * W
+        assert np.max(np.abs(r - expected)[later]) <= 8 * EPS * np.max(np.abs(r))
+
+
+def test_the_energy_of_every_step_is_the_work_done_on_it():
+    """Passivity and exactness with velocity-dependent friction: over every step of a random path at
+    random rates (the bound changes between steps, and falls below the committed force where the
+    slider slows), the work done on the bearing, the integral of the force along the step's own
+    path, equals the change of the stored energy plus the step's dissipation, which is never
+    negative. The path integral is taken independently of the law's dissipation: the trial force at
+    2000 points between the step's ends (each a trial from the committed state), by the trapezoid
+    rule, whose error is at most k0 (du / 2000)^2 / 8 per kink of the piecewise-linear force (two at
+    most: the relaxation at the start and the onset of sliding)."""
+    law = _law(friction=0.1, friction_slow=0.04, rate=30.0)
+    cls = type(law)
+    params = np.atleast_2d(law.pack(*law.own_values()))
+    k0 = params[0, 0]
+    rng = np.random.default_rng(3)
+    h = 0.005
+    du = UY * rng.normal(0.0, 2.0, 150)
+    state, trial = np.zeros((1, cls.n_state)), np.zeros((1, cls.n_state))
+    relaxed = 0
+    for step in du:
+        u0 = state[0, 0]
+        u1 = u0 + step
+        m = 2000
+        us = np.linspace(u0, u1, m + 1)
+        f = np.empty(m + 1)
+        for j in range(m + 1):  # j = 0: the force once relaxed, at u0 (the relaxation does no work)
+            f[j], _, _ = cls.update(float(us[j]), step / h, state, params, trial, 0)
+        work = float(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(us)))
+        cls.update(float(u1), step / h, state, params, trial, 0)
+        bound = params[0, 3] * (params[0, 4] - (params[0, 4] - params[0, 5]) * math.exp(-params[0, 6] * abs(state[0, 4])))
+        relaxed += abs(params[0, 8] * (state[0, 0] - state[0, 3])) > bound
+        d_stored = stored_energy(trial[0], params[0]) - stored_energy(state[0], params[0])
+        d_diss = trial[0, 2] - state[0, 2]
+        assert d_diss >= 0.0
+        quadrature = 2 * k0 * (step / m) ** 2 / 8
+        assert abs(work - (d_stored + d_diss)) <= quadrature + 64 * EPS * (abs(work) + abs(d_stored) + d_diss)
+        state[:] = trial
+    assert relaxed > 0  # the path did make the bound fall below the committed force
+
+
+def test_a_step_split_into_substeps_dissipates_the_same():
+    """Rate-independent use (constant mu): the update's dissipation is exact along its path, so a step
+    split into 10 equal substeps, each committed, ends in the same state with the same dissipated
+    energy (to the rounding of the sum: 1e-12 of it) on a path of random steps across the elastic range."""
+    law = _law()
+    rng = np.random.default_rng(5)
+    coarse = np.cumsum(UY * rng.normal(0.0, 3.0, 200))
+    fine = np.concatenate([[0.0], coarse])
+    fine = np.concatenate([np.linspace(a, b, 11)[1:] for a, b in zip(fine[:-1], fine[1:])])
+    r1, _, st1 = drive(law, coarse)
+    r2, _, st2 = drive(law, fine)
+    np.testing.assert_allclose(r2[9::10], r1, rtol=0, atol=1e-12 * np.max(np.abs(r1)))
+    assert st2[-1, 2] == pytest.approx(st1[-1, 2], rel=1e-12)
+
+
+def _opensees_material_path(ops, path):
+    ops.wipe()
+    ops.uniaxialMaterial("Elastic", 1, W / R)
+    ops.uniaxialMaterial("ElasticPP", 2, MU * W / UY, UY)
+    ops.uniaxialMaterial("Parallel", 3, 1, 2)
+    ops.testUniaxialMaterial(3)
+    force, tangent = [], []
+    for u in path:
+        ops.setStrain(float(u))
+        force.append(ops.getStress())
+        tangent.append(ops.getTangent())
+    ops.wipe()
+    return np.array(force), np.array(tangent)
+
+
+@pytest.mark.opensees
+def test_constant_friction_is_opensees_pendulum_beside_elastic_perfectly_plastic(opensees):
+    """A random path (cycles growing to 60 u_y, random increments, reversals inside the elastic
+    range) through OpenSees' zero-length equivalent of the bearing, Parallel(Elastic(W/R),
+    ElasticPP(mu W / u_y, u_y)) (singleFPBearing's small-displacement force with Coulomb friction):
+    both clip the same elastic trial of the slider, so the forces agree to rounding (a few ulps of
+    the largest force, 1e-13 of it) and the tangents (W/R or k0) to rounding of the sum W/R + k_i."""
+    law = _law()
+    rng = np.random.default_rng(1)
+    k = np.arange(401)
+    path = UY * (60.0 * k / 400 * np.sin(2.0 * np.pi * k / 60.0) + np.concatenate([[0.0], rng.normal(0.0, 0.8, 400)]))
+    r, kt, _ = drive(law, path)
+    r_os, kt_os = _opensees_material_path(opensees, path)
+    assert np.max(np.abs(r - r_os)) <= 1e-13 * np.max(np.abs(r))
+    np.testing.assert_allclose(kt, kt_os, rtol=4 * EPS)
+
+
+@pytest.mark.parametrize("params, field, words", [
+    ({"radius": 0.0}, "radius", "> 0"),
+    ({"weight": -1.0}, "weight", "> 0"),
+    ({"friction": 1.2}, "friction", "(0, 1]"),
+    ({"friction": 0.0}, "friction", "elastic spring"),
+    ({"yield_displacement": 0.0}, "yield_displacement", "> 0"),
+    ({"friction_slow": 0.02}, "rate", "both"),
+    ({"friction_slow": 0.08, "rate": 10.0}, "friction_slow", "(0, friction]"),
+    ({"friction_slow": 0.02, "rate": -1.0}, "rate", "> 0"),
+    ({"radius": float("nan")}, "radius", "finite"),
+])
+def test_parameters_out_of_range_are_rejected(params, field, words):
+    """One InputError per bad parameter, naming it and the range expected."""
+    with pytest.raises(InputError) as exc:
+        _law(**params)
+    assert exc.value.field == field
+    assert words in str(exc.value)
+
+
+# -- a base-isolated slab ----------------------------------------------------------------------------
+
+G = 9.81
+MASS = 4.0e5  # [kg]
+
+
+def _line(start, end, **kw):
+    table = {"name": "friction_pendulum", "weight": MASS * G / 2, "radius": R, "friction": MU}
+    table.update(kw)
+    return {"type": "storey_springs", "start": start, "end": end, "storeys": 1, "hysteresis": table}
+
+
+def _isolated_slab(dt, duration=6.0, **kw):
+    """A rigid 12 m x 10 m slab of 400 t on four lines of bearings, each line carrying half the weight
+    (two lines per direction), shaken along x: the x lines slide, the y lines stay still."""
+    lines = [_line([0, 0], [12, 0], **kw), _line([0, 10], [12, 10], **kw), _line([0, 0], [0, 10], **kw),
+             _line([12, 0], [12, 10], **kw)]
+    building = {"name": "iso", "storey_heights": [1.0], "slab": [[0, 0], [12, 0], [12, 10], [0, 10]], "mass": MASS,
+                "damping": {"type": "rayleigh", "ratio": 0.0, "modes": [1, 2]}, "element": lines}
+    return {"building": [building], "ground_motion": {"record": "elcentro", "pga": 0.5, "angle": 0.0},
+            "analysis": {"integrator": "newmark", "dt": dt, "duration": duration, "contact": "none"}}
+
+
+def _run(dt, **kw):
+    from pounding.framework.post.inelastic_run import run_inelastic
+    from pounding.io.scene import parse_scene
+
+    return run_inelastic(parse_scene(_isolated_slab(dt, **kw))).buildings[0]
+
+
+@pytest.mark.parametrize("friction", [{}, {"friction": 0.09, "friction_slow": 0.04, "rate": 20.0}],
+                         ids=["constant", "velocity-dependent"])
+def test_isolated_slab_energy_account_books_the_friction(friction):
+    """A slab on friction pendulum lines under 6 s of El Centro at 0.5 g, average acceleration at
+    dt = 5 ms:
+
+    * input = kinetic + strain + damping + hysteretic closes to rounding (the integrator's exact
+      identity: 1e-12 of the input for ~1200 steps);
+    * the law's own dissipation (exact along each step's path) is never decreasing, and differs from
+      the audit's (the trapezoidal rule on step ends) only in the steps where sliding starts again
+      (the force's kink): in such a step the trapezoid misses at most Q |du| (the slider's force
+      changes by at most 2Q at the kink), summed over those steps;
+    * passivity bounds the peak: the pendulum's stored energy (W/R) D^2 / 2 at the peak D never
+      exceeds the work put in, so D <= sqrt(2 E_input / (W/R)) over the two sliding lines."""
+    b = _run(0.005, **friction)
+    e = b.energy
+    assert abs(e["relative_error"]) <= 1e-12
+    x_lines = [0, 1]
+    diss = b.dissipated[:, x_lines]
+    assert np.all(np.diff(diss, axis=0) >= 0.0)
+    assert e["hysteretic_law"] > 0.5 * e["input"]  # sliding is where the input goes (no viscous damping)
+    q_max = max(friction.get("friction", MU), MU) * MASS * G / 2
+    inc = np.diff(diss, axis=0) > 0.0
+    starts = inc[1:] & ~inc[:-1]  # steps where the slider starts sliding again
+    du = np.abs(np.diff(b.deformation[:, x_lines], axis=0))[1:]
+    assert abs(e["hysteretic"] - e["hysteretic_law"]) <= q_max * float(np.sum(du[starts])) + 1e-12 * e["input"]
+    peak = float(np.max(np.abs(b.deformation[:, x_lines])))
+    assert 0.0 < peak <= math.sqrt(2.0 * e["input"] / (2 * (MASS * G / 2) / R))
+
+
+def test_isolated_slab_peak_converges_with_the_step():
+    """The peak isolator displacement at the record's 10 ms and 5 ms against a 0.5 ms reference: the
+    error shrinks with the step, and is below 1 % at 10 ms (the isolated period 2 pi sqrt(R/g) =
+    2.8 s is 280 steps; the error comes from the sliding onsets, within a step's motion of the
+    elastic corners of width 2 u_y)."""
+    peaks = {dt: float(np.max(np.abs(_run(dt).deformation[:, 0]))) for dt in (0.01, 0.005, 0.0005)}
+    ref = peaks[0.0005]
+    e10, e5 = abs(peaks[0.01] - ref), abs(peaks[0.005] - ref)
+    assert e5 < e10 <= 0.01 * ref
