@@ -273,7 +273,8 @@ def test_isolated_slab_energy_account_books_the_friction(friction):
     dt = 5 ms:
 
     * input = kinetic + strain + damping + hysteretic closes to rounding (the integrator's exact
-      identity: 1e-12 of the input for ~1200 steps);
+      identity: each of the 1200 steps adds its terms to a handful of running sums, each addition
+      rounding by at most eps of the sums, which stay below the input: within 8 eps per step);
     * the law's own dissipation (exact along each step's path) is never decreasing, and differs from
       the audit's (the trapezoidal rule on step ends) only in the steps where sliding starts again
       (the force's kink): in such a step the trapezoid misses at most Q |du| (the slider's force
@@ -282,7 +283,7 @@ def test_isolated_slab_energy_account_books_the_friction(friction):
       exceeds the work put in, so D <= sqrt(2 E_input / (W/R)) over the two sliding lines."""
     b = _run(0.005, **friction)
     e = b.energy
-    assert abs(e["relative_error"]) <= 1e-12
+    assert abs(e["relative_error"]) <= 8 * EPS * (len(b.deformation) - 1)
     x_lines = [0, 1]
     diss = b.dissipated[:, x_lines]
     assert np.all(np.diff(diss, axis=0) >= 0.0)
@@ -297,11 +298,71 @@ def test_isolated_slab_energy_account_books_the_friction(friction):
 
 
 def test_isolated_slab_peak_converges_with_the_step():
-    """The peak isolator displacement at the record's 10 ms and 5 ms against a 0.5 ms reference: the
-    error shrinks with the step, and is below 1 % at 10 ms (the isolated period 2 pi sqrt(R/g) =
-    2.8 s is 280 steps; the error comes from the sliding onsets, within a step's motion of the
-    elastic corners of width 2 u_y)."""
-    peaks = {dt: float(np.max(np.abs(_run(dt).deformation[:, 0]))) for dt in (0.01, 0.005, 0.0005)}
-    ref = peaks[0.0005]
-    e10, e5 = abs(peaks[0.01] - ref), abs(peaks[0.005] - ref)
-    assert e5 < e10 <= 0.01 * ref
+    """The peak isolator displacement D at 10 ms and 5 ms against a 0.5 ms reference. Away from the
+    sliding onsets the stepping is average acceleration's, second order (its period error at the
+    isolated period 2 pi sqrt(R/g) = 2.8 s, 280 steps of 10 ms, is 1e-5). A step where the slider
+    starts sliding again straddles the force's kink and may misbook the work by Q |du| (see the
+    energy test); an energy error dE before the peak moves it by about dE / F(D), F(D) = (W/R) D + Q
+    the force there. So the relative error of D is within sum(Q |du|) / (F(D) D) over the onsets
+    before the peak: a bound of first order in the step (measured 0.84 % within 2.5 % at 10 ms,
+    0.007 % within 1.3 % at 5 ms)."""
+    ref = float(np.max(np.abs(_run(0.0005).deformation[:, 0])))
+    q = MU * MASS * G / 2
+    for dt in (0.01, 0.005):
+        b = _run(dt)
+        u = b.deformation[:, 0]
+        k = int(np.argmax(np.abs(u)))
+        inc = np.diff(b.dissipated[:, 0]) > 0.0
+        onsets = np.flatnonzero(inc[1:] & ~inc[:-1]) + 1  # step n (u[n] -> u[n+1]) starts sliding
+        onsets = onsets[onsets < k]
+        de = q * float(np.sum(np.abs(u[onsets + 1] - u[onsets])))
+        peak = abs(u[k])
+        force = MASS * G / 2 / R * peak + q
+        assert abs(peak - ref) <= de / force
+
+
+def _with_first_line(change):
+    import copy
+
+    from pounding.io.scene import parse_scene
+
+    data = copy.deepcopy(_isolated_slab(0.01))
+    change(data["building"][0]["element"][0])
+    return parse_scene(data)
+
+
+LINE = "building[0].element[0]"
+
+
+@pytest.mark.parametrize("change, field, words", [
+    (lambda e: e.update(stiffness=1.0e8), LINE + ".stiffness", "remove stiffness"),
+    (lambda e: e.update(yield_force=1.0e5), LINE + ".yield_force", "remove yield_force"),
+    (lambda e: e.update(hardening=0.1), LINE + ".hardening", "remove hardening"),
+    (lambda e: e.update(hysteresis="friction_pendulum"), LINE + ".hysteresis", "needs weight, radius, friction"),
+    (lambda e: e["hysteresis"].update(radius=-1.0), LINE + ".hysteresis.radius", "> 0"),
+    (lambda e: e.pop("hysteresis"), LINE + ".stiffness", "missing the initial storey stiffness"),
+], ids=["stiffness", "yield_force", "hardening", "no parameters", "radius", "no law, no stiffness"])
+def test_the_element_takes_its_values_from_the_law_and_names_what_is_wrong(change, field, words):
+    """storey_springs with the friction pendulum: the law sets k0, Fy and b (own_values), so the
+    element's stiffness, yield_force and hardening would say it twice and are refused; without such
+    a law the stiffness is required. One InputError naming the key path."""
+    with pytest.raises(InputError) as exc:
+        _with_first_line(change)
+    assert field in str(exc.value) and words in str(exc.value)
+
+
+def test_the_element_is_the_law_s_bilinear_isolator_and_round_trips(tmp_path):
+    """A line of bearings is a storey spring of the law's k0, Fy, b (its lateral stiffness W/R +
+    mu W/u_y in the initial modes), and writing the scene then loading it gives the same scene
+    (the table keeps the law's parameters, not the element's values derived from them)."""
+    from pounding.io.scene import load_scene
+    from pounding.io.scene_writer import scene_differences, write_scene
+
+    scene = _with_first_line(lambda e: e["hysteresis"].update(friction_slow=0.03, rate=20.0))
+    line = scene.buildings[0].elements[0]
+    k0, fy, b = line.law.own_values()
+    assert line.stiffness == (k0,) and line.yield_force == (fy,) and line.hardening == b
+    assert line.lateral_stiffness()[0, 0] == k0
+    again = load_scene(write_scene(scene, tmp_path / "scene.toml"))
+    assert scene_differences(scene, again) == []
+    assert again.buildings[0].elements[0].law.describe() == line.law.describe()
