@@ -17,7 +17,9 @@ so the whole law is bilinear with k0 = W / R + mu W / u_y, Fy = k0 u_y and b = (
 Constantinou's smooth sign z (u_y dz/dt = v - beta |v| z |z|^(n-1) - gamma v |z|^n) with a
 constant mu is exactly the ``bouc_wen`` law with these k0, Fy, b; the elastic-plastic sign was
 chosen here because it keeps the law passive with a velocity-dependent friction (below), its
-dissipation is exact over a step, and it is OpenSees' isolator element to rounding.
+dissipation is exact over a step, and it is OpenSees' isolator element to rounding, but for the
+normal force: ``singleFPBearing`` takes N = W + F u / R (the horizontal force's component along the
+dish's normal), this law N = W (small displacements: the forces differ by F (u/R)(u/R +- mu)).
 
 Velocity-dependent friction (optional, OpenSees' ``frictionModel VelDependent``):
 
