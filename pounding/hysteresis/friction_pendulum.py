@@ -6,9 +6,9 @@ with the friction force mu W:
 
     r = k_R u + q,    k_R = W / R,    |q| <= Q = mu W.
 
-Formulation (chosen): the friction force q is elastic-perfectly-plastic, as OpenSees'
-``singleFPBearing`` (Coulomb friction with an initial stiffness ``kInit``): before it slides the
-slider deforms elastically with k_i = mu_fast W / u_y, u_y the yield (pre-sliding) displacement,
+Formulation (chosen): the friction force q is elastic-perfectly-plastic, as in OpenSees'
+``singleFPBearing`` (Coulomb friction; its ``kInit`` is k0 below): before it slides the slider
+deforms elastically with k_i = mu_fast W / u_y, u_y the yield (pre-sliding) displacement,
 
     q = k_i (u - u_s),    u_s the slip [m],    |q| <= Q,
 
@@ -17,9 +17,10 @@ so the whole law is bilinear with k0 = W / R + mu W / u_y, Fy = k0 u_y and b = (
 Constantinou's smooth sign z (u_y dz/dt = v - beta |v| z |z|^(n-1) - gamma v |z|^n) with a
 constant mu is exactly the ``bouc_wen`` law with these k0, Fy, b; the elastic-plastic sign was
 chosen here because it keeps the law passive with a velocity-dependent friction (below), its
-dissipation is exact over a step, and it is OpenSees' isolator element to rounding, but for the
-normal force: ``singleFPBearing`` takes N = W + F u / R (the horizontal force's component along the
-dish's normal), this law N = W (small displacements: the forces differ by F (u/R)(u/R +- mu)).
+dissipation is exact over a step, and it is OpenSees' isolator element but for the normal force:
+``singleFPBearing`` takes N = W + F u / R (the horizontal force's component along the dish's
+normal), this law N = W (small displacements: the forces differ by F (u/R)(u/R +- mu)); scaled
+by W / N, its force is this law's to rounding (tests/test_friction_pendulum.py).
 
 Velocity-dependent friction (optional, OpenSees' ``frictionModel VelDependent``):
 
