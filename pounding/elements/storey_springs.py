@@ -23,6 +23,17 @@ Scene table::
     yield_force = [9.0e5, 7.5e5, 6.0e5]  # storey yield shear [N]: one value or one per storey; omitted = elastic
     hardening = 0.02                     # post-yield / initial stiffness, in [0, 1)
     hysteresis = "bilinear"              # or {name = "bouc_wen", n = 2, beta = 0.5, gamma = 0.5}
+
+A law that sets the springs' k0, Fy and b from its own parameters (``own_values``: the
+``friction_pendulum`` isolator, from its weight, radius, friction and yield displacement) takes
+the place of ``stiffness``, ``yield_force`` and ``hardening``, which the table then omits::
+
+    [[building.element]]
+    type = "storey_springs"
+    start = [0.0, 0.0]
+    end = [12.0, 0.0]
+    storeys = 1
+    hysteresis = {name = "friction_pendulum", weight = 3.0e6, radius = 2.0, friction = 0.06}
 """
 
 from __future__ import annotations
@@ -83,7 +94,7 @@ class StoreySprings(PlanarElement):
     spring_line: ClassVar[bool] = True
     schema: ClassVar[dict[str, Any]] = {
         "type": "object",
-        "required": ["start", "end", "stiffness"],
+        "required": ["start", "end"],  # and stiffness, unless the law sets it (from_table)
         "additionalProperties": False,
         "description": "Storey springs along a plan line: storey f's spring resists the relative displacement "
         "between floor f and floor f-1 (the ground below floor 1) along the line; elastic, or yielding by a "
@@ -91,7 +102,8 @@ class StoreySprings(PlanarElement):
         "properties": {
             "start": documented(POINT_SCHEMA, "One end of the springs' plan line [x, y].", [0.0, 0.0]),
             "end": documented(POINT_SCHEMA, "The other end; the springs act along the line from start to end.", [15.0, 0.0]),
-            "stiffness": documented(_PER_STOREY, "Initial storey stiffness: one value, or one per storey, bottom first.",
+            "stiffness": documented(_PER_STOREY, "Initial storey stiffness: one value, or one per storey, bottom first. "
+                                    "Required, unless the hysteresis law sets it (`friction_pendulum`).",
                                     [6.0e7, 5.0e7, 4.0e7], units="N/m"),
             "yield_force": documented(_PER_STOREY, "Storey yield shear: one value or one per storey; omitted = elastic.",
                                       [9.0e5, 7.5e5, 6.0e5], units="N"),
@@ -100,7 +112,8 @@ class StoreySprings(PlanarElement):
             "hysteresis": {"oneOf": [{"type": "string"}, {"type": "object", "required": ["name"]}], "default": "bilinear",
                            "examples": ["bilinear", {"name": "bouc_wen", "n": 2.0}],
                            "description": "Hysteresis law: a name (`bilinear`, `bouc_wen`, or a plugin's), or a table "
-                           "`{ name = ..., parameter = ... }` with the law's parameters."},
+                           "`{ name = ..., parameter = ... }` with the law's parameters; `friction_pendulum` (weight, "
+                           "radius, friction) sets stiffness, yield_force and hardening itself."},
             "storeys": {"type": "integer", "minimum": 1, "units": "-", "examples": [3],
                         "description": "Number of storeys the springs span from their first storey (default: all above it; "
                         "`storeys = 1` with `first_storey = 1`: an isolation layer when the rest stands on floor 1)."},
@@ -132,6 +145,13 @@ class StoreySprings(PlanarElement):
         point, direction = line_from_table(table)
         length = float(np.hypot(*(np.asarray(table["end"], float) - point)))
         n = _spanned_storeys(table, storey_heights)
+        heights = tuple(float(h) for h in storey_heights[:n])
+        law = _law_setting_its_values(table)
+        if law is not None:  # an isolator law: k0, Fy and b follow from its own parameters
+            k0, fy, b = law.own_values()
+            return cls(point, direction, length, heights, (k0,) * n, (fy,) * n, b, law)
+        if "stiffness" not in table:
+            raise InputError("missing the initial storey stiffness [N/m] (one value or one per storey)", field="stiffness")
         k = _per_storey_positive(table, "stiffness", n, "the initial storey stiffness [N/m]")
         hardening = table.get("hardening", 0.0)
         if not (isinstance(hardening, (int, float)) and math.isfinite(hardening) and 0.0 <= hardening < 1.0):
@@ -168,7 +188,10 @@ class StoreySprings(PlanarElement):
         end = self.point + self.length * self.direction
         table = {"start": [float(c) for c in self.point], "end": [float(c) for c in end], "storeys": len(self.heights),
                  "stiffness": list(self.stiffness)}
-        if self.yield_force is not None:
+        if self.law is not None and self.law.own_values() is not None:  # the law's parameters give the rest
+            del table["stiffness"]
+            table["hysteresis"] = self.law.describe()
+        elif self.yield_force is not None:
             table.update(yield_force=list(self.yield_force), hardening=self.hardening, hysteresis=self.law.describe())
         return table
 
@@ -182,6 +205,27 @@ class StoreySprings(PlanarElement):
         return {"lines": lines, "panels": []}
 
 
+def _law_setting_its_values(table: Mapping[str, Any]):
+    """The element's law when it sets k0, Fy and b from its own parameters (``own_values``), else None.
+
+    Such a law (an isolator's: weight, radius, friction) leaves the element nothing to give: its
+    ``stiffness``, ``yield_force`` or ``hardening`` would say the same thing twice, possibly
+    differently, so they are refused (InputError naming the key)."""
+    from pounding.framework.model.registry import HYSTERESIS
+
+    spec = table.get("hysteresis")
+    if spec is None:
+        return None
+    name, params = (spec, {}) if isinstance(spec, str) else (spec["name"], {a: b for a, b in spec.items() if a != "name"})
+    law = make_law(HYSTERESIS.get(name, field="hysteresis" if isinstance(spec, str) else "hysteresis.name"), params, "hysteresis")
+    if law.own_values() is None:
+        return None
+    for key in ("stiffness", "yield_force", "hardening"):
+        if key in table:
+            raise InputError(f"the {law.name} law sets the storey's {key} from its own parameters; remove {key}", field=key)
+    return law
+
+
 def make_law(law_cls, params: Mapping[str, Any], field: str):
     """An instance of a hysteresis law from its scene parameters (InputError naming ``field.key``)."""
     import inspect
@@ -192,6 +236,10 @@ def make_law(law_cls, params: Mapping[str, Any], field: str):
         sig = inspect.signature(law_cls.__init__)
         accepted = [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY]
         bad = [k for k in params if k not in accepted]
+        missing = [p for p in accepted if sig.parameters[p].default is inspect.Parameter.empty and p not in params]
+        if missing and not bad:
+            raise InputError(f"hysteresis {law_cls.name!r} needs {', '.join(missing)}: give "
+                             f"{{ name = {law_cls.name!r}, {', '.join(m + ' = ...' for m in missing)} }}", field=field) from None
         raise InputError(
             f"unknown parameter(s) {', '.join(bad) or '?'} for hysteresis {law_cls.name!r}; accepted: {', '.join(accepted) or 'none'}",
             field=field,

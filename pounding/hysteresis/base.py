@@ -51,7 +51,10 @@ Contract for an implementer
    ``k0 * (u - s)`` with ``s`` exactly 0 before any yielding, so that the
    force's nonlinear part ``r - k0 u`` is exactly zero there: the stepping
    then reduces bit for bit to the elastic modal stepping.
-8. Register the class under the entry-point group ``pounding.hysteresis`` (or
+8. A law whose physics fixes k0, Fy and b from its own parameters (an
+   isolator: weight, radius, friction) returns them from :meth:`own_values`;
+   the element then takes them from the law instead of its own keys.
+9. Register the class under the entry-point group ``pounding.hysteresis`` (or
    pass the class itself): one module and one registration; the compiled
    stepping takes the law's ``update`` as an argument and is compiled once per
    run's set of laws, nothing else to write.
@@ -86,6 +89,11 @@ class HysteresisLaw(ABC):
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         """Parameter vector (n_params,) of one spring: k0 [N/m], Fy [N], b [-], then the law's own."""
         return np.array([stiffness, yield_force, hardening], dtype=float)
+
+    def own_values(self) -> tuple[float, float, float] | None:
+        """(k0 [N/m], Fy [N], b [-]) when the law's own parameters fix them, else None (the default:
+        the element gives them, e.g. storey_springs' ``stiffness``, ``yield_force``, ``hardening``)."""
+        return None
 
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""

@@ -1,5 +1,6 @@
 """A storey-springs element as OpenSees links: one ``twoNodeLink`` per storey along the element's line,
-its material the spring's law (``Elastic``, ``Steel01`` for the bilinear law, ``BoucWen``).
+its material the spring's law (``Elastic``, ``Steel01`` for the bilinear law and for the friction
+pendulum with constant friction, ``BoucWen``).
 
 Shared by the peer models of the tests (:mod:`pounding.peer.opensees`, :mod:`pounding.peer.opensees_springs`)
 and the export, so that a storey spring is built one way.
@@ -35,8 +36,14 @@ def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
         uy = fy / k0
         n, beta, gamma = element.law.n, element.law.beta, element.law.gamma
         ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)
+    elif law == "friction_pendulum" and element.law.friction_slow is None:
+        # constant friction: W/R beside the elastic-perfectly-plastic slider (mu W / u_y, yield mu W) is
+        # kinematic hardening with the law's k0, Fy and b (singleFPBearing also adds F u / R to the
+        # normal force, which the law leaves out)
+        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
     else:
-        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}")
+        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}"
+                                  + (" with velocity-dependent friction" if law == "friction_pendulum" else ""))
 
 
 def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13, *,

@@ -251,6 +251,7 @@ HYSTERESIS: Registry = Registry(
     {
         "bilinear": "pounding.hysteresis.bilinear:Bilinear",
         "bouc_wen": "pounding.hysteresis.bouc_wen:BoucWen",
+        "friction_pendulum": "pounding.hysteresis.friction_pendulum:FrictionPendulum",
     },
     "hysteresis law",
 )
