@@ -97,3 +97,45 @@ def test_run_and_check_print_warnings_on_stderr_and_silence_them(tmp_path):
     proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(path), "--out", str(tmp_path / "o"), "--duration", "0.1",
                            "--silence", "mass_per_area", "--quiet"], capture_output=True, text=True)
     assert proc.returncode == 0 and proc.stderr.count("pounding: warning:") == 2 and "period" in proc.stderr
+
+
+LINES = (([0.0, 0.0], [12.0, 0.0]), ([0.0, 8.0], [12.0, 8.0]), ([0.0, 0.0], [0.0, 8.0]), ([12.0, 0.0], [12.0, 8.0]))
+
+
+def _isolated_building(isolators: dict, damping: str) -> str:
+    """A two-storey building on the four edges of its slab: storey 1 four lines of storey springs (the isolators,
+    ``isolators`` their keys), storey 2 four lines standing on the base slab (``first_storey = 2``)."""
+    keys = "\n".join(f"{k} = {v}" for k, v in isolators.items())
+    iso = "".join(f"[[building.element]]\ntype = \"storey_springs\"\nstart = {a}\nend = {b}\nstoreys = 1\n{keys}\n" for a, b in LINES)
+    top = "".join(f"[[building.element]]\ntype = \"storey_springs\"\nfirst_storey = 2\nstart = {a}\nend = {b}\nstiffness = 2.0e8\n"
+                  for a, b in LINES)
+    return f'''
+[[building]]
+name = "isolated"
+storey_heights = [1.0, 3.2]
+mass = [150000.0, 135000.0]
+slab = [[0.0, 0.0], [12.0, 0.0], [12.0, 8.0], [0.0, 8.0]]
+damping = {damping}
+{iso}{top}
+[ground_motion]
+record = "elcentro"
+'''
+
+
+LEAD_RUBBER = {"stiffness": 4.0e7, "yield_force": 2.0e5, "hardening": 0.1}
+
+
+def test_damping_on_yielding_isolators_is_flagged():
+    """Rayleigh damping (5 %) set on the model with the isolators at their initial stiffness keeps acting while they
+    yield: flagged once, naming the building and the isolator lines (elements 1 to 4)."""
+    found = plausibility.findings(scene_of(_isolated_building(LEAD_RUBBER, '{ type = "rayleigh", ratio = 0.05, modes = [1, 2] }')))
+    assert names(found) == ["isolation_damping"]
+    assert "'isolated'" in found[0].message and "elements 1, 2, 3, 4" in found[0].message
+
+
+def test_undamped_or_elastic_isolators_are_not_flagged():
+    """No damping, or isolators that do not yield (their initial stiffness is the one they keep), give no warning."""
+    undamped = _isolated_building(LEAD_RUBBER, '{ type = "rayleigh", ratio = 0.0, modes = [1, 2] }')
+    elastic = _isolated_building({"stiffness": 4.0e7}, '{ type = "rayleigh", ratio = 0.05, modes = [1, 2] }')
+    assert "isolation_damping" not in names(plausibility.findings(scene_of(undamped)))
+    assert "isolation_damping" not in names(plausibility.findings(scene_of(elastic)))

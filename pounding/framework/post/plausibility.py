@@ -19,6 +19,12 @@ silenced (``[analysis] silence = ["mass_per_area"]`` or ``--silence NAME``).
   eigenvalue of its condensed matrix [N/m]) is above 1000x the median of the
   building's elements. Walls are 10-300x stiffer than frames; a section in mm
   or E in kPa is 1e3-1e12 off.
+* ``isolation_damping``: a building whose isolators yield or slide (storey 1 an isolation layer of
+  yielding storey springs) with a classical damping ratio above zero. That damping is set on the
+  initial model, with the isolators at their initial (stuck) stiffness, and keeps acting with it
+  while they slide: a viscous force the bearings do not have, often a large share of the input
+  energy (Ryan and Polanco 2008, J. Struct. Eng. 134(11); Charney 2008, J. Struct. Eng.
+  134(4)). Usual practice damps the superstructure only.
 * ``no_common_level``: two buildings with no slabs at a common level. Their
   slabs can only strike each other's facades between floors
   (:mod:`pounding.framework.model.facade`), a stronger idealisation than slab against
@@ -58,6 +64,10 @@ CHECKS = (
           "(not reported for an isolation layer: storey 1 of one-storey storey springs with elements standing on floor 1)"),
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
+    Check("isolation_damping", "a building whose isolators yield or slide has a classical damping ratio above zero, set on its "
+          "initial model (the isolators stuck at their initial stiffness)",
+          "the damping of a fixed-base model kept for an isolated one: it acts on the sliding isolators as a viscous force "
+          "they do not have; damp the superstructure's modes only (kind = \"modal\", a small ratio on the isolated modes)"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
           "unequal storey heights (intended: see *Slabs between a neighbour's floors* in docs/modelling.md), or a slip in a storey height"),
 )
@@ -90,6 +100,8 @@ def findings(scene, silence=()) -> list[Finding]:
             out += _soft_storeys(b)
         if "stiff_element" not in off:
             out += _stiff_elements(b)
+        if "isolation_damping" not in off:
+            out += _isolation_damping(b)
     if "no_common_level" not in off:
         out += _no_common_level(scene.buildings)
     return out
@@ -179,6 +191,20 @@ def _soft_storeys(b) -> list[Finding]:
                                                   f"{100 * k[f] / k[f + 1]:.0f} % of storey {f + 2}'s ({k[f + 1] / 1e6:.4g} MN/m): an element "
                                                   "missing or undersized there, or a wrong storey height?"))
     return out
+
+
+def _isolation_damping(b) -> list[Finding]:
+    from pounding.framework.model.isolation import isolator_lines
+
+    yielding = [i for i in isolator_lines(b) if b.elements[i].yields]
+    ratios = np.atleast_1d(np.asarray(b.damping.ratio, dtype=float))
+    if not yielding or not np.any(ratios > 0.0):
+        return []
+    return [Finding("isolation_damping", f"building {b.name!r}: its isolators yield or slide (elements {', '.join(str(i + 1) for i in yielding)} "
+                                         f"in storey 1), and its {b.damping.kind} damping (ratio {b.damping.ratio}) is set on the initial "
+                                         "model, with the isolators at their initial stiffness: it keeps acting on them while they slide, "
+                                         "a viscous force the bearings do not have. Damp the superstructure's modes only "
+                                         "(kind = \"modal\" with a small ratio on the modes the isolators carry), or silence this if intended")]
 
 
 def _stiff_elements(b) -> list[Finding]:
