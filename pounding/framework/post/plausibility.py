@@ -67,7 +67,7 @@ CHECKS = (
     Check("isolation_damping", "a building whose isolators yield or slide has a classical damping ratio above zero, set on its "
           "initial model (the isolators stuck at their initial stiffness)",
           "the damping of a fixed-base model kept for an isolated one: it acts on the sliding isolators as a viscous force "
-          "they do not have; damp the superstructure's modes only (kind = \"modal\", a small ratio on the isolated modes)"),
+          "they do not have; damp the superstructure's modes only (type = \"modal\", a small ratio on the isolated modes)"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
           "unequal storey heights (intended: see *Slabs between a neighbour's floors* in docs/modelling.md), or a slip in a storey height"),
 )
@@ -204,7 +204,7 @@ def _isolation_damping(b) -> list[Finding]:
                                          f"in storey 1), and its {b.damping.kind} damping (ratio {b.damping.ratio}) is set on the initial "
                                          "model, with the isolators at their initial stiffness: it keeps acting on them while they slide, "
                                          "a viscous force the bearings do not have. Damp the superstructure's modes only "
-                                         "(kind = \"modal\" with a small ratio on the modes the isolators carry), or silence this if intended")]
+                                         "(type = \"modal\" with a small ratio on the modes the isolators carry), or silence this if intended")]
 
 
 def _stiff_elements(b) -> list[Finding]:
