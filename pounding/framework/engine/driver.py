@@ -907,7 +907,7 @@ class Driver:
         """Strike held pair p at t, where a point of it that was apart has reached contact: the law's
         impulses over every touching point of the pair, as at any impact (:meth:`contact_at`), the
         impact recorded and its loss booked. True if any impulse acted."""
-        return self.contact_at(t, [p], held=True)
+        return self.contact_at(t, [p])
 
     def stop_closing(self, t: float) -> None:
         """Plastic impulses on the touching points of held pairs that still close
@@ -1015,9 +1015,9 @@ class Driver:
         return self._exact_search
 
     # ---------------------------------------------------------------- impacts
-    def contact_at(self, t: float, pairs=None, held: bool = False) -> bool:
-        """Apply impulses at time t to every touching, approaching pair (among ``pairs``, default
-        all) that is not held (``held``: held ones among ``pairs`` too). True if any impulse acted.
+    def contact_at(self, t: float, pairs=None) -> bool:
+        """Apply impulses at time t to every touching, approaching pair among ``pairs`` (default:
+        every pair not held; a held pair is given where a point of it arrives). True if any impulse acted.
 
         The same steps as the kernel's :func:`~pounding.framework.engine.kernel.impulses_at` (which
         applies the impulses of a law declaring ``compiled_impulses`` inside compiled
@@ -1031,10 +1031,7 @@ class Driver:
             return False
         m = self.model
         candidates = np.zeros(len(m.pairs), dtype=np.bool_)
-        candidates[m.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
-        if not held:
-            for p in self.sustained:
-                candidates[p] = False
+        candidates[self.free_pairs() if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
         # The Python path keeps numpy's arithmetic for the features' Delassus matrix and closing
         # speeds: routing it through the compiled impulses_at (numba's matrix products) moved
         # results by rounding, which the stress suite's chaotic random scenes amplified into an

@@ -212,7 +212,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
         # the points that touched are held where each started (linearised), but never deeper than
         # half the tolerance (features slide as the slabs turn, and the linearised start drifts
         # with them); a point that was apart is not held (an arrival, for the caller)
-        kept = same_contact(fpair, Q1, pair0, Q0, touching, slide_bound(z1[:, 0] - q0, held, geo) + tol)
+        kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
         target = np.minimum(np.maximum(g1f - Wr @ (z1[:, 0] - q0), -0.5 * tol), 0.0)
         short = g1f - target
         arg = np.ones(m)
@@ -239,7 +239,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
             f1[i] += df[i]
     if not found:  # the last pass moved the slabs: the features of the end state itself
         fpair, g1f, Wr, Q1, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
-    kept = same_contact(fpair, Q1, pair0, Q0, touching, slide_bound(z1[:, 0] - q0, held, geo) + tol)
+    kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
     arrival = np.inf
     apair = -1
     for k in range(g1f.shape[0]):
@@ -247,6 +247,17 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
             arrival = g1f[k]
             apair = fpair[k]
     return z0, z1, f0, f1, (fpair, g1f, Wr, Q1), arrival, apair
+
+
+@njit
+def _kept(pair1, Q1, pair0, Q0, touching0, dq, held, touch, tol, geo):
+    """Which end features (pairs pair1 (k,), points Q1 (k, 2)) a held step holds: with the crossing
+    locator the points that touched at the start (:func:`same_contact`, within how far the slabs
+    moved over dq (n,), :func:`slide_bound`, plus the tolerance), with the paper's rules
+    (``touch`` inf) every one. A bool mask (k,)."""
+    if touch == np.inf:
+        return np.ones(pair1.shape[0], dtype=np.bool_)
+    return same_contact(pair1, Q1, pair0, Q0, touching0, slide_bound(dq, held, geo) + tol)
 
 
 @njit
