@@ -40,13 +40,15 @@ CLOSING = 0.5  # [m/s] B's closing speed from the slab turning back about A
 OPENING = 1e-4  # [m/s] A's opening speed (a translation of the right slab)
 
 
-def held_pair_with_an_arriving_corner(use_kernel: bool = False, locate: str = "crossing") -> Driver:
-    """The module docstring's scene, as a driver at t = 0 with pair 0 held (restitution 0.5)."""
+def held_pair_with_an_arriving_corner(use_kernel: bool = False, locate: str = "crossing", turn: float = TURN,
+                                      closing: float = CLOSING) -> Driver:
+    """The module docstring's scene, as a driver at t = 0 with pair 0 held (restitution 0.5); B is
+    10 |turn| [m] away and closes at about ``closing`` [m/s]."""
     data = side_by_side(0.0, integrator="exact", contact={"name": "impulse", "locate": locate})
     d = Driver(scene(data).with_ground_motion(STILL), use_kernel=use_kernel)
-    w, arm = CLOSING / 10.0, 6.0  # the right slab's turning rate [rad/s]; A to its centre (6, 5) along x
+    w, arm = closing / 10.0, 6.0  # the right slab's turning rate [rad/s]; A to its centre (6, 5) along x
     d.z = np.zeros((d.model.n, 3))
-    d.z[:, 0] = modal_from_physical(d.model, {(1, 0): np.array([-TURN * 5.0, TURN * arm, TURN])})
+    d.z[:, 0] = modal_from_physical(d.model, {(1, 0): np.array([-turn * 5.0, turn * arm, turn])})
     d.z[:, 1] = modal_from_physical(d.model, {(1, 0): np.array([-w * 5.0 + OPENING, w * arm, w])})
     d.sustained = {0}
     return d
@@ -152,6 +154,26 @@ def test_an_arriving_corner_is_struck_where_it_touches_with_the_laws_restitution
     assert abs(top.approach_velocity - b) <= 2.0 * dot_abs(wb, v0)  # the driver's dot product and this one
     assert sum(imp.energy_loss for imp in imps) > 0.0
     assert d.sustained == {0}  # still held: the pair is let go only when it opens beyond the tolerance
+
+
+def test_a_touching_point_that_falls_back_within_the_step_is_projected_taking_energy_out():
+    """With B 1e-4 m away closing at 0.05 m/s, A (touching, opening at 1e-4 m/s) would fall back
+    below its start within a 5 ms step (the slab's turning reverses its normal acceleration): a
+    rebound too short for the step, whose limit is rest. The held step projects A's normal velocity
+    out at the start instead of pushing on it while it opens: A's normal speed becomes 0 and the
+    kinetic energy falls by the projection's closed form (w_A . v)^2 / (2 w_A . w_A) (mass-normalised
+    modes: kinetic energy |v|^2 / 2), no more. Rounding: a few dot products over the modes (dot_abs)."""
+    d = held_pair_with_an_arriving_corner(turn=-1e-5, closing=0.05)
+    _, wa = corner(d, d.z[:, 0], top=False)
+    v = d.z[:, 1].copy()
+    st = d.held_trial(d.z, 0.0, d.dt)
+    assert wa @ v > 0.0  # A opens at the start
+    v0 = st.z0[:, 1]
+    assert abs(wa @ v0) <= dot_abs(wa, v0) + dot_abs(wa, v)
+    drop = 0.5 * (v @ v) - 0.5 * (v0 @ v0)
+    expected = 0.5 * (wa @ v) ** 2 / (wa @ wa)
+    assert drop > 0.0
+    assert abs(drop - expected) <= dot_abs(v, v) + dot_abs(v0, v0)
 
 
 def test_the_papers_rules_hold_every_point_within_the_tolerance():

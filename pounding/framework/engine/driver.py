@@ -14,8 +14,9 @@ Python:
   new velocities;
 * a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
   that stays pressed together is switched to *sustained contact*: a rigid
-  unilateral constraint force solved implicitly with each step, released when
-  the force would pull;
+  unilateral constraint force solved implicitly with each step on the points that
+  touch, released when the pair opens beyond the tolerance; another point of a held
+  pair that reaches contact is located and struck like any impact;
 * force laws (penalty) get the end-of-step gaps and their compliances and
   return forces, solved implicitly with the step.
 
