@@ -197,3 +197,19 @@ def test_the_paper_pair_strikes_its_arrivals_and_takes_energy_out():
     eb = energy_balance(result)
     assert eb["contact_force_work"] <= rounding_bound(result)
     assert eb["ok"] is True
+
+
+def test_a_point_is_the_same_contact_where_one_touched_within_how_far_the_slabs_moved():
+    """An end feature is a point that touched at the start when a touching start feature of the same
+    pair lies within the reach (how far the slabs moved, plus the tolerance): a contact point moves
+    with its slabs. A start feature that was apart, one of another pair at the same place in plan
+    (another storey), or a point farther than the reach (another corner) is not."""
+    from pounding.framework.engine.held import same_contact
+
+    pair0 = np.array([0, 0, 1], dtype=np.int64)
+    Q0 = np.array([[10.0, 0.0], [10.0, 10.0], [10.0, 5.0]])
+    touching0 = np.array([True, False, True])
+    pair1 = np.array([0, 0, 0, 1], dtype=np.int64)
+    Q1 = np.array([[10.0, 0.004], [10.0, 9.999], [10.0, 5.0], [10.0, 5.002]])
+    kept = same_contact(pair1, Q1, pair0, Q0, touching0, 0.005)
+    assert kept.tolist() == [True, False, False, True]
