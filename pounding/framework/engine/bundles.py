@@ -160,8 +160,6 @@ class HeldContact(NamedTuple):
     """The settings of rigid sustained contact (:func:`pounding.framework.engine.held.held_step`)."""
 
     tol: float  #: contact tolerance [m]
-    #: the largest opening speed [m/s] of a pressed point that is rounding, not a rebound
-    v_cut: float
     #: the gap [m] up to which a point touches (:func:`pounding.framework.engine.held.touch_gap`;
     #: inf: every point within the tolerance, the paper's rules)
     touch: float

@@ -14,8 +14,9 @@ Python:
   new velocities;
 * a pair whose impacts accumulate (Zeno: ever smaller rebounds with k < 1) or
   that stays pressed together is switched to *sustained contact*: a rigid
-  unilateral constraint force solved implicitly with each step, released when
-  the force would pull;
+  unilateral constraint force solved implicitly with each step on the points that
+  touch, released when the pair opens beyond the tolerance; another point of a held
+  pair that reaches contact is located and struck like any impact;
 * force laws (penalty) get the end-of-step gaps and their compliances and
   return forces, solved implicitly with the step.
 
@@ -74,6 +75,10 @@ class Step:
     sp: object = None  # the yielding springs' trial (:class:`pounding.framework.engine.bundles.LinkTrial`)
     #: what a force law's trial found (:class:`pounding.framework.engine.contact_episodes.StepContacts`)
     contacts: object = None
+    #: held pairs: the smallest end gap [m] of a point that was apart at the step's start (inf: none), and its pair
+    #: (:func:`pounding.framework.engine.held.held_step`): below zero, that point arrives inside the step
+    arrival: float = np.inf
+    arriving: int = -1
 
 
 class Model:
@@ -703,6 +708,11 @@ class Driver:
             st = self.trial(self.z, t, h)
             culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
             hs = None if not culprits else self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
+            arrival = self.locate_arrival(t, h, st) if st.arrival < self.settings.overlap else None
+            if arrival is not None and (hs is None or arrival < hs):  # a point of a held pair reaches contact first
+                hs, culprits = arrival, [st.arriving]
+            else:
+                arrival = None
             if hs is None:  # no contact inside the step (a graze the bound could not exclude did not touch)
                 self.commit(st, t, h)
                 t = t_end
@@ -711,7 +721,12 @@ class Driver:
             self.commit(self.trial(self.z, t, hs), t, hs)
             t += hs
             self.n_located += 1
-            if not self.contact_at(t, culprits):
+            if arrival is not None:
+                # beyond the bound on a step's events the law is not asked: the rest of the step starts
+                # with the plastic stop of what touches (stop_closing), the limit of the chatter
+                if self.events_in_step < MAX_EVENTS_PER_STEP:
+                    self.strike_arrival(t, culprits[0])
+            elif not self.contact_at(t, culprits):
                 # touching but not approaching, yet overlapping before the step ends: pressed together
                 self.sustained.update(culprits)
             self.events_in_step += 1
@@ -849,14 +864,51 @@ class Driver:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`)."""
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        _, gap0, W0, _, _ = m.touching(z[:, 0], held, self.tol, deep=True)
+        pair0, gap0, W0, Q0, _ = m.touching(z[:, 0], held, self.tol, deep=True)
         p0, p1 = self.load(t), self.load(t + h)
         if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
             p0, p1 = p0 - e0, p1 - e1
-        contact = HeldContact(float(self.tol), 1e3 * float(self.v_min), float(self.touch))
-        z0, z1, f0, f1, *_ = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B),
-                                            float(h), m.modes, held, contact, gap0, W0, m.geo)
-        return Step(z0, z1, f0, f1)
+        contact = HeldContact(float(self.tol), float(self.touch))
+        z0, z1, f0, f1, _, arrival, arriving = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A),
+                                                              np.ascontiguousarray(tr.B), float(h), m.modes, held, contact,
+                                                              (pair0, gap0, W0, Q0), m.geo)
+        return Step(z0, z1, f0, f1, arrival=float(arrival), arriving=int(arriving))
+
+    def locate_arrival(self, t: float, h: float, st: Step) -> float | None:
+        """Step length [s] from t to the instant at which a point of a held pair that is apart at t
+        reaches contact, on the held trajectory (:meth:`held_trial`: the pairs' touching points held),
+        or None where it does not; ``st`` is the trial step of h [s], in which one arrives.
+
+        The one crossing search (:meth:`locate_crossing`) on the arrival gap: the smallest gap of
+        the held pairs' points that were apart at t (``Step.arrival``), with the trial step's
+        interpolant as its guide."""
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        _, gap0, _, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        apart = gap0[gap0 > self.touch]
+        # a point beyond the features listed is more than the tolerance away: the search only needs a
+        # positive gap where none is listed (at the start, or inside the step)
+        far = float(self.tol)
+        start = float(apart.min()) if apart.size else far
+        memo: dict[float, float] = {}
+
+        def gap(hh):
+            if hh <= 0.0:
+                return start
+            g = memo.get(hh)
+            if g is None:
+                g = self.trial(self.z, t, hh).arrival
+                g = memo[hh] = g if g < np.inf else far
+            return g
+
+        herm = (np.ascontiguousarray(st.z0[:, 0]), np.ascontiguousarray(st.z0[:, 1]), np.ascontiguousarray(st.z1[:, 0]),
+                np.ascontiguousarray(st.z1[:, 1]), float(h))
+        return self.locate_crossing(gap, h, herm, np.array([st.arriving], dtype=np.int64))
+
+    def strike_arrival(self, t: float, p: int) -> bool:
+        """Strike held pair p at t, where a point of it that was apart has reached contact: the law's
+        impulses over every touching point of the pair, as at any impact (:meth:`contact_at`), the
+        impact recorded and its loss booked. True if any impulse acted."""
+        return self.contact_at(t, [p])
 
     def stop_closing(self, t: float) -> None:
         """Plastic impulses on the touching points of held pairs that still close
@@ -965,8 +1017,8 @@ class Driver:
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:
-        """Apply impulses at time t to every touching, approaching pair (among ``pairs``, default
-        all) that is not held. True if any impulse acted.
+        """Apply impulses at time t to every touching, approaching pair among ``pairs`` (default:
+        every pair not held; a held pair is given where a point of it arrives). True if any impulse acted.
 
         The same steps as the kernel's :func:`~pounding.framework.engine.kernel.impulses_at` (which
         applies the impulses of a law declaring ``compiled_impulses`` inside compiled
@@ -980,9 +1032,7 @@ class Driver:
             return False
         m = self.model
         candidates = np.zeros(len(m.pairs), dtype=np.bool_)
-        candidates[m.all_pairs if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
-        for p in self.sustained:
-            candidates[p] = False
+        candidates[self.free_pairs() if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
         # The Python path keeps numpy's arithmetic for the features' Delassus matrix and closing
         # speeds: routing it through the compiled impulses_at (numba's matrix products) moved
         # results by rounding, which the stress suite's chaotic random scenes amplified into an

@@ -5,18 +5,21 @@ is *held*: a rigid unilateral contact force, carried from step to step as a load
 like any other, so each step and its energy audit are the integrator's own.
 
 * :func:`held_step` takes one step of any size with the held pairs' contact
-  forces (used by the driver for every trial, including an impact search);
+  forces on the points that touch at its start (used by the driver for every trial,
+  including an impact search). With the ``crossing`` locator a point touches within
+  :func:`touch_gap` (1e-3 of the tolerance); a point of a held pair that is apart moves
+  freely through the step, and where it ends the step overlapping it *arrives*: the
+  step reports the smallest such gap and its pair, and the driver locates the instant
+  at which that gap is zero on the held trajectory (its one crossing search), steps
+  there and strikes the pair with the contact law's impulses, every touching point of
+  the pair taking part in the same impulse problem, like any impact. The paper's rules
+  hold every point within the tolerance, so nothing arrives;
 * :func:`stop_closing` removes what closing speed a held pair's touching
-  points still have (a plastic impact: the limit of the Zeno sequence). With the
-  ``crossing`` locator it is given the points that touch (within :func:`touch_gap`,
-  1e-3 of the tolerance) and no others: a point of a held pair that is apart (its
-  features reach a tolerance beyond the pair's smallest gap) closes freely until the
-  step in which it would reach contact, whose start (:func:`held_step`) stops it by
-  plastic impulses that push and never pull, so it is stopped at most one step's
-  travel before contact (and that step's start force may hold it off). The paper's
-  rules stop every point within the tolerance;
+  points still have (a plastic impact: the limit of the Zeno sequence), at the start
+  of every held step;
 * :func:`held_stretch` runs grid steps while pairs are held and nothing else
-  happens, and stops for the driver when a free pair touches or overlaps.
+  happens, and stops for the driver when a free pair touches or overlaps, or a
+  point of a held pair arrives.
 
 The driver's Python path calls the first two step by step; the stretch calls
 the very same functions, so both paths give the same numbers. Like
@@ -33,7 +36,7 @@ from pounding.compiler import njit
 from pounding.framework.engine.bundles import HeldContact, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
-from pounding.framework.engine.pairs import closing, features_of, pair_gap
+from pounding.framework.engine.pairs import closing, features_of, pair_gap, slab_dofs
 
 #: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
 #: and the driver share one specialization
@@ -89,25 +92,28 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
+def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     """One step of size h [s] from state z (n, 3) with the pairs ``held`` (int64) in rigid sustained contact.
 
-    contact : :class:`~pounding.framework.engine.bundles.HeldContact`, the tolerance, the largest
-    opening speed v_cut [m/s] of a pressed point that is rounding, and the gap ``touch`` [m] up to
-    which a point touches (:func:`touch_gap`; inf: every point within the tolerance, the paper's
-    rules). A point that is apart and would reach contact within the step
-    has its closing speed removed at the step's start by unilateral plastic impulses
-    (:func:`stop_closing`, with the touching points as constraints); the touching points' leftover
-    normal velocity (rounding) is projected out as before.
-    gap0 (m,), W (m, n) are the held pairs' touching features at the start
-    (:func:`~pounding.framework.engine.pairs.features_of` with ``deep``: gaps and modal rows).
+    contact : :class:`~pounding.framework.engine.bundles.HeldContact`, the tolerance and the gap
+    ``touch`` [m] up to which a point touches (:func:`touch_gap`; inf: every point within the
+    tolerance, the paper's rules). Only the points that touch at the step's start are held. A
+    touching point that would close within the step has its normal velocity projected out at the
+    start: rounding for points at rest, and for a point that opens but falls back within the step
+    (a rebound too short for the step) the limit of its chatter, as when a pair is held. A point
+    that opens and stays open through the step gets no force. A point that is apart at the start (gap above
+    ``touch``) gets no force: it moves with its slabs through the step, and the smallest end gap
+    of such points is returned (``arrival``), for the caller to locate and strike where it is zero.
+    ``start`` = (pair (m,), gap0 (m,), W (m, n), Q (m, 2)): the held pairs' touching features at
+    the start (:func:`~pounding.framework.engine.pairs.features_of` with ``deep``: pairs, gaps,
+    modal rows, contact points).
     g0, g1 (n,) are the modal loads at the step's ends; A (n, 3, 3),
     B (n, 3, 2) the integrator's transition for h; ``modes`` the
     :class:`~pounding.framework.engine.bundles.Modes` (c2 = 2 zeta omega and
     om2 = omega^2 (n,) are read). Unilateral and rigid: no touching point of a held pair
     closes further during the step than it was at its start (never deeper than
-    half the tolerance) and no force pulls (the projection of the touching points'
-    leftover normal velocity, at most v_cut, is bilateral: rounding).
+    half the tolerance) and no force pulls (the projection at the start is bilateral, and
+    takes kinetic energy out: it is orthogonal in the modes' mass-normalised metric).
 
     * Implicit schemes (the end displacement depends on the end load): at the
       start, the force that stops the normal acceleration of the touching points
@@ -119,17 +125,23 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
       the step (the forward-increment Lagrange multiplier), kept through the step.
 
     Features are re-found on the corrected state (they slide as the slabs turn;
-    two faces may be pressed at once) for up to four passes.
+    two faces may be pressed at once) for up to four passes. An end feature is a point that
+    touched at the start when it lies where one did, within how far the pair's slabs move in the
+    step (:func:`same_contact`): a contact point moves with the slabs, while another point of
+    the pair is elsewhere on them. (Its gap at the start linearised back from the end is no
+    test: at a corner against a corner the normal turns as the slabs slide past each other.)
 
     Returns
     -------
     z0 (n, 3) : the start state with its acceleration consistent with f0;
     z1 (n, 3) : the end state; f0, f1 (n,) : modal contact forces at the ends [N/kg^0.5];
-    found : bool, gap1 (k,), W1 (k, n) : when ``found``, the held pairs' features at the end
-    state (the next step's start features).
+    end : (pair, gap, W, Q), the held pairs' features at the end state (the next step's ``start``);
+    arrival [m] : the smallest end gap of a point that was apart at the start (inf: none within
+    the features), and its pair (-1: none).
     """
     c2, om2 = modes.c2, modes.om2
-    tol, v_cut, touch = contact.tol, contact.v_cut, contact.touch
+    tol, touch = contact.tol, contact.touch
+    pair0, gap0, W, Q0 = start
     n = z.shape[0]
     z0 = z.copy()
     for i in range(n):
@@ -142,26 +154,20 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
     q0 = z[:, 0].copy()
     zf = step(A, B, z0, g0 + f0, g1 + f0)
     m = gap0.shape[0]
+    touching = gap0 <= touch
     if m > 0:
         free_end = gap0 + W @ (zf[:, 0] - q0)
         target = np.minimum(np.maximum(gap0, -0.5 * tol), 0.0)
         # Points pressed together move together: what normal velocity they still have (rounding,
         # after stop_closing) is projected out. A position constraint alone leaves it free, and
         # some schemes amplify it from step to step (linear acceleration: by -2 per step). A
-        # real rebound (opening faster than 1e3 v_min) is left alone: the points separate.
-        rate = W @ z0[:, 1].copy()
-        # A point that is apart (beyond touch) and would reach contact within the step is stopped
-        # plastically now, with the touching points as unilateral constraints: impulses that push,
-        # never pull (a projection would pull on the touching points to stop it).
-        arriving = (gap0 > touch) & (free_end < target) & (rate < 0.0)
-        if np.any(arriving):
-            stop_closing(z0, rows_where(arriving | (gap0 <= touch), W), v_cut * 1e-3)
-            for i in range(n):
-                z0[i, 2] = g0[i] - c2[i] * z0[i, 1] - om2[i] * z0[i, 0]
-            zf = step(A, B, z0, g0 + f0, g1 + f0)
-            free_end = gap0 + W @ (zf[:, 0] - q0)
-            rate = W @ z0[:, 1].copy()
-        pressed = (free_end < target) & (rate <= v_cut) & (gap0 <= touch)
+        # touching point that opens but would close again within the step is chatter too short
+        # for the step: projected (its limit), not pushed by the start force while it opens
+        # (work the contact would do on the buildings). A rebound that stays open is left alone.
+        # Only what touches is held. A point that is apart gets no force, even if it would reach
+        # contact within the step: that is an impact, which the caller locates and strikes with
+        # the law (a force here would stop it before it touches, or push it back over the step).
+        pressed = (free_end < target) & touching
         if np.any(pressed):
             Wa = rows_where(pressed, W)
             mu = solve_small(Wa @ Wa.T, Wa @ z0[:, 1].copy())
@@ -175,13 +181,13 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
         if explicit:
             D0 = A[:, 0, 2] + B[:, 0, 0]
             for k in range(m):
-                if free_end[k] < target[k]:
+                if touching[k] and free_end[k] < target[k]:
                     arg[k] = free_end[k] - target[k]
             lam = rigid_forces(arg, _weighted_compliance(W, D0))
         else:
             acc = W @ z0[:, 2].copy()
             for k in range(m):
-                if free_end[k] < target[k]:
+                if touching[k] and free_end[k] < target[k]:
                     arg[k] = acc[k]
             lam = rigid_forces(arg, W @ W.T)
         if np.any(lam > 0):
@@ -198,22 +204,26 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
     D = grow[:, 0].copy()
     found = False
     for attempt in range(4):
-        _, g1f, Wr, _, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        fpair, g1f, Wr, Q1, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
         found = True
         m = g1f.shape[0]
         if m == 0:
             break
-        # where each point started (linearised), but never deeper than half the tolerance:
-        # features slide as the slabs turn, and the linearised start drifts with them
+        # the points that touched are held where each started (linearised), but never deeper than
+        # half the tolerance (features slide as the slabs turn, and the linearised start drifts
+        # with them); a point that was apart is not held (an arrival, for the caller)
+        kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
         target = np.minimum(np.maximum(g1f - Wr @ (z1[:, 0] - q0), -0.5 * tol), 0.0)
         short = g1f - target
-        # the first pass closes every shortfall; later ones only what linearisation left
-        if np.min(short) >= (0.0 if attempt == 0 else -1e-3 * tol):
-            break
         arg = np.ones(m)
+        worst = 0.0
         for k in range(m):
-            if short[k] < 0:
+            if kept[k] and short[k] < 0:
                 arg[k] = short[k]
+                worst = min(worst, short[k])
+        # the first pass closes every shortfall; later ones only what linearisation left
+        if worst >= (0.0 if attempt == 0 else -1e-3 * tol):
+            break
         lam = rigid_forces(arg, _weighted_compliance(Wr, D))
         if not np.any(lam > 0):
             break
@@ -227,7 +237,60 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, gap0, W, geo):
                 f0[i] += df[i]
                 z0[i, 2] += df[i]
             f1[i] += df[i]
-    return z0, z1, f0, f1, found, g1f, Wr
+    if not found:  # the last pass moved the slabs: the features of the end state itself
+        fpair, g1f, Wr, Q1, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+    kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
+    arrival = np.inf
+    apair = -1
+    for k in range(g1f.shape[0]):
+        if not kept[k] and g1f[k] < arrival:
+            arrival = g1f[k]
+            apair = fpair[k]
+    return z0, z1, f0, f1, (fpair, g1f, Wr, Q1), arrival, apair
+
+
+@njit
+def _kept(pair1, Q1, pair0, Q0, touching0, dq, held, touch, tol, geo):
+    """Which end features (pairs pair1 (k,), points Q1 (k, 2)) a held step holds: with the crossing
+    locator the points that touched at the start (:func:`same_contact`, within how far the slabs
+    moved over dq (n,), :func:`slide_bound`, plus the tolerance), with the paper's rules
+    (``touch`` inf) every one. A bool mask (k,)."""
+    if touch == np.inf:
+        return np.ones(pair1.shape[0], dtype=np.bool_)
+    return same_contact(pair1, Q1, pair0, Q0, touching0, slide_bound(dq, held, geo) + tol)
+
+
+@njit
+def slide_bound(dq, plist, geo):
+    """How far [m] a contact point of a pair in plist (k,) int can move over a modal displacement
+    dq (n,), the largest over the pairs: a point of a slab moves at most |(du, dv)| + R |dphi| (R
+    the slab's radius); summed over the pair's two slabs, this also bounds where a contact between
+    them can slide to (a face-to-face end passing from a vertex of one slab to one of the other)."""
+    d = np.empty(3)
+    out = 0.0
+    for j in range(plist.shape[0]):
+        p = plist[j]
+        bound = 0.0
+        for side in range(2):
+            building, storey = (geo.pa[p, 0], geo.pa[p, 1]) if side == 0 else (geo.pb[p, 0], geo.pb[p, 1])
+            slab_dofs(geo.rows, geo.off, geo.n_modes, building, storey, dq, d)
+            bound += np.hypot(d[0], d[1]) + geo.radii[geo.off[building] + storey] * abs(d[2])
+        out = max(out, bound)
+    return out
+
+
+@njit
+def same_contact(pair1, Q1, pair0, Q0, touching0, reach):
+    """Which end features (pairs pair1 (k,), contact points Q1 (k, 2) [m]) are points that touched at
+    the start: a start feature of the same pair (pair0 (m,), Q0 (m, 2)) with ``touching0`` (m,) set
+    lies within ``reach`` [m] of it. A bool mask (k,)."""
+    out = np.zeros(pair1.shape[0], dtype=np.bool_)
+    for k in range(pair1.shape[0]):
+        for j in range(pair0.shape[0]):
+            if touching0[j] and pair0[j] == pair1[k] and np.hypot(Q1[k, 0] - Q0[j, 0], Q1[k, 1] - Q0[j, 1]) <= reach:
+                out[k] = True
+                break
+    return out
 
 
 @njit
@@ -298,15 +361,15 @@ def stop_closing(z, W, v_min):
 def touch_gap(tol):
     """The gap [m] up to which a point of a held pair touches, with the crossing locator: the held
     contact's own resolution, 1e-3 of the tolerance tol [m] (held_step's end passes stop when every
-    point is within it of where it is held). A point farther away is apart: it is neither stopped
-    nor pushed until it reaches contact."""
+    point is within it of where it is held). A point farther away is apart: no force acts on it,
+    and where it reaches contact the driver strikes it with the contact law (:func:`held_step`)."""
     return 1e-3 * tol
 
 
 @njit
 def rows_where(mask, W):
     """The rows of W (m, n) where mask (m,) bool is set, in order (a new C array): the points of a
-    held pair that touch, are pressed or arrive."""
+    held pair that touch or are pressed."""
     out = np.empty((int(np.sum(mask)), W.shape[1]))
     c = 0
     for k in range(mask.shape[0]):
@@ -329,8 +392,9 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
 
     Returns (k, status, pair): the grid index reached and a
     :class:`~pounding.framework.engine.bundles.Status`: DONE (k1 reached), RELEASED (every held
-    pair let go at the end of step k - 1), OVERLAP (a free pair would overlap in step k: the
-    state and the energy account are as at its start) or CONTACT (a free pair touches and
+    pair let go at the end of step k - 1), OVERLAP (in step k a point of held pair ``pair``
+    arrives, or free pair ``pair`` would overlap: the state and the energy account are as at its
+    start, for the driver's Python step to locate the impact) or CONTACT (a free pair touches and
     closes at the end of step k - 1).
     """
     A, B = tr.A, tr.B
@@ -343,24 +407,29 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     g0 = np.empty(n)
     g1 = np.empty(n)
     touch = touch_gap(tol) if rules is None else np.inf
-    contact = HeldContact(tol, 1e3 * v_min, touch)
+    contact = HeldContact(tol, touch)
     have = False  # start features known (the last step's end features)
-    gapS = np.empty(0)
-    WS = np.empty((0, n))
+    startS = (np.empty(0, dtype=np.int64), np.empty(0), np.empty((0, n)), np.empty((0, 2)))
     for k in range(k0, k1):
         held = np.nonzero(held_mask)[0]
         if not have:
-            _, gapS, WS, _, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
+            pS, gS, WS, QS, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
+            startS = (pS, gS, WS, QS)
         v_before = z[:, 1].copy()
         E_before = E.copy()
-        # the points that touch (crossing; an arriving one: held_step, in the step it reaches contact),
-        # every point within the tolerance with the paper's rules (touch = inf)
-        stop_closing(z, rows_where(gapS <= touch, WS), v_min)
+        # the points that touch (crossing), every point within the tolerance with the paper's rules (touch = inf)
+        stop_closing(z, rows_where(startS[1] <= touch, startS[2]), v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
-        z0, z1, f0, f1, have, gapS, WS = held_step(z, g0, g1, A, B, dt, modes, held, contact, gapS, WS, geo)
+        z0, z1, f0, f1, startS, arrival, apair = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
+        have = True
+        if arrival < overlap:  # a point of a held pair arrives: the driver locates and strikes it
+            for i in range(n):
+                z[i, 1] = v_before[i]
+            E[:, :] = E_before
+            return k, Status.OVERLAP, apair
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
             if held_mask[p]:
