@@ -21,8 +21,8 @@ Fm (u - u0), is the spring's stored change (F1^2 - F0^2) / (2 K) plus the dashpo
 Fm h g(Fm) >= 0, which the law books (the stepping's energy rule for average acceleration is that
 trapezoid, so its account closes with it). Linear, its steady loop is the exact one at the
 frequency (2 / h) tan(w h / 2) (the rule's frequency warping): moduli within (w h)^2 / 12 relative.
-It is not L-stable: with h much longer than tau the force's free response alternates in sign,
-decaying by (1 - h / 2 tau) / (1 + h / 2 tau) per step; for a brace so stiff that tau << h the
+It is not L-stable: with h longer than 2 tau the force's free response alternates in sign,
+decaying by |1 - h / 2 tau| / (1 + h / 2 tau) per step; for a brace so stiff that tau << h the
 ``viscous`` law (K -> infinity) is the model. OpenSees' ``ViscousDamper`` integrates the same
 equation in time by adaptive Dormand-Prince from the rates it is given (its velocity linear in the step).
 
