@@ -402,3 +402,55 @@ def test_building_with_nonlinear_maxwell_dampers_converges_to_opensees(opensees)
         assert disp_diff[-1] <= (1 / 6 + 1 / 8) * (b.system.omega[0] * dt) ** 2
     assert 3.5 <= disp_diff[0] / disp_diff[1] <= 4.5
     assert 3.5 <= force_diff[0] / force_diff[1] <= 4.5
+
+
+# ------------------------------------------------------------------------------ the scene's table
+def _with_dampers(change):
+    """The damped building's scene with ``change`` applied to its dampers' element table."""
+    from pounding.io.scene import parse_scene
+
+    building = {"name": "damped", "storey_heights": [3.2, 3.2, 3.2], "slab": [[0, 0], [15, 0], [15, 10], [0, 10]],
+                "mass": 3.0e5, "element": [
+                    {"type": "storey_springs", "start": [0, 5], "end": [15, 5], "stiffness": 2.0e8},
+                    *[{"type": "storey_springs", "start": [x, 0], "end": [x, 10], "stiffness": 2.0e8} for x in (0, 15)],
+                    {"type": "storey_springs", "start": [0, 5], "end": [15, 5],
+                     "hysteresis": {"name": "viscous", "coefficient": 3.0e6, "exponent": 0.5}}]}
+    change(building["element"][3])
+    return parse_scene({"building": [building], "ground_motion": {"record": "elcentro", "pga": 0.3}})
+
+
+DAMPERS = "building[0].element[3]"
+
+
+@pytest.mark.parametrize("change, field, words", [
+    (lambda e: e.update(stiffness=1.0e8), DAMPERS + ".stiffness", "remove stiffness"),
+    (lambda e: e.update(yield_force=1.0e5), DAMPERS + ".yield_force", "remove yield_force"),
+    (lambda e: e.update(hysteresis="viscous"), DAMPERS + ".hysteresis", "needs coefficient"),
+    (lambda e: e["hysteresis"].update(exponent=3.0), DAMPERS + ".hysteresis.exponent", "(0, 2]"),
+    (lambda e: e.update(hysteresis={"name": "maxwell", "coefficient": 1.0e6}), DAMPERS + ".hysteresis", "needs stiffness"),
+    (lambda e: e["hysteresis"].update(stiffness=1.0e8), DAMPERS + ".hysteresis", "unknown parameter(s) stiffness"),
+], ids=["stiffness", "yield_force", "no parameters", "exponent", "maxwell without spring", "viscous with a spring"])
+def test_a_damper_element_names_what_is_wrong(change, field, words):
+    """storey_springs with a damper law: the law sets the storey's values (none: no stiffness, no
+    yield), so the element's stiffness and yield_force are refused; the law's own parameters are
+    required and checked. One InputError naming the key path."""
+    with pytest.raises(InputError) as exc:
+        _with_dampers(change)
+    assert field in str(exc.value) and words in str(exc.value)
+
+
+def test_a_damper_element_adds_no_stiffness_and_round_trips(tmp_path):
+    """The dampers' element adds nothing to the lateral stiffness (the building's periods are its
+    frame's), and writing the scene then loading it gives the same scene, the law's parameters kept."""
+    from pounding.framework.model.assembly import assemble
+    from pounding.io.scene import load_scene
+    from pounding.io.scene_writer import scene_differences, write_scene
+
+    scene = _with_dampers(lambda e: e.update(hysteresis={"name": "maxwell", "stiffness": 5.0e8, "coefficient": 3.0e6}))
+    dampers = scene.buildings[0].elements[3]
+    assert not np.any(dampers.lateral_stiffness())
+    bare = _with_dampers(lambda e: e.update(hysteresis={"name": "viscous", "coefficient": 1.0}))
+    assert np.array_equal(assemble(scene.buildings[0]).omega, assemble(bare.buildings[0]).omega)
+    again = load_scene(write_scene(scene, tmp_path / "scene.toml"))
+    assert scene_differences(scene, again) == []
+    assert again.buildings[0].elements[3].law.describe() == dampers.law.describe()
