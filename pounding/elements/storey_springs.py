@@ -25,8 +25,9 @@ Scene table::
     hysteresis = "bilinear"              # or {name = "bouc_wen", n = 2, beta = 0.5, gamma = 0.5}
 
 A law that sets the springs' k0, Fy and b from its own parameters (``own_values``: the
-``friction_pendulum`` isolator, from its weight, radius, friction and yield displacement) takes
-the place of ``stiffness``, ``yield_force`` and ``hardening``, which the table then omits::
+``friction_pendulum`` isolator, from its weight, radius, friction and yield displacement; the
+dampers and linear links ``viscous``, ``maxwell``, ``kelvin``, ``elastic``) takes the place of
+``stiffness``, ``yield_force`` and ``hardening``, which the table then omits::
 
     [[building.element]]
     type = "storey_springs"
@@ -34,6 +35,14 @@ the place of ``stiffness``, ``yield_force`` and ``hardening``, which the table t
     end = [12.0, 0.0]
     storeys = 1
     hysteresis = {name = "friction_pendulum", weight = 3.0e6, radius = 2.0, friction = 0.06}
+
+Supplemental dampers in every storey, beside the element that is the storey's frame::
+
+    [[building.element]]
+    type = "storey_springs"
+    start = [0.0, 5.0]
+    end = [15.0, 5.0]
+    hysteresis = {name = "viscous", coefficient = 2.0e6, exponent = 0.5}
 """
 
 from __future__ import annotations
@@ -103,7 +112,7 @@ class StoreySprings(PlanarElement):
             "start": documented(POINT_SCHEMA, "One end of the springs' plan line [x, y].", [0.0, 0.0]),
             "end": documented(POINT_SCHEMA, "The other end; the springs act along the line from start to end.", [15.0, 0.0]),
             "stiffness": documented(_PER_STOREY, "Initial storey stiffness: one value, or one per storey, bottom first. "
-                                    "Required, unless the hysteresis law sets it (`friction_pendulum`).",
+                                    "Required, unless the hysteresis law sets it (`friction_pendulum`, the dampers and links).",
                                     [6.0e7, 5.0e7, 4.0e7], units="N/m"),
             "yield_force": documented(_PER_STOREY, "Storey yield shear: one value or one per storey; omitted = elastic.",
                                       [9.0e5, 7.5e5, 6.0e5], units="N"),
@@ -113,7 +122,8 @@ class StoreySprings(PlanarElement):
                            "examples": ["bilinear", {"name": "bouc_wen", "n": 2.0}],
                            "description": "Hysteresis law: a name (`bilinear`, `bouc_wen`, or a plugin's), or a table "
                            "`{ name = ..., parameter = ... }` with the law's parameters; `friction_pendulum` (weight, "
-                           "radius, friction) sets stiffness, yield_force and hardening itself."},
+                           "radius, friction), the dampers `viscous`, `maxwell`, `kelvin` (coefficient, exponent, "
+                           "stiffness) and `elastic` (stiffness) set stiffness, yield_force and hardening themselves."},
             "storeys": {"type": "integer", "minimum": 1, "units": "-", "examples": [3],
                         "description": "Number of storeys the springs span from their first storey (default: all above it; "
                         "`storeys = 1` with `first_storey = 1`: an isolation layer when the rest stands on floor 1)."},

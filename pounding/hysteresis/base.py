@@ -54,7 +54,11 @@ Contract for an implementer
 8. A law whose physics fixes k0, Fy and b from its own parameters (an
    isolator: weight, radius, friction) returns them from :meth:`own_values`;
    the element then takes them from the law instead of its own keys.
-9. Register the class under the entry-point group ``pounding.hysteresis`` (or
+9. :meth:`deformation_scale` is the deformation [m] at which the law's behaviour changes (the
+   yield deformation Fy / k0 by default). It scales the stepping's Newton tolerance and the
+   ductility outputs; a law without one (a linear spring, a damper) returns inf, and the
+   engine takes the scale from the other links or the storey (:mod:`pounding.framework.engine.yielding`).
+10. Register the class under the entry-point group ``pounding.hysteresis`` (or
    pass the class itself): one module and one registration; the compiled
    stepping takes the law's ``update`` as an argument and is compiled once per
    run's set of laws, nothing else to write.
@@ -94,6 +98,12 @@ class HysteresisLaw(ABC):
         """(k0 [N/m], Fy [N], b [-]) when the law's own parameters fix them, else None (the default:
         the element gives them, e.g. storey_springs' ``stiffness``, ``yield_force``, ``hardening``)."""
         return None
+
+    @staticmethod
+    def deformation_scale(params: np.ndarray) -> float:
+        """The deformation [m] at which the law's behaviour changes, from one link's parameter vector
+        ``params`` (n_params,): the yield deformation Fy / k0 by default; inf for a law without one."""
+        return float(params[YIELD_FORCE] / params[STIFFNESS])
 
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""

@@ -1,6 +1,7 @@
 """A storey-springs element as OpenSees links: one ``twoNodeLink`` per storey along the element's line,
 its material the spring's law (``Elastic``, ``Steel01`` for the bilinear law and for the friction
-pendulum with constant friction, ``BoucWen``).
+pendulum with constant friction, ``BoucWen``; for the link laws ``Elastic``, ``Viscous``,
+``ViscousDamper`` (``maxwell``) and ``Parallel`` of ``Elastic`` and ``Viscous`` (``kelvin``)).
 
 Shared by the peer models of the tests (:mod:`pounding.peer.opensees`, :mod:`pounding.peer.opensees_springs`)
 and the export, so that a storey spring is built one way.
@@ -22,7 +23,9 @@ def stand_on(ops, tag: int, floor: int, slaves: list[list[int]]) -> None:
         slaves[floor - 1].append(tag)
 
 
-def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
+def _material(ops, tag: int, element, storey: int, boucwen_tol: float, tags=None) -> None:
+    """The uniaxial material ``tag`` of one storey's spring; ``tags()`` gives the tags of the parts
+    of a material made of several (``kelvin``: ``Parallel`` of ``Elastic`` and ``Viscous``)."""
     k0 = float(element.stiffness[storey])
     if not element.yields:
         ops.uniaxialMaterial("Elastic", tag, k0)
@@ -41,6 +44,19 @@ def _material(ops, tag: int, element, storey: int, boucwen_tol: float) -> None:
         # kinematic hardening with the law's k0, Fy and b (singleFPBearing also adds F u / R to the
         # normal force, which the law leaves out)
         ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
+    elif law == "elastic":
+        ops.uniaxialMaterial("Elastic", tag, element.law.stiffness)
+    elif law == "viscous":
+        ops.uniaxialMaterial("Viscous", tag, element.law.coefficient, element.law.exponent)
+    elif law == "maxwell":
+        # the adaptive Dormand-Prince of the material, to 1e-10 relative (its default is 1e-6)
+        ops.uniaxialMaterial("ViscousDamper", tag, element.law.stiffness, element.law.coefficient, element.law.exponent,
+                             0.0, 1, 1e-10, 1e-12, 20)
+    elif law == "kelvin" and tags is not None:
+        spring, dashpot = tags(), tags()
+        ops.uniaxialMaterial("Elastic", spring, element.law.stiffness)
+        ops.uniaxialMaterial("Viscous", dashpot, element.law.coefficient, element.law.exponent)
+        ops.uniaxialMaterial("Parallel", tag, spring, dashpot)
     else:
         raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}"
                                   + (" with velocity-dependent friction" if law == "friction_pendulum" else ""))
@@ -67,7 +83,7 @@ def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], 
             nodes.append(tag)
             ends.append(tag)
         mat = tags()
-        _material(ops, mat, element, f, boucwen_tol)
+        _material(ops, mat, element, f, boucwen_tol, tags)
         tag = tags()
         ops.element("twoNodeLink", tag, *ends, "-mat", mat, "-dir", 1,
                     "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0, "-doRayleigh")

@@ -120,8 +120,9 @@ class SpringSet:
 
     @property
     def yield_deformation(self) -> np.ndarray:
-        """u_y = Fy / k0 [m] per spring."""
-        return self.params[:, 1] / self.params[:, 0]
+        """u_y [m] per spring: its law's ``deformation_scale`` (Fy / k0; inf for a law that does not
+        yield: a linear spring, a damper)."""
+        return np.array([self.laws[self.law_id[s]].deformation_scale(self.params[s]) for s in range(self.size)])
 
     def stored_energy(self, state: np.ndarray) -> np.ndarray:
         """Recoverable energy [J] of every spring (ns,) in the states ``state`` (ns, >= n_state)."""

@@ -45,7 +45,21 @@ class Group:
         self.building = building
         self.lo, self.hi = lo, lo + springs.size
         self.sl = slice(start, start + n_modes)
-        self.tol = tolerance * float(springs.yield_deformation.min())
+        self.tol = tolerance * newton_scale(springs)
+
+
+#: drift ratio [-] that scales the Newton tolerance of a building whose links have no yield deformation
+#: (dampers, linear springs): 1/1000 of the storey height, the order of a frame's yield drift
+NO_YIELD_DRIFT = 1e-3
+
+
+def newton_scale(springs) -> float:
+    """The deformation [m] that scales a building's Newton tolerance: its links' smallest yield
+    deformation (the laws' ``deformation_scale``), or, when none yields, NO_YIELD_DRIFT of the lowest
+    storey's height."""
+    scale = springs.yield_deformation
+    finite = scale[np.isfinite(scale)]
+    return float(finite.min()) if finite.size else NO_YIELD_DRIFT * float(springs.height.min())
 
 
 class Yielding:

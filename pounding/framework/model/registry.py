@@ -252,6 +252,10 @@ HYSTERESIS: Registry = Registry(
         "bilinear": "pounding.hysteresis.bilinear:Bilinear",
         "bouc_wen": "pounding.hysteresis.bouc_wen:BoucWen",
         "friction_pendulum": "pounding.hysteresis.friction_pendulum:FrictionPendulum",
+        "elastic": "pounding.hysteresis.elastic:Elastic",
+        "viscous": "pounding.hysteresis.viscous:Viscous",
+        "maxwell": "pounding.hysteresis.maxwell:Maxwell",
+        "kelvin": "pounding.hysteresis.kelvin:Kelvin",
     },
     "hysteresis law",
 )

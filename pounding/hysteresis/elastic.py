@@ -1,0 +1,66 @@
+"""A linear elastic link: F = k u.
+
+The whole force is the initial elastic part k0 u with k0 = k (kept in the modal model), so the
+remainder r - k0 u is exactly zero: a link of this law never loads the stepping's Newton. Nothing is
+dissipated; the stored energy is k u^2 / 2. OpenSees: ``uniaxialMaterial Elastic k``.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.compiler import njit
+from pounding.hysteresis._values import positive
+from pounding.hysteresis.base import HysteresisLaw
+
+
+@njit
+def update(u, v, state, params, new_state, s):
+    """Force k u [N], tangent k [N/m], damping tangent 0 of link s at deformation u [m] (v unused);
+    ``params[s]`` = (k, 0, 0). Writes ``new_state[s]`` = (u, k u, dissipated unchanged)."""
+    k = params[s, 0]
+    r = k * u
+    new_state[s, 0] = u
+    new_state[s, 1] = r
+    new_state[s, 2] = state[s, 2]
+    return r, k, 0.0
+
+
+@njit
+def stored_energy(state, params):
+    """Recoverable energy [J]: k u^2 / 2."""
+    return 0.5 * params[0] * state[0] * state[0]
+
+
+class Elastic(HysteresisLaw):
+    """A linear spring, F = k u (see the module docstring); it sets the link's stiffness itself.
+
+    Parameters
+    ----------
+    stiffness : float
+        k [N/m], > 0.
+    """
+
+    name = "elastic"
+    n_params = 3
+    n_state = 3
+    schema = {
+        "type": "object",
+        "additionalProperties": False,
+        "required": ["stiffness"],
+        "properties": {"stiffness": {"type": "number", "units": "N/m", "description": "Spring stiffness k: F = k u."}},
+    }
+    update = update
+    stored_energy = stored_energy
+
+    def __init__(self, *, stiffness: float):
+        self.stiffness = positive("stiffness", stiffness, "the stiffness [N/m]")
+
+    def own_values(self) -> tuple[float, float, float]:
+        """(k, 0, 0): the stiffness is the law's; no yield force, no hardening."""
+        return self.stiffness, 0.0, 0.0
+
+    @staticmethod
+    def deformation_scale(params: np.ndarray) -> float:
+        """inf: a linear spring never yields."""
+        return np.inf
