@@ -36,6 +36,11 @@ import numpy as np
 from pounding.framework.engine.bundles import LinkRecord, Links, LinkStepping, LinkTrial, Status
 from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
 
+#: what a diverged Newton of the links suggests: a smaller step, or, for a damper whose force rises
+#: with an infinite slope at rest (a viscous exponent below about 0.7), its brace (docs/modelling.md)
+NEWTON_HINT = ("try a smaller dt; a viscous damper with an exponent below about 0.7 converges modelled with its brace "
+               "stiffness as `maxwell`")
+
 
 class Group:
     """The yielding springs of one building: its slice of the flat spring arrays and of the modes."""
@@ -178,7 +183,7 @@ class Yielding:
     def _diverged(self, j: int, t: float | None = None) -> FloatingPointError:
         when = "" if t is None else f" in the step starting at t = {t:g} s"
         return FloatingPointError(f"building {self.groups[j].building}: the yielding springs' Newton iteration did not converge"
-                                  f"{when} (try a smaller dt)")
+                                  f"{when} ({NEWTON_HINT})")
 
     def _trial(self) -> LinkTrial:
         # slots a narrower law does not write keep their committed values
@@ -214,17 +219,18 @@ class Yielding:
         from a contracting map. The test on successive forces is scaled by w, so that a relaxed
         iteration stops at the same residual as a plain one."""
         for w in (1.0, 0.5, 0.25):
-            g, prev = self.g.copy(), self.f.copy()
+            g, prev = self.g.copy(), self.state[:, 0].copy()
             for _ in range(4 * MAX_ITER):
                 st, q1 = solve(g)
                 new = self.at(q1, h)
-                # a change of the remainders by df moves the end deformations by about S df <= df / k0
-                if all(np.max(np.abs(new.f[grp.lo:grp.hi] - prev[grp.lo:grp.hi]), initial=0.0)
-                       <= w * grp.tol * grp.springs.k0.min() for grp in self.groups):
+                # the end deformations themselves (a law with no initial stiffness, a damper, has no
+                # force scale to convert a change of its remainder into one of its deformation)
+                d = new.state[:, 0]
+                if all(np.max(np.abs(d[grp.lo:grp.hi] - prev[grp.lo:grp.hi]), initial=0.0) <= w * grp.tol for grp in self.groups):
                     return st, new
-                prev = new.f
+                prev = d.copy()
                 g = new.g if w == 1.0 else g + w * (new.g - g)
-        raise FloatingPointError("the yielding springs' fixed-point iteration with contact forces did not converge (try a smaller dt)")
+        raise FloatingPointError(f"the yielding springs' fixed-point iteration with contact forces did not converge ({NEWTON_HINT})")
 
     def commit(self, sp: LinkTrial) -> None:
         self.f[:] = sp.f
@@ -261,7 +267,7 @@ class Yielding:
                                   driver.kgeo, float(driver.tol), run)
         if status == Status.DIVERGED:
             raise FloatingPointError(f"the yielding springs' Newton iteration did not converge in the step starting at "
-                                     f"t = {k * driver.dt:g} s (try a smaller dt)")
+                                     f"t = {k * driver.dt:g} s ({NEWTON_HINT})")
         return k, status, pair
 
 
