@@ -152,6 +152,10 @@ CASES = [
     ("module:Class in [[contact]]", 'contact = "impulse"\nrestitution = 0.5',
      'contact = "penalty"\nrestitution = 0.5\n\n[[contact]]\nbetween = ["A", "B"]\nlaw = { name = "no_such_module:Hertz", stiffness = 1e9 }',
      "contact[0].law.name", "cannot import module 'no_such_module'"),
+    # the modifier scales the modal stiffness and not the law's: a yielding element would carry two stiffnesses
+    ("stiffness_modifier on a yielding element", 'type = "shear_wall"\n  start = [10.1, 0]\n  end = [20, 0]\n  thickness = 0.2\n  E = 30e9\n  G = 12e9',
+     'type = "storey_springs"\n  start = [10.1, 0]\n  end = [20, 0]\n  stiffness = 4e8\n  yield_force = 1e6\n  stiffness_modifier = 0.7',
+     "building[1].element[0].stiffness_modifier", "a yielding element takes no stiffness_modifier"),
 ]
 
 

@@ -55,6 +55,7 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.errors import InputError
+from pounding.hysteresis._values import number
 from pounding.hysteresis.base import HysteresisLaw
 
 #: law-specific state slots: the slip u_s [m], the rate of the committed step [m/s]
@@ -130,12 +131,6 @@ def stored_energy(state, params):
     return 0.5 * params[K_PENDULUM] * u * u + 0.5 * q * q / ki
 
 
-def _number(key: str, value) -> float:
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not math.isfinite(value):
-        raise InputError(f"expected a finite number, got {value!r}", field=key)
-    return float(value)
-
-
 class FrictionPendulum(HysteresisLaw):
     """A line of single friction pendulum bearings (see the module docstring).
 
@@ -185,8 +180,8 @@ class FrictionPendulum(HysteresisLaw):
 
     def __init__(self, *, weight: float, radius: float, friction: float, friction_slow: float | None = None,
                  rate: float | None = None, yield_displacement: float = DEFAULT_YIELD_DISPLACEMENT):
-        weight, radius, friction = _number("weight", weight), _number("radius", radius), _number("friction", friction)
-        uy = _number("yield_displacement", yield_displacement)
+        weight, radius, friction = number("weight", weight), number("radius", radius), number("friction", friction)
+        uy = number("yield_displacement", yield_displacement)
         if weight <= 0.0:
             raise InputError(f"the weight the bearings carry must be > 0 [N], got {weight:g}", field="weight")
         if radius <= 0.0:
@@ -200,7 +195,7 @@ class FrictionPendulum(HysteresisLaw):
             key = "rate" if rate is None else "friction_slow"
             raise InputError("velocity-dependent friction takes both friction_slow and rate", field=key)
         if friction_slow is not None:
-            friction_slow, rate = _number("friction_slow", friction_slow), _number("rate", rate)
+            friction_slow, rate = number("friction_slow", friction_slow), number("rate", rate)
             if not 0.0 < friction_slow <= friction:
                 raise InputError(f"friction_slow must be in (0, friction] = (0, {friction:g}], got {friction_slow:g}",
                                  field="friction_slow")

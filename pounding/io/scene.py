@@ -139,6 +139,10 @@ def _building(table: Mapping, index: int) -> Building:
         except InputError as exc:
             raise exc.located(field_prefix=_path(ewhere)) from None
         _check_on_slabs(element, slabs, ewhere)
+        if element.yields and modifiers[-1] != 1.0:
+            # the modifier scales the modal stiffness, not the law's parameters: the two would disagree
+            raise InputError("a yielding element takes no stiffness_modifier: scale its law's stiffness and yield force instead",
+                             field=_path(ewhere + ["stiffness_modifier"]))
         elements.append(element)
     if not elements:
         raise InputError(f"building {table['name']!r} has no elements: add frames or walls", field=_path(where + ["element"]))

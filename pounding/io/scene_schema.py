@@ -181,7 +181,8 @@ BUILDING = {
                         "default": 1.0,
                         "units": "-",
                         "description": "Factor on the element's condensed lateral stiffness (cracked sections, like an ETABS "
-                        "property modifier applied to every member's E: e.g. 0.7); any element type.",
+                        "property modifier applied to every member's E: e.g. 0.7); any element type that does not yield (a yielding "
+                        "element's law carries its own stiffness).",
                         "examples": [0.7],
                     },
                     "first_storey": {

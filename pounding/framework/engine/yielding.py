@@ -216,8 +216,9 @@ class Yielding:
         Plain substitution first; where it does not settle (buildings held together by contact
         forces, whose coupled compliance can make the plain map expand), under-relaxed
         substitution g <- g + w (g_new - g) with w = 1/2, then 1/4: the same fixed point, reached
-        from a contracting map. The test on successive forces is scaled by w, so that a relaxed
-        iteration stops at the same residual as a plain one."""
+        from a contracting map. It stops when successive end deformations of every building's links
+        differ by at most w times its Newton tolerance, so that a relaxed iteration stops at the same
+        residual as a plain one (deformations, not forces: a damper has no stiffness to scale a force by)."""
         for w in (1.0, 0.5, 0.25):
             g, prev = self.g.copy(), self.state[:, 0].copy()
             for _ in range(4 * MAX_ITER):

@@ -28,7 +28,7 @@ def element_stiffness(element) -> float:
 def outliers(building) -> list[tuple[int, float, float]]:
     """Elements far stiffer than the building's others: ``[(index, stiffness [N/m], median [N/m])]``.
 
-    Empty with fewer than three elements (no median to stand against) or none above
+    Elements without stiffness (dampers) are left out. Empty with fewer than three elements (no median to stand against) or none above
     :data:`STIFF_RATIO` times the median. An isolation layer's lines
     (:func:`pounding.framework.model.isolation.isolator_lines`) are left out: isolators are soft by
     design, often 1000 times softer than the walls they carry, and would make those look like slips.
@@ -37,9 +37,10 @@ def outliers(building) -> list[tuple[int, float, float]]:
 
     isolators = set(isolator_lines(building))
     index = [i for i in range(len(building.elements)) if i not in isolators]
+    k = np.array([element_stiffness(building.elements[i]) for i in index])
+    index, k = [i for i, ki in zip(index, k) if ki > 0.0], k[k > 0.0]  # dampers have no stiffness to compare
     if len(index) < 3:
         return []
-    k = np.array([element_stiffness(building.elements[i]) for i in index])
     med = float(np.median(k))
     return [(i, float(ki), med) for i, ki in zip(index, k) if med > 0 and ki > STIFF_RATIO * med]
 

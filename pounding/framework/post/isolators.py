@@ -35,6 +35,8 @@ def cycle_energy(law, params: np.ndarray, amplitude: float, steps: int = CYCLE_S
     """Energy [J] a hysteresis law (an instance or class of :mod:`pounding.hysteresis`) with ``params``
     (n_params,) dissipates in the quasi-static cycle amplitude -> -amplitude -> amplitude [m], after a
     first loading from rest to amplitude (the law's own dissipated energy, state slot 2)."""
+    # the class's function: an instance would bind a plain function (the compiler off) as a method
+    update = (law if isinstance(law, type) else type(law)).update
     params = np.asarray(params, dtype=float).reshape(1, -1)
     state = np.zeros((1, law.n_state))
     trial = np.zeros((1, law.n_state))
@@ -42,7 +44,7 @@ def cycle_energy(law, params: np.ndarray, amplitude: float, steps: int = CYCLE_S
                            np.linspace(-amplitude, amplitude, steps + 1)[1:]])
     at_first_peak = 0.0
     for k, u in enumerate(path):
-        law.update(float(u), 0.0, state, params, trial, 0)
+        update(float(u), 0.0, state, params, trial, 0)
         state[:] = trial
         if k == steps - 1:
             at_first_peak = float(state[0, 2])

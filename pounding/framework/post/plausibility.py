@@ -20,7 +20,8 @@ silenced (``[analysis] silence = ["mass_per_area"]`` or ``--silence NAME``).
   building's elements. Walls are 10-300x stiffer than frames; a section in mm
   or E in kPa is 1e3-1e12 off.
 * ``isolation_damping``: a building whose isolators yield or slide (storey 1 an isolation layer of
-  yielding storey springs) with a classical damping ratio above zero. That damping is set on the
+  yielding storey springs) with Rayleigh or stiffness-proportional damping (per-mode ratios,
+  ``type = "modal"``, are left to the user: they are the remedy). That damping is set on the
   initial model, with the isolators at their initial (stuck) stiffness, and keeps acting with it
   while they slide: a viscous force the bearings do not have, often a large share of the input
   energy (Ryan and Polanco 2008, J. Struct. Eng. 134(11); Charney 2008, J. Struct. Eng.
@@ -64,8 +65,8 @@ CHECKS = (
           "(not reported for an isolation layer: storey 1 of one-storey storey springs with elements standing on floor 1)"),
     Check("stiff_element", f"an element's lateral stiffness is above {STIFF_RATIO:g}x the median of its building's elements",
           "a section in mm instead of m, or E in kPa or MPa mixed with Pa"),
-    Check("isolation_damping", "a building whose isolators yield or slide has a classical damping ratio above zero, set on its "
-          "initial model (the isolators stuck at their initial stiffness)",
+    Check("isolation_damping", "a building whose isolators yield or slide has Rayleigh or stiffness-proportional damping, set on "
+          "its initial model (the isolators stuck at their initial stiffness)",
           "the damping of a fixed-base model kept for an isolated one: it acts on the sliding isolators as a viscous force "
           "they do not have; damp the superstructure's modes only (type = \"modal\", a small ratio on the isolated modes)"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
@@ -193,14 +194,23 @@ def _soft_storeys(b) -> list[Finding]:
     return out
 
 
+def _slides(element) -> bool:
+    """True when a line of springs yields or slides: its law has a finite yield deformation."""
+    if not element.yields:
+        return False
+    law = element.law if isinstance(element.law, type) else type(element.law)
+    return any(np.isfinite(law.deformation_scale(p)) for p in element.spring_parameters())
+
+
 def _isolation_damping(b) -> list[Finding]:
     from pounding.framework.model.isolation import isolator_lines
 
-    yielding = [i for i in isolator_lines(b) if b.elements[i].yields]
+    yielding = [i for i in isolator_lines(b) if _slides(b.elements[i])]
     ratios = np.atleast_1d(np.asarray(b.damping.ratio, dtype=float))
-    if not yielding or not np.any(ratios > 0.0):
+    # per-mode ratios are the remedy itself: the user chose which modes are damped
+    if not yielding or b.damping.kind == "modal" or not np.any(ratios > 0.0):
         return []
-    return [Finding("isolation_damping", f"building {b.name!r}: its isolators yield or slide (elements {', '.join(str(i + 1) for i in yielding)} "
+    return [Finding("isolation_damping", f"building {b.name!r}: its isolators yield or slide (element[{', '.join(str(i) for i in yielding)}] "
                                          f"in storey 1), and its {b.damping.kind} damping (ratio {b.damping.ratio}) is set on the initial "
                                          "model, with the isolators at their initial stiffness: it keeps acting on them while they slide, "
                                          "a viscous force the bearings do not have. Damp the superstructure's modes only "
