@@ -120,6 +120,21 @@ def test_the_facing_edges_of_two_rectangles_end_one_face():
     assert not ends_a.any() and not ends_b.any()
 
 
+def test_each_point_stands_for_its_ends_of_the_faces_at_rest():
+    """The shares of the face rule: an end of a face-to-face feature stands for half its face (1/2);
+    a vertex struck alone stands for its end of every face it ends (1/2 for one face, 1 for a vertex
+    that ends two, the corner of an L nestled in a re-entrant corner); a corner that ends no face and
+    a point that is not a vertex are whole contacts (1)."""
+    ends = np.zeros((2, 2, 4), dtype=np.int64)
+    ends[0, 0, [1, 2]] = 1  # pair 0: slab a's vertices 1 and 2 end one face,
+    ends[0, 1, 0] = 2  # slab b's vertex 0 ends two
+    pair = np.array([0, 0, 0, 0, 0, 0, 1])
+    who = np.array([0, 0, 0, 1, 1, 0, 0])
+    idx = np.array([1, 2, 2, 0, 3, -1, 1])
+    face = np.array([0, 0, -1, -1, -1, -1, -1])
+    assert point_shares(ends, pair, who, idx, face).tolist() == [0.5, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0]
+
+
 def test_a_face_pressed_flat_carries_one_contacts_force():
     """The reason for the face rule: the soft building's slabs moved along x by the gap plus delta = 2 mm at
     0.1 m/s, the stiff one at rest, every storey's face presses flat at both ends (share 1/2 each, the

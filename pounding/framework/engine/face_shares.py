@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pounding.compiler import njit
 from pounding.contact.geometry import face_ends
 from pounding.framework.engine import pairs as pg
 
@@ -47,26 +48,26 @@ def rest_face_ends(geo) -> np.ndarray:
     return out
 
 
-def point_shares(ends: np.ndarray, pair: np.ndarray, who: np.ndarray, idx: np.ndarray, face: np.ndarray) -> np.ndarray:
+@njit
+def point_shares(ends, pair, who, idx, face):
     """Share (m,) of one whole contact each of m points carries (see the module docstring).
 
     Parameters
     ----------
-    ends : ndarray (P, 2, kmax) int
+    ends : ndarray (P, 2, kmax) int64
         :func:`rest_face_ends` of the run's pairs.
-    pair, who, idx, face : ndarray (m,) int
+    pair, who, idx, face : ndarray (m,) int64
         Each point's pair, striking slab (0: a, 1: b), vertex (-1: not a vertex) and face-to-face id
         (-1: a point feature), as :func:`pounding.framework.engine.pairs.struck_features` gives them.
     """
-    pair, who, idx, face = (np.asarray(x, dtype=np.int64) for x in (pair, who, idx, face))
-    count = np.zeros(len(pair), dtype=np.int64)
-    vertex = idx >= 0
-    count[vertex] = ends[pair[vertex], who[vertex], idx[vertex]]
-    share = np.ones(len(pair))
-    on_face = count > 0
-    # an end of a face-to-face feature stands for its end of that one face; a vertex struck alone
-    # for its end of every face it ends
-    share[on_face] = FACE_END_SHARE * np.where(face[on_face] >= 0, 1, count[on_face])
+    m = pair.shape[0]
+    share = np.ones(m)
+    for j in range(m):
+        count = ends[pair[j], who[j], idx[j]] if idx[j] >= 0 else 0
+        if count > 0:
+            # an end of a face-to-face feature stands for its end of that one face; a vertex struck
+            # alone for its end of every face it ends
+            share[j] = FACE_END_SHARE if face[j] >= 0 else FACE_END_SHARE * count
     return share
 
 
