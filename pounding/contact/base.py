@@ -130,7 +130,7 @@ class ContactState(NamedTuple):
         meeting face to face), so that a face pressed flat carries one contact's force, 1 at a
         corner. It does not change while the point stays in contact, so a law whose force is
         ``share * F(delta)`` is conservative. None (a state built without it): every point is
-        a whole contact (:meth:`shares`).
+        a whole contact.
     """
 
     t: float
@@ -145,10 +145,6 @@ class ContactState(NamedTuple):
     approach: np.ndarray
     local_stiffness: np.ndarray
     share: np.ndarray | None = None
-
-    def shares(self) -> np.ndarray:
-        """``share`` (m,), or ones where the state carries none."""
-        return np.ones(len(self.gap)) if self.share is None else np.asarray(self.share, dtype=float)
 
     @property
     def penetration(self) -> np.ndarray:
