@@ -121,22 +121,24 @@ def test_the_stepped_end_of_step_solve_converges_to_the_rebound(law):
 @pytest.mark.parametrize("law", laws(0.5), ids=lambda law: law.name)
 @pytest.mark.parametrize("coupled", [False, True], ids=["alone", "with the step"])
 def test_a_uniform_face_of_m_points_carries_the_laws_force(law, coupled):
-    """The face rule: m points of one pair with one row (W = a 1 1^T, so each point's m_eff = 1/a) at one
-    penetration and rate carry, together, what one point of the same contact carries, for m = 2 and 3,
-    alone (S_q = S_v = 0: the force F(delta)) and solved with the step (S = alpha W: the total T
-    solves the one-point equation T = F(delta - alpha a T, ...)); the points of different pairs each
-    carry the whole law. To the Newton tolerance (1e-12 of the force)."""
+    """The face rule: m points of one pair with one row (W = a 1 1^T, so each point's m_eff = 1/a), each
+    standing for 1/m of the contact (``share``; a face's two ends: 1/2 each), at one penetration and rate
+    carry, together, what one point of the same contact carries, for m = 2 and 3, alone (S_q = S_v = 0:
+    the force F(delta)) and solved with the step (S = alpha W: the total T solves the one-point equation
+    T = F(delta - alpha a T, ...)); points that stand for a whole contact each carry the whole law,
+    whatever their pair. To the Newton tolerance (1e-12 of the force)."""
     a, gap, rate, v0 = 1.0 / 5e4, -2e-3, -0.1, 0.5
     sq, sv = (1e-7, 1e-5) if coupled else (0.0, 0.0)
     one = law.forces(contact(gap, rate, sq * a, sv * a, a, 0, v0))[0]
     assert one > 0.0
     for m in (2, 3):
         W = np.full((m, m), a)
-        face = law.forces(contact(np.full(m, gap), np.full(m, rate), sq * W, sv * W, W, np.zeros(m), np.full(m, v0)))
+        face = law.forces(contact(np.full(m, gap), np.full(m, rate), sq * W, sv * W, W, np.zeros(m), np.full(m, v0),
+                                  share=np.full(m, 1.0 / m)))
         assert face.sum() == pytest.approx(one, rel=1e-11)
         assert np.allclose(face, one / m, rtol=1e-11, atol=0)
     apart = law.forces(contact([gap, gap], [rate, rate], np.diag([sq * a] * 2), np.diag([sv * a] * 2), np.diag([a, a]),
-                               [0, 1], [v0, v0]))
+                               [0, 0], [v0, v0]))
     assert apart == pytest.approx([one, one], rel=1e-11)
 
 

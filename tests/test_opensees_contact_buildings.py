@@ -48,7 +48,7 @@ import pytest
 
 from contact_pair import pair_scene
 from pounding.contact.hertzdamp import HertzDamp, hertzdamp_force
-from pounding.contact.pointwise import face_shares, solve_point_forces
+from pounding.contact.pointwise import point_shares, solve_point_forces
 from pounding.framework.post.run import run
 from pounding.peer.opensees_contact import run_law_pounding
 
@@ -83,7 +83,7 @@ class TrialImpactHertzDamp(HertzDamp):
         params[first, 2] = 0.0
         approach = np.array([0.0 if f else self._first[k][1] for f, k in zip(first, keys)])
         solve = lambda p: solve_point_forces(hertzdamp_force, -contact.gap, -contact.rate, approach, p,  # noqa: E731
-                                             face_shares(pair), contact.S_q, contact.S_v)
+                                             point_shares(contact), contact.S_q, contact.S_v)
         lam = solve(params)
         closing = -(contact.rate + contact.S_v @ lam)  # end-of-step penetration rates [m/s]
         if np.any(first & (closing <= 0.0)):  # OpenSees sets no damping for a contact that is not closing

@@ -36,12 +36,14 @@ class Stepped:
         return float((self.v2[-1] - self.v1[-1]) / (self.v1[0] - self.v2[0]))
 
 
-def contact(gap, rate, S_q, S_v, W, pair, approach):
-    """The contact state a force law is given (the fields of the contact-law contract it reads)."""
+def contact(gap, rate, S_q, S_v, W, pair, approach, share=None):
+    """The contact state a force law is given (the fields of the contact-law contract it reads);
+    ``share`` (m,) the share of a whole contact of each point (None: every point a whole contact)."""
     arr = lambda x: np.atleast_1d(np.asarray(x, dtype=float))  # noqa: E731
     mat = lambda x: np.atleast_2d(np.asarray(x, dtype=float))  # noqa: E731
     return SimpleNamespace(gap=arr(gap), rate=arr(rate), S_q=mat(S_q), S_v=mat(S_v), W=mat(W),
-                           pair=np.atleast_1d(np.asarray(pair, dtype=np.int64)), approach=arr(approach))
+                           pair=np.atleast_1d(np.asarray(pair, dtype=np.int64)), approach=arr(approach),
+                           share=None if share is None else arr(share))
 
 
 def step_two_bodies(law, *, m1: float, m2: float, v1: float, v2: float, h: float, gap0: float = 0.0,

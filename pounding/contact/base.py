@@ -124,6 +124,13 @@ class ContactState(NamedTuple):
         Stiffness of the element each point strikes [N/m]: a neighbour's column or wall
         struck between its floors (:func:`pounding.framework.model.facade.local_stiffness`), inf at
         a slab.
+    share : ndarray (m,) or None
+        The share of one whole contact each point stands for, fixed by the slabs' rest geometry
+        (:mod:`pounding.framework.engine.face_shares`): 1/2 at each end of a face (two slabs
+        meeting face to face), so that a face pressed flat carries one contact's force, 1 at a
+        corner. It does not change while the point stays in contact, so a law whose force is
+        ``share * F(delta)`` is conservative. None (a state built without it): every point is
+        a whole contact.
     """
 
     t: float
@@ -137,6 +144,7 @@ class ContactState(NamedTuple):
     start: np.ndarray
     approach: np.ndarray
     local_stiffness: np.ndarray
+    share: np.ndarray | None = None
 
     @property
     def penetration(self) -> np.ndarray:
@@ -148,7 +156,8 @@ class ContactState(NamedTuple):
         ix = np.ix_(idx, idx)
         return self._replace(gap=self.gap[idx], rate=self.rate[idx], S_q=self.S_q[ix], S_v=self.S_v[ix], W=self.W[ix],
                              pair=self.pair[idx], start=self.start[idx], approach=self.approach[idx],
-                             local_stiffness=self.local_stiffness[idx])
+                             local_stiffness=self.local_stiffness[idx],
+                             share=None if self.share is None else self.share[idx])
 
 
 class ContactLaw(ABC):

@@ -82,6 +82,10 @@ EPS_REL = 1e-12
 MAX_FEATURES = 8
 """Rows of the fixed-size arrays returned by :func:`contact_points`."""
 
+FACE_ANGLE = 1e-3
+"""Two edges facing each other within this angle [rad] are face to face (:func:`contact_points`,
+:func:`face_ends`)."""
+
 
 # =============================================================================
 # Python helpers (called once per scene, not in the hot loop)
@@ -855,6 +859,57 @@ def rest_gap(A, B) -> float:
         return float(signed_gap(np.ascontiguousarray(A, dtype=float), np.ascontiguousarray(B, dtype=float)))
 
 
+def face_ends(A, B, rest: float, ang_tol: float = FACE_ANGLE) -> tuple[np.ndarray, np.ndarray]:
+    """How many faces of two slabs at rest each vertex ends: (k,) and (l,) int64 for A (k, 2) and
+    B (l, 2), counter-clockwise [m], whose signed gap at rest is ``rest`` [m].
+
+    A *face* is a pair of edges, one of each polygon, facing each other (outward normals opposite
+    within ``ang_tol`` [rad]), overlapping along their length, whose two overlap ends both lie at
+    the pair's rest gap (to ``ang_tol`` times the overlap plus the geometric tolerance): the
+    facades that meet face to face when the gap closes. The four vertices of its two edges are
+    the points that can press on it as its ends (the overlap's ends, whichever slab's vertex
+    ends it as the slabs slide along each other), so each counts one for that face. Plain Python,
+    called once per pair when a run's force laws first need it.
+    """
+    A = np.ascontiguousarray(A, dtype=float)
+    B = np.ascontiguousarray(B, dtype=float)
+    k, l = A.shape[0], B.shape[0]
+    ends_a, ends_b = np.zeros(k, np.int64), np.zeros(l, np.int64)
+    eps = EPS_REL * max(1.0, float(np.abs(A).max(initial=0.0)), float(np.abs(B).max(initial=0.0)))
+    cosmax = -math.cos(ang_tol)
+    for i in range(k):
+        i1 = (i + 1) % k
+        ta = A[i1] - A[i]
+        La = float(np.hypot(*ta))
+        if La <= eps:
+            continue
+        ta = ta / La
+        na = np.array([ta[1], -ta[0]])
+        for j in range(l):
+            j1 = (j + 1) % l
+            tb = B[j1] - B[j]
+            Lb = float(np.hypot(*tb))
+            if Lb <= eps:
+                continue
+            nb = np.array([tb[1], -tb[0]]) / Lb
+            if float(na @ nb) > cosmax:
+                continue  # not facing each other
+            sb = sorted((float(ta @ (B[j] - A[i])), float(ta @ (B[j1] - A[i]))))
+            lo, hi = max(sb[0], 0.0), min(sb[1], La)
+            if hi - lo <= eps:
+                continue  # no overlap along the edges
+            # the overlap's ends, and their gaps across (from A's edge line to B's edge line)
+            ends = [A[i] + lo * ta, A[i] + hi * ta]
+            gaps = [float(nb @ (P - B[j])) for P in ends]  # > 0: P (on A's edge) lies outside B's edge line
+            slack = ang_tol * (hi - lo) + eps
+            if all(abs(g - rest) <= slack for g in gaps):
+                ends_a[i] += 1
+                ends_a[i1] += 1
+                ends_b[j] += 1
+                ends_b[j1] += 1
+    return ends_a, ends_b
+
+
 @njit
 def _on_partner(I, r, partner, nT):
     """True if candidate r's point Q lies on the target's edge ``partner`` (closed)."""
@@ -866,7 +921,7 @@ def _on_partner(I, r, partner, nT):
 
 
 @njit
-def contact_points(A, B, tol, ang_tol=1e-3):
+def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
     """Contact features of two polygons that touch or overlap.
 
     Parameters

@@ -29,16 +29,20 @@ The face rule
 -------------
 The law gives the force of one *contact*: two slabs pressed together at one storey. Where they
 meet face to face the geometry gives several points (the ends of the common facade), each with
-its own penetration; the m points of one slab pair pressed in a step share the law equally,
+its own penetration; each point carries a share s_i of the law, fixed by the slabs' rest
+geometry (``ContactState.share``, :mod:`pounding.framework.engine.face_shares`),
 
-    lambda_i = F(delta_i, delta'_i, delta'_0; m_eff,i) / m,     m_eff,i = 1 / W_ii,
+    lambda_i = s_i F(delta_i, delta'_i, delta'_0; m_eff,i),     m_eff,i = 1 / W_ii,
 
-so that a uniform penetration of a face of m points (all points with the same row, W_ii = a)
-gives the law's force F(delta; 1 / a), as one point would. With rotation the points'
-penetrations differ and each carries its share of the law at its own penetration. A corner
-(m = 1) carries the whole law. The share changes when a point of a face starts or stops
-pressing (from 1/2 to 1 as one end of a face lifts off): the force is continuous there for the
-elastic part of every law (F(0) = 0 at the lifting point) but not in the other point's share.
+s_i = 1/2 at each end of a face, so that a uniform penetration of a face (both ends with the
+same row, W_ii = a) gives the law's force F(delta; 1 / a), as one point would; s_i = 1 at a
+corner that ends no face. With rotation the points' penetrations differ and each carries its
+share at its own penetration; an end of a face that presses alone (the other lifted off) keeps
+its half, half the face's spring and dashpot. Because a point's share never changes while it
+presses, the force of an elastic law derives from the potential sum_i s_i integral_0^delta_i F:
+the contact gives back what it stored. (Sharing the law equally among the m points pressed in a
+step made the remaining end's share jump from 1/2 to 1 as the other lifted off: a force jump
+without any deformation, which let an elastic law create energy.)
 
 The solve
 ---------
@@ -112,7 +116,7 @@ class PointwiseLaw(ContactLaw):
 
     The engine asks :meth:`forces` for the end-of-step forces of the pressed points, given the
     contact state of the contact-law contract (an object with ``gap``, ``rate`` (m,), ``S_q``,
-    ``S_v``, ``W`` (m, m), ``pair`` (m,) and ``approach`` (m,): see the module docstring).
+    ``S_v``, ``W`` (m, m), ``pair``, ``approach`` and ``share`` (m,): see the module docstring).
     """
 
     kind: ClassVar[str] = "force"
@@ -138,22 +142,23 @@ class PointwiseLaw(ContactLaw):
     def forces(self, contact) -> np.ndarray:
         """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact
         state: ``gap``, ``rate`` (m,) without contact forces, ``S_q``, ``S_v``, ``W`` (m, m),
-        ``pair``, ``approach`` (m,)), shared by the face rule and solved with the step
+        ``approach``, ``share`` (m,)), shared by the face rule and solved with the step
         (:func:`solve_point_forces`)."""
         gap = np.asarray(contact.gap, dtype=float)
         W = np.asarray(contact.W, dtype=float)
         m_eff = 1.0 / np.diag(W)
         return solve_point_forces(self.law_force, -gap, -np.asarray(contact.rate, dtype=float),
                                   np.asarray(contact.approach, dtype=float), self.params(m_eff),
-                                  face_shares(np.asarray(contact.pair)), np.asarray(contact.S_q, dtype=float),
+                                  point_shares(contact), np.asarray(contact.S_q, dtype=float),
                                   np.asarray(contact.S_v, dtype=float))
 
 
-def face_shares(pair: np.ndarray) -> np.ndarray:
-    """Share (m,) of the law each of m points carries: 1 / (number of points of its slab pair)
-    (the face rule of the module docstring)."""
-    _, inverse, counts = np.unique(pair, return_inverse=True, return_counts=True)
-    return 1.0 / counts[inverse]
+def point_shares(contact) -> np.ndarray:
+    """Share (m,) of the law each of the m points of ``contact`` carries (the face rule of the module
+    docstring): its ``share``, fixed by the rest geometry, or 1 at every point of a state that
+    carries none."""
+    share = getattr(contact, "share", None)
+    return np.ones(len(contact.gap)) if share is None else np.asarray(share, dtype=float)
 
 
 def evaluate(law_force, delta: np.ndarray, rate: np.ndarray, approach: np.ndarray, params: np.ndarray):
@@ -184,7 +189,7 @@ def solve_point_forces(law_force, delta0: np.ndarray, rate0: np.ndarray, approac
     params : ndarray (m, p)
         The law's parameters at each point.
     share : ndarray (m,)
-        The share of the law each point carries (:func:`face_shares`).
+        The share of the law each point carries (:func:`point_shares`).
     S_q, S_v : ndarray (m, m)
         Compliances of the end-of-step gaps [m/N] and rates [m/(N s)] to the forces.
     """

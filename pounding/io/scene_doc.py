@@ -419,7 +419,8 @@ A contact law is one class written from `pounding.contact.base.ContactLaw` (its 
 contract): an impulse law (`kind = "impulse"`) implements `impulses(W, b)`; a force law (`kind = "force"`)
 implements `forces(contact)`, given one `ContactState` per step with the points' gaps and rates without contact
 forces, their compliances to the forces, and the contact's history (its pair, when it began, its closing speed
-then). Register it under the entry-point group `pounding.contact`, or name it `"module:Class"` in the scene: the
+then) and the share of one contact each point stands for (1/2 at each end of a face, fixed at rest). Register it
+under the entry-point group `pounding.contact`, or name it `"module:Class"` in the scene: the
 module is imported from the Python path or from a `module.py` beside the scene file. For a Hertz contact in
 `my_laws.py` next to the scene:
 

@@ -25,14 +25,15 @@ other candidates are linear (``ElasticPPGap``, ``ElasticMultiLinear`` only appro
 law piecewise); ``Hertzdamp`` with xiNorm = 0 computes (Kh + 0) delta^n, the same formula.
 
 The face rule. A pounding law gives the force of one contact (a pair of slabs at one storey);
-where the slabs meet face to face its m points share it, lambda_i = F(delta_i, delta'_i;
-m_eff,i) / m with m_eff,i = 1 / W_ii (:mod:`pounding.contact.pointwise`). Every law here is
+where the slabs meet face to face its two ends share it, lambda_i = s_i F(delta_i, delta'_i;
+m_eff,i) with s_i = 1/2 fixed by the rest geometry and m_eff,i = 1 / W_ii
+(:mod:`pounding.contact.pointwise`, :mod:`pounding.framework.engine.face_shares`). Every law here is
 homogeneous in that share: s F(delta, delta'; m) is the same law with the stiffness scaled by s
 (and for Jankowski's damping, sqrt(s k_h ... s m) = s sqrt(k_h ... m), the effective mass too).
 So each element gets the law's parameters at its point (``law.params(m_eff)``, the very numbers the
 engine uses) with k (or k_h) and m_eff scaled by its share s = 1/2 (the two ends of a face). The
-share is fixed in OpenSees, while pounding's grows to 1 when one end of a face stops pressing:
-the models are the same law while both ends of every face press together (motion along x).
+share is fixed in both, so the models are the same law whether both ends of a face press or one
+alone.
 
 What OpenSees computes differently (stated per material in :func:`material_notes`):
 

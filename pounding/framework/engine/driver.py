@@ -268,6 +268,15 @@ class Model:
         """Touching features of the pairs ``plist``, stacked: (pair (m,), gap (m,), W (m, n), Q, N (m, 2))."""
         return pg.features_of(np.ascontiguousarray(q), plist, float(tol), bool(deep), self.n, self.geo)
 
+    def touching_shares(self, q: np.ndarray, plist: np.ndarray, tol: float):
+        """:meth:`touching` with ``deep``, and the share (m,) of one whole contact each point stands
+        for, fixed by the rest faces (:mod:`pounding.framework.engine.face_shares`)."""
+        from pounding.framework.engine.face_shares import rest_face_ends, touching_with_shares
+
+        if getattr(self, "_face_ends", None) is None:  # found once, when a force law first needs them
+            self._face_ends = rest_face_ends(self.geo)
+        return touching_with_shares(q, plist, tol, self.n, self.geo, self._face_ends)
+
     def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.
 
@@ -840,13 +849,13 @@ class Driver:
 
         zero = np.zeros(self.model.n)
         zf = self.step(z, t, h, self.fc + e0, e1)
-        pair, gap, Wr, Qf, Nf = self.model.touching(zf[:, 0], self.model.all_pairs, self.tol, deep=True)
+        pair, gap, Wr, Qf, Nf, share = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol)
         near, near_gap = pair, gap
         keep = gap < 0
         if not keep.any():
             return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(near, near_gap, self.model.n))
         if not keep.all():
-            pair, gap, Wr, Qf, Nf = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep]
+            pair, gap, Wr, Qf, Nf, share = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep], share[keep]
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
@@ -854,7 +863,7 @@ class Driver:
         # the history: each pair's episode, or where its gap closes in this step (from its start, linear in q)
         start, approach = self.episodes.history(t, h, pair, lambda: (gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate))
         state = ContactState(t + h, h, gap, rate, S_q, S_v, Wr @ Wr.T, pair, start, approach,
-                             self.model.local_stiffness(pair, Qf, Nf))
+                             self.model.local_stiffness(pair, Qf, Nf), share)
         lam = solve_forces(self.laws, self.pair_law[pair], state)
         f1 = Wr.T @ lam
         contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, near, near_gap, f1)

@@ -203,7 +203,15 @@ def pair_row(q, p, qx, qy, nx, ny, geo):
 
 @njit
 def features_of(q, plist, tol, deep, n, geo):
-    """Touching features of several pairs, stacked: (pair, gap, W) of every feature.
+    """Touching features of several pairs, stacked: (pair, gap, W, Q, N) of every feature
+    (:func:`struck_features` without the strikers)."""
+    pair, gaps, W, Q, N, _, _, _ = struck_features(q, plist, tol, deep, n, geo)
+    return pair, gaps, W, Q, N
+
+
+@njit
+def struck_features(q, plist, tol, deep, n, geo):
+    """Touching features of several pairs, stacked, with what strikes at each.
 
     A pair is searched when its gap is within ``tol``; with ``deep`` the search
     tolerance grows with the penetration (max(tol, tol - gap)) so that every
@@ -212,6 +220,10 @@ def features_of(q, plist, tol, deep, n, geo):
     Returns
     -------
     pair : (m,) int, gap : (m,), W : (m, n), Q, N : (m, 2)
+    who, idx, face : (m,) int
+        The striking slab (0: a vertex of slab a, 1: of slab b), its vertex (-1: not a vertex)
+        and the face-to-face id within the pair (-1: a point feature), as
+        :func:`pounding.contact.geometry.contact_points` gives them.
     """
     cap = plist.shape[0] * MAX_FEATURES
     pair = np.empty(cap, dtype=np.int64)
@@ -219,6 +231,9 @@ def features_of(q, plist, tol, deep, n, geo):
     W = np.empty((cap, n))
     Q = np.empty((cap, 2))
     N = np.empty((cap, 2))
+    who = np.empty(cap, dtype=np.int64)
+    idx = np.empty(cap, dtype=np.int64)
+    face = np.empty(cap, dtype=np.int64)
     m = 0
     for j in range(plist.shape[0]):
         p = plist[j]
@@ -226,15 +241,18 @@ def features_of(q, plist, tol, deep, n, geo):
         if g >= tol:
             continue
         t = max(tol, tol - g) if deep else tol
-        count, Qp, Np, gp, _, _, _, Wp = pair_features(q, p, t, n, geo)
+        count, Qp, Np, gp, wp, ip, fp, Wp = pair_features(q, p, t, n, geo)
         for k in range(count):
             pair[m] = p
             gaps[m] = gp[k]
             W[m] = Wp[k]
             Q[m] = Qp[k]
             N[m] = Np[k]
+            who[m] = wp[k]
+            idx[m] = ip[k]
+            face[m] = fp[k]
             m += 1
-    return pair[:m], gaps[:m], W[:m], Q[:m], N[:m]
+    return pair[:m], gaps[:m], W[:m], Q[:m], N[:m], who[:m], idx[:m], face[:m]
 
 
 @njit
