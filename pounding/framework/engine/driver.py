@@ -727,14 +727,17 @@ class Driver:
                 t = t_end
                 self.contact_at(t, self.touching_pairs() if self.crossing else None)
                 break
-            self.commit(self.trial(self.z, t, hs), t, hs)
+            sub = self.trial(self.z, t, hs)
+            self.commit(sub, t, hs)
             t += hs
             self.n_located += 1
             if arrival is not None:
+                # the pair that arrives at hs (two held pairs may both arrive within the whole step)
+                pair = sub.arriving if sub.arriving >= 0 else culprits[0]
                 # beyond the bound on a step's events the law is not asked: the rest of the step starts
                 # with the plastic stop of what touches (stop_closing), the limit of the chatter
                 if self.events_in_step < MAX_EVENTS_PER_STEP:
-                    self.strike_arrival(t, culprits[0])
+                    self.strike_arrival(t, pair)
             elif not self.contact_at(t, culprits):
                 # touching but not approaching, yet overlapping before the step ends: pressed together
                 self.sustained.update(culprits)
