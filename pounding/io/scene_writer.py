@@ -15,6 +15,8 @@ as start and angle (or end), so their unit directions come back to rounding (a f
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import json
 import math
 import re
@@ -226,7 +228,9 @@ def _compare(a: Any, b: Any, where: str, ulps: int, out: list[str]) -> None:
             if f.name not in provenance and not (where == "scene" and f.name == "source"):
                 _compare(getattr(a, f.name), getattr(b, f.name), f"{where}.{f.name}", ulps, out)
         # attributes set beside the fields (an element's first_storey, set by the framework): part of what it is
-        extra_a, extra_b = ({k: v for k, v in vars(x).items() if k not in {f.name for f in fields(x)}} for x in (a, b))
+        # (not provenance, nor values cached on first use: a record's dt)
+        extra_a, extra_b = ({k: v for k, v in vars(x).items() if k not in {f.name for f in fields(x)} and k not in provenance
+                             and not isinstance(getattr(type(x), k, None), cached_property)} for x in (a, b))
         if extra_a or extra_b:
             _compare(extra_a, extra_b, where, ulps, out)
         return
