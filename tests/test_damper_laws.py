@@ -454,3 +454,17 @@ def test_a_damper_element_adds_no_stiffness_and_round_trips(tmp_path):
     again = load_scene(write_scene(scene, tmp_path / "scene.toml"))
     assert scene_differences(scene, again) == []
     assert again.buildings[0].elements[3].law.describe() == dampers.law.describe()
+
+
+def test_a_step_of_no_length_keeps_every_links_force_and_state():
+    """An impact located at a step's very start gives the links a step of h = 0: nothing can change in no
+    time, so the engine's call of a law (:func:`pounding.framework.engine.links.law_update`) gives back
+    the committed force and state exactly, for a dashpot too (whose law, asked at the rate v = 0, would
+    drop its force)."""
+    from pounding.framework.engine.links import law_tuple, law_update
+
+    law = Viscous(coefficient=C, exponent=0.5)
+    params = np.atleast_2d(law.pack(*law.own_values()))
+    state, trial = np.array([[0.01, 5.0e4, 1.0]]), np.zeros((1, 3))
+    r, _ = law_update(law_tuple((Viscous,)), 0, 0.01, 0.0, state, params, trial, 0)
+    assert r == 5.0e4 and np.array_equal(trial, state)

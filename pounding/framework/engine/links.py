@@ -82,8 +82,9 @@ def law_update(laws, j, u, h, state, params, new_state, s):
     The rate the law sees is the mean over the step, v = (u - u_committed) / h [m/s] (the committed
     deformation is the common state slot 0), so the tangent of the step is dr/du + dr/dv / h: the
     law's own tangent and its damping tangent over h. A step of no length (an impact located at a
-    step's very start) moves nothing: v = 0 there, and its compliance is zero, so the tangent is
-    the law's own. Writes the trial state ``new_state[s]``.
+    step's very start) changes nothing: the trial is the committed state and force (a dashpot keeps
+    its force: asked at v = 0 it would drop it), with the law's own tangent (the step's compliance
+    is zero). Writes the trial state ``new_state[s]``.
     """
     v = (u - state[s, 0]) / h if h > 0.0 else 0.0
     r = 0.0
@@ -94,4 +95,8 @@ def law_update(laws, j, u, h, state, params, new_state, s):
             r, k, c = update(u, v, state, params, new_state, s)
             kt = k + c / h if h > 0.0 and c != 0.0 else k
         i += 1
+    if h <= 0.0:
+        for c in range(state.shape[1]):
+            new_state[s, c] = state[s, c]
+        r = state[s, 1]
     return r, kt

@@ -317,7 +317,9 @@ def spring_summary(hist: dict[str, np.ndarray]) -> list[dict]:
             "element": j,
             "storeys": hist["spring_storey"][sel].tolist(),
             "peak_drift_ratio": (peak / h).tolist(),
-            "ductility": (peak / hist["spring_yield_deformation"][sel]).tolist(),
+            # None for a link that has no yield deformation (a damper, a linear spring): not "did not yield"
+            "ductility": [float(d) if np.isfinite(y) else None for d, y in zip(peak / hist["spring_yield_deformation"][sel],
+                                                                                 hist["spring_yield_deformation"][sel])],
             "residual_drift": res.tolist(),
             "residual_drift_ratio": (res / h).tolist(),
             "peak_force": np.abs(hist["spring_force"][:, sel]).max(axis=0).tolist(),

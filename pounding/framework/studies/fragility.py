@@ -109,11 +109,13 @@ def consequence_columns(names: list[str]) -> list[str]:
 
 def peak_ductility(result, name: str) -> float | None:
     """Largest ductility demand (peak |deformation| / yield deformation) of a building's yielding storey
-    springs over the run, or None for a building without yielding springs."""
+    springs over the run, or None for a building without springs that yield."""
     sp = getattr(result, "springs", {}).get(name)
     if not sp:
         return None
-    return float(np.max(np.asarray(sp["peak"]) / np.asarray(sp["yield_deformation"])))
+    yd = np.asarray(sp["yield_deformation"])
+    finite = np.isfinite(yd)  # links with no yield deformation (dampers, linear springs) have no ductility
+    return float(np.max(np.asarray(sp["peak"])[finite] / yd[finite])) if finite.any() else None
 
 
 _RESPONSE = ("_peak_drift_ratio_cm", "_peak_ductility")
