@@ -31,7 +31,10 @@ def default_springs(result) -> list[tuple[str, int, int]]:
     """(building, element, storey) of the spring with the largest ductility demand in every building."""
     out = []
     for name, sp in result.springs.items():
-        s = int(np.argmax(sp["peak"] / sp["yield_deformation"]))
+        # a link with no yield deformation (a damper, a linear spring) has no ductility: its peak deformation ranks it
+        finite = np.isfinite(sp["yield_deformation"])
+        demand = sp["peak"] / sp["yield_deformation"] if finite.any() else sp["peak"]
+        s = int(np.argmax(np.where(finite, demand, -np.inf) if finite.any() else demand))
         out.append((name, int(sp["element"][s]), int(sp["storey"][s])))
     return out
 
@@ -49,8 +52,9 @@ def plot_hysteresis(result, path, *, springs: Sequence | None = None, reference=
             r = spring_index(rs, element, storey)
             ax.plot(rs["deformation"][:, r] * 1e3, rs["force"][:, r] * 1e-3, "--", color="0.55", lw=0.8, label="reference")
         ax.plot(sp["deformation"][:, s] * 1e3, sp["force"][:, s] * 1e-3, "-", color=COLOURS[0], lw=0.9, label="this run")
-        mu = sp["peak"][s] / sp["yield_deformation"][s]
-        ax.set_title(f"{name}, element {element}, storey {storey} (ductility {mu:.1f})", fontsize=9)
+        uy = sp["yield_deformation"][s]
+        demand = f"ductility {sp['peak'][s] / uy:.1f}" if np.isfinite(uy) else f"peak {sp['peak'][s] * 1e3:.1f} mm"
+        ax.set_title(f"{name}, element {element}, storey {storey} ({demand})", fontsize=9)
         ax.set_xlabel("storey drift along the line [mm]")
         ax.set_ylabel("storey shear [kN]")
         ax.grid(alpha=0.3)
@@ -69,7 +73,9 @@ def _lines(sp: dict) -> dict[int, np.ndarray]:
 
 PANELS = (
     ("peak drift ratio [%]", lambda sp, sel: 100.0 * sp["peak"][sel] / sp["height"][sel]),
-    ("ductility demand [-]", lambda sp, sel: sp["peak"][sel] / sp["yield_deformation"][sel]),
+    # NaN (not drawn) for a link with no yield deformation
+    ("ductility demand [-]", lambda sp, sel: np.where(np.isfinite(sp["yield_deformation"][sel]),
+                                                      sp["peak"][sel] / sp["yield_deformation"][sel], np.nan)),
     ("residual drift ratio [%]", lambda sp, sel: 100.0 * sp["deformation"][-1, sel] / sp["height"][sel]),
 )
 

@@ -390,14 +390,14 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
 def _commit_links(links, out, kt, now, lrec):
     """Commit a step's trial links ``out`` (:class:`LinkTrial`: remainders, trial states) and their
     tangents kt (ns,) into ``now``; count the tangent changes (a link yields or unloads: its tangent
-    moves by more than 1e-9 k0) per group in ``lrec.counts[:, 2]``, remembering the tangents, and
+    moves by more than 1e-9 of the larger of k0 and its last tangent) per group in ``lrec.counts[:, 2]``, remembering the tangents, and
     update the running peaks (:class:`LinkRecord`)."""
     bounds, k0 = links.bounds, links.k0
     f1, trial, f, state = out.f, out.state, now.f, now.state
     peak, tangent, counts = lrec.peak, lrec.tangent, lrec.counts
     for j in range(bounds.shape[0] - 1):
         for s in range(bounds[j], bounds[j + 1]):
-            if abs(kt[s] - tangent[s]) > 1e-9 * k0[s]:
+            if abs(kt[s] - tangent[s]) > 1e-9 * max(k0[s], abs(tangent[s])):  # (a damper: k0 = 0)
                 counts[j, 2] += 1
             tangent[s] = kt[s]
             f[s] = f1[s]
