@@ -7,6 +7,20 @@ import math
 import numpy as np
 
 from pounding.errors import InputError
+from pounding.hysteresis.base import HysteresisLaw
+
+#: the scene schema of a damper's velocity exponent (viscous, maxwell, kelvin)
+EXPONENT_SCHEMA = {"type": "number", "units": "-", "default": 1.0, "description": "Velocity exponent alpha, in (0, 2]: 1 = linear."}
+
+
+class NoYieldLaw(HysteresisLaw):
+    """A link law with no deformation at which its behaviour changes (a linear spring, a dashpot):
+    ``deformation_scale`` is inf, so the engine scales its Newton tolerance by the storey height."""
+
+    @staticmethod
+    def deformation_scale(params) -> float:
+        """inf: no yield deformation."""
+        return math.inf
 
 
 def number(key: str, value) -> float:

@@ -7,11 +7,8 @@ dissipated; the stored energy is k u^2 / 2. OpenSees: ``uniaxialMaterial Elastic
 
 from __future__ import annotations
 
-import numpy as np
-
 from pounding.compiler import njit
-from pounding.hysteresis._values import positive
-from pounding.hysteresis.base import HysteresisLaw
+from pounding.hysteresis._values import NoYieldLaw, positive
 
 
 @njit
@@ -32,7 +29,7 @@ def stored_energy(state, params):
     return 0.5 * params[0] * state[0] * state[0]
 
 
-class Elastic(HysteresisLaw):
+class Elastic(NoYieldLaw):
     """A linear spring, F = k u (see the module docstring); it sets the link's stiffness itself.
 
     Parameters
@@ -60,7 +57,3 @@ class Elastic(HysteresisLaw):
         """(k, 0, 0): the stiffness is the law's; no yield force, no hardening."""
         return self.stiffness, 0.0, 0.0
 
-    @staticmethod
-    def deformation_scale(params: np.ndarray) -> float:
-        """inf: a linear spring never yields."""
-        return np.inf

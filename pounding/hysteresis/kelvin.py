@@ -12,13 +12,11 @@ exact for the step's path at the mean rate (see :mod:`pounding.hysteresis.viscou
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.hysteresis._values import check_exponent, positive
-from pounding.hysteresis.base import HysteresisLaw
+from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_exponent, positive
 from pounding.hysteresis.viscous import COEFFICIENT, EXPONENT, dashpot
 
 
@@ -41,7 +39,7 @@ def stored_energy(state, params):
     return 0.5 * params[0] * state[0] * state[0]
 
 
-class Kelvin(HysteresisLaw):
+class Kelvin(NoYieldLaw):
     """Spring and dashpot in parallel (see the module docstring); it sets the link's stiffness itself.
 
     Parameters
@@ -65,8 +63,7 @@ class Kelvin(HysteresisLaw):
             "stiffness": {"type": "number", "units": "N/m", "description": "Stiffness k of the parallel spring."},
             "coefficient": {"type": "number", "units": "N (s/m)^alpha",
                             "description": "Damping coefficient c of the parallel dashpot."},
-            "exponent": {"type": "number", "units": "-", "default": 1.0,
-                         "description": "Velocity exponent alpha, in (0, 2]: 1 = linear."},
+            "exponent": EXPONENT_SCHEMA,
         },
     }
     update = update
@@ -81,10 +78,6 @@ class Kelvin(HysteresisLaw):
         """(k, 0, 0): the spring is the initial stiffness; no yield."""
         return self.stiffness, 0.0, 0.0
 
-    @staticmethod
-    def deformation_scale(params) -> float:
-        """inf: neither the spring nor the dashpot has a deformation scale."""
-        return math.inf
 
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         return np.array([stiffness, yield_force, hardening, self.coefficient, self.exponent], dtype=float)

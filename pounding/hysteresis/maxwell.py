@@ -42,8 +42,7 @@ import math
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.hysteresis._values import check_exponent, positive
-from pounding.hysteresis.base import HysteresisLaw
+from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_exponent, positive
 
 #: law-specific parameters: the spring K [N/m], the coefficient c [N (s/m)^alpha], the exponent alpha
 SPRING, COEFFICIENT, EXPONENT = 3, 4, 5
@@ -123,7 +122,7 @@ def stored_energy(state, params):
     return 0.5 * state[1] * state[1] / params[SPRING]
 
 
-class Maxwell(HysteresisLaw):
+class Maxwell(NoYieldLaw):
     """Spring and nonlinear dashpot in series, as OpenSees' ``ViscousDamper`` (see the module docstring).
 
     Parameters
@@ -148,8 +147,7 @@ class Maxwell(HysteresisLaw):
                           "description": "Stiffness K of the spring in series with the dashpot (brace and damper body)."},
             "coefficient": {"type": "number", "units": "N (s/m)^alpha",
                             "description": "Damping coefficient c of the dashpot: F = c |w'|^alpha sgn(w')."},
-            "exponent": {"type": "number", "units": "-", "default": 1.0,
-                         "description": "Velocity exponent alpha, in (0, 2]: 1 = linear."},
+            "exponent": EXPONENT_SCHEMA,
         },
     }
     update = update
@@ -164,10 +162,6 @@ class Maxwell(HysteresisLaw):
         """(0, 0, 0): no stiffness at rest (the modal model does not see the damper), no yield."""
         return 0.0, 0.0, 0.0
 
-    @staticmethod
-    def deformation_scale(params) -> float:
-        """inf: no deformation scale of its own."""
-        return math.inf
 
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         return np.array([stiffness, yield_force, hardening, self.stiffness, self.coefficient, self.exponent], dtype=float)

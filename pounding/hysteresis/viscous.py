@@ -34,8 +34,7 @@ import math
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.hysteresis._values import check_exponent, positive
-from pounding.hysteresis.base import HysteresisLaw
+from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_exponent, positive
 
 #: law-specific parameters: the coefficient c [N (s/m)^alpha] and the exponent alpha [-]
 COEFFICIENT, EXPONENT = 3, 4
@@ -81,7 +80,7 @@ def energy_per_cycle(c: float, alpha: float, amplitude: float, omega: float) -> 
     return lam * c * omega**alpha * amplitude ** (1.0 + alpha)
 
 
-class Viscous(HysteresisLaw):
+class Viscous(NoYieldLaw):
     """A fluid viscous damper, F = c |v|^alpha sgn(v) (see the module docstring); no stiffness.
 
     Parameters
@@ -102,8 +101,7 @@ class Viscous(HysteresisLaw):
         "properties": {
             "coefficient": {"type": "number", "units": "N (s/m)^alpha",
                             "description": "Damping coefficient c: F = c |v|^alpha sgn(v)."},
-            "exponent": {"type": "number", "units": "-", "default": 1.0,
-                         "description": "Velocity exponent alpha, in (0, 2]: 1 = linear."},
+            "exponent": EXPONENT_SCHEMA,
         },
     }
     update = update
@@ -117,10 +115,6 @@ class Viscous(HysteresisLaw):
         """(0, 0, 0): a damper has no stiffness (the modal model does not see it) and no yield."""
         return 0.0, 0.0, 0.0
 
-    @staticmethod
-    def deformation_scale(params) -> float:
-        """inf: a dashpot has no deformation scale of its own."""
-        return math.inf
 
     def pack(self, stiffness: float, yield_force: float, hardening: float):
         return np.array([stiffness, yield_force, hardening, self.coefficient, self.exponent], dtype=float)
