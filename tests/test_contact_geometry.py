@@ -122,14 +122,16 @@ def test_is_simple(vertices, ok, word):
 # ---------------------------------------------------------------- kinematics and gaps
 
 
-def test_displaced_is_the_linearised_rigid_map():
-    """Vertex (3, 1) of a slab with c = (1, 1), u = 0.01, v = -0.02, phi = 0.001 moves to (3.01,
-    0.982).
-    """
+def test_displaced_is_the_rigid_map():
+    """A slab with c = (1, 1), u = 0.01, v = -0.02, phi = 0.001: a vertex P goes to
+    c + (u, v) + R(phi) (P - c), to rounding (1e-15 m on coordinates of a few metres); and at
+    phi = 0 a vertex keeps its coordinates plus the translation to the bit."""
     P = np.array([[3.0, 1.0], [1.0, 4.0], [0.0, 0.0]])
-    out = geo.displaced(P, np.array([1.0, 1.0]), 0.01, -0.02, 0.001)
-    np.testing.assert_allclose(out[0], [3.01, 1.0 - 0.02 + 0.002], rtol=0, atol=1e-15)
-    np.testing.assert_allclose(out[1], [1.0 + 0.01 - 0.003, 4.0 - 0.02], rtol=0, atol=1e-15)
+    c, phi = np.array([1.0, 1.0]), 0.001
+    R = np.array([[math.cos(phi), -math.sin(phi)], [math.sin(phi), math.cos(phi)]])
+    out = geo.displaced(P, c, 0.01, -0.02, phi)
+    np.testing.assert_allclose(out, c + np.array([0.01, -0.02]) + (P - c) @ R.T, rtol=0, atol=1e-15)
+    np.testing.assert_array_equal(geo.displaced(P, c, 0.25, -0.5, 0.0), P + np.array([0.25, -0.5]))
 
 
 def test_two_squares_apart():
@@ -371,3 +373,34 @@ def test_apart_path_gives_the_feature_tables_gap():
     assert geo.signed_gap(plus_a, plus_b) == _table_gap(plus_a, plus_b) < 0
     side_a, side_b = rect(0, 0, 10, 10), rect(10.05, 0, 10, 10)  # collinear top and bottom edges, 0.05 apart
     assert geo._apart_gap(side_a, side_b, geo._tolerance(side_a, side_b)) == pytest.approx(0.05, abs=1e-12)
+
+
+def test_a_contact_row_is_the_gradient_of_the_gap_on_turned_slabs():
+    """The modal row w of a contact is the gradient of the gap the geometry computes: for the
+    pointed pair with both slabs turned (0.008 and -0.012 rad) and pressed 10 um, central
+    differences of the gap along random modal directions dq equal w . dq. The slabs turn exactly
+    (:func:`displaced`), so the lever arm of the contact point about a slab's displaced centre,
+    which the row takes, is its exact derivative; with the linearised turn the same row was off
+    by phi |r|: 7e-3 of |w| |dq| here.
+
+    Tolerance 1e-7 of |w| |dq| = 1 um: the gap's rounding, a few ulps of the 20 m coordinates
+    (4 x 2.2e-16 x 20 m = 1.8e-14 m) over 1 um is 2e-8; the central difference's error is third
+    order in the turns the step makes (2e-7 rad over 5 m arms), far below it."""
+    from scenes_for_tests import modal_from_physical, pointed_pair, scene
+    from pounding.framework.engine import pairs as pg
+    from pounding.framework.engine.driver import Model
+
+    m = Model(scene(pointed_pair(tip_y=3.0)))
+    u_right = 0.0
+    for _ in range(3):  # press the tip 10 um into the turned face
+        q = modal_from_physical(m, {(0, 0): (0.0, 0.0, 0.008), (1, 0): (u_right, 0.0, -0.012)})
+        u_right -= float(pg.pair_gap(q, 0, np.inf, m.geo)) + 1e-5
+    q = modal_from_physical(m, {(0, 0): (0.0, 0.0, 0.008), (1, 0): (u_right, 0.0, -0.012)})
+    count, _, _, gap, *_, W = pg.pair_features(q, 0, 1e-4, m.n, m.geo)
+    assert count == 1 and gap[0] == pytest.approx(-1e-5, rel=1e-3)
+    rng = np.random.default_rng(7)
+    for _ in range(8):
+        dq = rng.standard_normal(m.n)
+        dq *= 1e-6 / (np.linalg.norm(W[0]) * np.linalg.norm(dq))
+        central = 0.5 * (pg.pair_gap(q + dq, 0, np.inf, m.geo) - pg.pair_gap(q - dq, 0, np.inf, m.geo))
+        assert abs(central - W[0] @ dq) <= 1e-7 * 1e-6

@@ -212,9 +212,9 @@ def _law_dissipation(result, states):
     through the rows is minus the change of the potential sum_i s_i integral_0^delta_i F_el (zero over
     closed contacts) minus integral sum_i s_i F_el,i (delta'_i - d delta_i / dt), which
     G = integral sum_i s_i |F_el,i| |delta'_i - d delta_i / dt| bounds: the rows take the lever arms of
-    the contact point about the slabs' displaced centres, while the gap moves the slabs' vertices with
-    their rest lever arms (small displacements), so the two rates differ by about the slabs'
-    displacement over their lever arms. Both by the trapezoid over the recorded steps; its error on
+    the contact point about the slabs' displaced centres, the exact derivative of the gap the slabs'
+    rigid motion gives, so the two rates differ only by the central difference's own error
+    (:func:`_pressed_states`). Both by the trapezoid over the recorded steps; its error on
     the dissipative and on the elastic power (the engine books a step's work with the force linear
     in time, a trapezoid too) is estimated by the difference from Simpson's rule on the same states."""
     from scipy.integrate import simpson

@@ -308,17 +308,16 @@ def test_identical_buildings_side_by_side_move_in_phase_without_impact():
     """Two copies of one eccentric building (the paper's 3-storey "low", 15 m wide), the second
     translated by 15.001 m: under the same ground motion they move identically - in phase, twist
     included (1e-12 of the response) - and never touch. They twist by phi about their own centres, so
-    with the slabs' linearised rotation the facing edges stay parallel but slide past each other and
-    their distance is (g0 - W phi^2) / sqrt(1 + phi^2) (W = 15 m the width): checked to 1e-12 m at
-    every step. (An exact rigid rotation would give g0 cos(phi) - W (1 - cos(phi)); the two agree to
-    first order, the linearisation is the package's small-rotation model.)"""
+    the facing edges, turned alike, stay parallel, slide past each other and stand
+    (W + g0) cos(phi) - W = g0 cos(phi) - W (1 - cos(phi)) apart along their normal (W = 15 m the
+    width): checked to 1e-12 m at every step."""
     d, r = run_and_check(parse_scene(copy_of_paper_low(15.001)))
     assert r.n_impacts == 0 and r.info["located_events"] == 0
     assert np.max(np.abs(r.cm("low") - r.cm("copy"))) <= 1e-12 * np.max(np.abs(r.cm("low")))
     phi = r.cm("low")[:, :, 2]
     assert np.max(np.abs(phi)) > 1e-3, "the buildings must twist for the test to mean something"
     g = all_gaps(d.model, r)
-    assert np.max(np.abs(g - (0.001 - 15.0 * phi**2) / np.sqrt(1 + phi**2))) <= 1e-12
+    assert np.max(np.abs(g - (0.001 * np.cos(phi) - 15.0 * (1.0 - np.cos(phi))))) <= 1e-12
 
 
 def test_identical_buildings_touching_in_phase_never_impact():

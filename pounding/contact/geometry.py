@@ -6,9 +6,14 @@ Conventions
   plan coordinates [m], counter-clockwise (normalise user input once with
   :func:`ccw`). Edge ``j`` runs from vertex ``j`` to vertex ``j + 1`` (mod k);
   its outward unit normal is ``(dy, -dx) / L``.
-* A slab moves rigidly with small (linearised) displacements ``(u, v, phi)``
-  of its centre of mass ``c``: a point P moves by
-  ``(u - phi (P_y - c_y), v + phi (P_x - c_x))`` (:func:`displaced`).
+* A slab moves rigidly by ``(u, v, phi)``: its centre of mass ``c`` by ``(u, v)``
+  and a turn phi about it, so a point P goes to ``c + (u, v) + R(phi) (P - c)``
+  (:func:`displaced`). The turn is exact, not linearised: the contact rows, which
+  take a point's lever arm about the displaced centre, are then the exact gradient
+  of the gap, so a contact force that follows a potential of the gap does no net
+  work, and an impulse pair at a common point keeps the slabs' angular momentum.
+  (The structural model is linear in phi; only where slabs touch is the position
+  exact, as the paper's contact conditions ask.)
 * Normals of contact features point from polygon A towards polygon B.
 
 Penetration depth
@@ -247,7 +252,7 @@ def _segments_touch(a0, a1, b0, b1, eps) -> bool:
 
 @njit
 def displaced(vertices, c, u, v, phi):
-    """Vertices after a small rigid displacement of the slab (linearised rotation).
+    """Vertices after a rigid displacement of the slab.
 
     Parameters
     ----------
@@ -263,16 +268,35 @@ def displaced(vertices, c, u, v, phi):
     Returns
     -------
     ndarray, shape (k, 2)
-        ``P + (u - phi (P_y - c_y), v + phi (P_x - c_x))`` for each vertex P.
+        ``P + (u, v) + (R(phi) - I) (P - c)`` for each vertex P (:func:`turn`).
     """
     k = vertices.shape[0]
     out = np.empty((k, 2))
+    cm1, sn = turn(phi)
     for i in range(k):
         dx = vertices[i, 0] - c[0]
         dy = vertices[i, 1] - c[1]
-        out[i, 0] = vertices[i, 0] + u - phi * dy
-        out[i, 1] = vertices[i, 1] + v + phi * dx
+        out[i, 0] = vertices[i, 0] + u + (cm1 * dx - sn * dy)
+        out[i, 1] = vertices[i, 1] + v + (sn * dx + cm1 * dy)
     return out
+
+
+def turned(r, phi):
+    """(R(phi) - I) r [m], shape (..., k, 2): how far a turn phi [rad] (shape (..., 1)) about a centre
+    moves the points at offsets r (k, 2) [m] from it (numpy, for results over many steps; the same
+    arithmetic as :func:`displaced`)."""
+    h = np.sin(0.5 * phi)
+    cm1, sn = -2.0 * h * h, np.sin(phi)
+    return np.stack([cm1 * r[:, 0] - sn * r[:, 1], sn * r[:, 0] + cm1 * r[:, 1]], axis=-1)
+
+
+@njit
+def turn(phi):
+    """(cos(phi) - 1, sin(phi)) of a turn phi [rad], the first as -2 sin^2(phi / 2): a point's move
+    (R(phi) - I) r without the cancellation of cos(phi) - 1 at the small turns of a building
+    (a vertex at rest keeps its coordinates to the bit when phi = 0)."""
+    h = math.sin(0.5 * phi)
+    return -2.0 * h * h, math.sin(phi)
 
 
 @njit
@@ -288,14 +312,20 @@ def axis_separation(A, cA, uA, vA, phiA, B, cB, uB, vB, phiB, nx, ny):
     axis is the direction of their closest points at rest.
     """
     top = -np.inf
+    cm1, sn = turn(phiA)
     for i in range(A.shape[0]):
-        x = A[i, 0] + uA - phiA * (A[i, 1] - cA[1])
-        y = A[i, 1] + vA + phiA * (A[i, 0] - cA[0])
+        dx = A[i, 0] - cA[0]
+        dy = A[i, 1] - cA[1]
+        x = A[i, 0] + uA + (cm1 * dx - sn * dy)
+        y = A[i, 1] + vA + (sn * dx + cm1 * dy)
         top = max(top, nx * x + ny * y)
     bottom = np.inf
+    cm1, sn = turn(phiB)
     for i in range(B.shape[0]):
-        x = B[i, 0] + uB - phiB * (B[i, 1] - cB[1])
-        y = B[i, 1] + vB + phiB * (B[i, 0] - cB[0])
+        dx = B[i, 0] - cB[0]
+        dy = B[i, 1] - cB[1]
+        x = B[i, 0] + uB + (cm1 * dx - sn * dy)
+        y = B[i, 1] + vB + (sn * dx + cm1 * dy)
         bottom = min(bottom, nx * x + ny * y)
     return bottom - top
 
@@ -322,12 +352,13 @@ def clearance_bound(d_rest, u1, v1, phi1, R1, u2, v2, phi2, R2):
 
     Notes
     -----
-    Why it is a lower bound. The linearised map ``T_i(P) = P + t_i + phi_i J
-    (P - c_i)`` (t_i = (u_i, v_i), J the rotation by +90°) is affine, so it maps
-    the polygon onto the polygon of the displaced vertices. Every point P of
+    Why it is a lower bound. The rigid map ``T_i(P) = P + t_i + (R(phi_i) - I)
+    (P - c_i)`` (t_i = (u_i, v_i)) is affine, so it maps the polygon onto the
+    polygon of the displaced vertices, and it moves a point at distance r from
+    c_i by t_i plus at most 2 |sin(phi_i / 2)| r <= |phi_i| r. Every point P of
     slab i lies in the convex hull of its vertices, hence in the disc of radius
     ``R_i`` about ``c_i``. For P in slab 1 and Q in slab 2,
-    ``T_1(P) - T_2(Q) = (P - Q) + (t_1 - t_2) + phi_1 J (P - c_1) - phi_2 J (Q - c_2)``,
+    ``T_1(P) - T_2(Q) = (P - Q) + (t_1 - t_2) + (R_1 - I) (P - c_1) - (R_2 - I) (Q - c_2)``,
     and ``|P - Q| >= d_rest``, so ``|T_1(P) - T_2(Q)| >= d_rest - |t_1 - t_2| -
     |phi_1| R_1 - |phi_2| R_2``: only the *relative* translation counts, so two
     slabs moving in phase keep a large bound. If the bound is positive the

@@ -233,15 +233,17 @@ class _Side:
 
     def at(self, q: np.ndarray) -> np.ndarray:
         """The displaced outline (k, 2) for the building's modal coordinates q (n,)."""
+        from pounding.contact.geometry import turned
+
         u, v, phi = self.rows @ q
-        r = self.vertices - self.centre
-        return self.vertices + np.stack([u - phi * r[:, 1], v + phi * r[:, 0]], axis=-1)
+        return self.vertices + np.array([u, v]) + turned(self.vertices - self.centre, np.array([phi]))
 
 
 def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
     """The two sides of ``site`` (:func:`~pounding.framework.model.placement.pair_sites`) in ``result``: the slabs' motion, or the facade
     the driver uses (:func:`pounding.framework.model.facade.facade`, from the run's assembled system);
     ``vertices``: {building name: ``result.vertices(name)``}."""
+    from pounding.contact.geometry import turned
     from pounding.framework.model.facade import facade
 
     z = _site_level(a, b, site)
@@ -256,8 +258,7 @@ def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
             continue
         F = facade(system, i, z)
         uvp = result.modal(building.name) @ F.rows.T  # (nt, 3) about the facade's centre
-        r = F.vertices - F.centre
-        off = np.stack([uvp[:, :1] - uvp[:, 2:] * r[:, 1], uvp[:, 1:2] + uvp[:, 2:] * r[:, 0]], axis=-1)
+        off = uvp[:, None, 0:2] + turned(F.vertices - F.centre, uvp[:, 2:3])
         out.append(_Side(building.name, F.vertices, F.centre, F.rows, off, True))
     return out[0], out[1]
 
