@@ -148,6 +148,30 @@ def end_load(f1, G, bounds, gmodes, g):
 
 
 @njit
+def joined_load(f, links, g):
+    """g (n,) <- the modal load of the remainders f (ns,) of the links between slabs only
+    (``links.joins``): the part of :func:`end_load` whose work is booked to the buildings' ``links`` term."""
+    G, bounds, gmodes, joins = links.G, links.bounds, links.gmodes, links.joins
+    for i in range(g.shape[0]):
+        g[i] = 0.0
+    for j in range(bounds.shape[0] - 1):
+        m0, nm = gmodes[j, 0], gmodes[j, 1]
+        for i in range(nm):
+            acc = 0.0
+            for s in range(bounds[j], bounds[j + 1]):
+                acc += G[s, i] * (f[s] * joins[s])
+            g[m0 + i] = acc
+
+
+@njit
+def _has_joins(links):
+    for s in range(links.joins.shape[0]):
+        if links.joins[s] != 0.0:
+            return True
+    return False
+
+
+@njit
 def _largest_group(bounds):
     m = 0
     for j in range(bounds.shape[0] - 1):
@@ -285,7 +309,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     links, S, now, lrec = run.links, run.S, run.now, run.record
     G, bounds, gmodes = links.G, links.bounds, links.gmodes
     f, g, state = now.f, now.g, now.state
-    work, counts, hist = lrec.work, lrec.counts, lrec.hist
+    work, counts, hist, joined_work = lrec.work, lrec.counts, lrec.hist, lrec.joined_work
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -307,6 +331,12 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     out = LinkTrial(f1, trial, g1)
     ws = newton_work(bounds)
     compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers solve_springs computes)
+    # the links between slabs: their modal load at the step's ends, whose work is booked apart
+    joined = _has_joins(links)
+    gx0 = np.zeros(n)
+    gx1 = np.zeros(n)
+    if joined:
+        joined_load(f, links, gx0)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -366,6 +396,12 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
         for b in range(nb):
             E[b, 2] += per[b]
             work[b] += per[b]
+        if joined:  # the links between slabs' share of that work, by the same rule
+            joined_load(f1, links, gx1)
+            spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, gx0, gx1, w)
+            for i in range(n):
+                joined_work[bidx[i]] += w[i]
+                gx0[i] = gx1[i]
         # commit the links
         for i in range(n):
             g[i] = g1[i]
