@@ -97,7 +97,8 @@ def test_two_buildings_joined_by_a_spring_vibrate_at_the_coupled_frequencies():
     it to rounding. Each step's arithmetic carries a few roundings of the amplitude, and a scheme of
     unit spectral radius neither damps nor amplifies them, so the error grows at most linearly:
     <= 64 N eps x0 over N steps (measured ~1e-3 of that). The spring's own split is 0 (its whole
-    force is the stepping's remainder), so this also checks that the coupled Newton is the coupled system."""
+    force is the stepping's remainder), so this also checks that the coupled Newton is the coupled system.
+    The floor accelerations reported are those of the coupled system, m x'' = -K x, the link's force in them."""
     k, h, steps = 1.5e8, 0.002, 500
     data = linked_pair({"name": "elastic", "stiffness": k}, kx_a=(5.0e7, 5.0e7), kx_b=(1.0e8, 1.0e8), dt=h, duration=steps * h)
     scene = parse_scene(data).with_ground_motion(STILL)
@@ -122,6 +123,14 @@ def test_two_buildings_joined_by_a_spring_vibrate_at_the_coupled_frequencies():
     # not vacuous: the link moves "b" by a good share of "a"'s drift, and its y and twist stay at rest
     assert np.max(np.abs(xb)) > 0.2 * x0[0]
     assert np.max(np.abs(res.cm("a")[:, 0, 1:])) <= 64 * steps * EPS * x0[0]
+    # the floor accelerations include the link's force: m x'' = -K x of the coupled system, to the
+    # rounding of K x (a few eps of (k_a + k) x0 / m)
+    from pounding.io.results import response_histories
+
+    hist = response_histories(res)
+    acc = np.column_stack([hist[nm]["floor_acceleration"][:, 0, 0] for nm in ("a", "b")])
+    expected = -(np.column_stack([xa, xb]) @ K.T) / MASS
+    assert np.max(np.abs(acc - expected)) <= 64 * EPS * (ka + kb + 2 * k) * x0[0] / MASS
 
 
 # ----------------------------------------------------------------------------------- (d) conservation

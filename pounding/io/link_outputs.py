@@ -37,6 +37,10 @@ def links_summary(result) -> dict:
 def load_links(folder: Path, scene) -> dict:
     """The links' records of a run folder (response.npz), as the run kept them (see
     :func:`pounding.framework.engine.yielding.link_record`)."""
+    from pounding.framework.engine.link_table import building_rows
+    from pounding.framework.model.assembly import assemble
+
+    systems = [assemble(b) for b in scene.buildings]
     path = Path(folder) / "response.npz"
     if not scene.links or not path.exists():
         return {}
@@ -48,7 +52,9 @@ def load_links(folder: Path, scene) -> dict:
             rec = {key: data[f"link_{link.name}_{key}"] for key in HISTORY_KEYS}
             force = rec["force"]
             out[link.name] = {"between": list(link.between), "storeys": list(link.storeys), "points": link.points.copy(),
+                              "rows": building_rows(scene, systems, link),
                               "law": link.law.describe(), **rec, "peak": float(rec["peak"]),
                               "peak_force": float(np.max(np.abs(force), initial=0.0)),
                               "energy_dissipated": float(rec["dissipated"][-1]) if len(rec["dissipated"]) else 0.0}
     return out
+

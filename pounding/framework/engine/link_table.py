@@ -23,17 +23,28 @@ import numpy as np
 from pounding.framework.model.kinematics import placement
 
 
+def building_rows(scene, systems, link) -> dict:
+    """{building name: (n_b,) the deformation's row over that building's own modes} of ``link``
+    (``systems``: the buildings' assembled systems, scene order); a building named twice gets the
+    sum of its two ends' rows."""
+    names = [b.name for b in scene.buildings]
+    out: dict = {}
+    for sign, name, storey, point in zip((-1.0, 1.0), link.between, link.storeys, link.points):
+        i = names.index(name)
+        b = scene.buildings[i]
+        centres = np.array([s.centre for s in b.slabs])
+        T = placement(centres, [storey], np.asarray(point, float), link.direction, b.n_storeys)[0]
+        out[name] = out.get(name, 0.0) + sign * (T @ systems[i].modes)
+    return out
+
+
 def link_row(scene, model, link) -> np.ndarray:
     """Row (n,) over the stacked modes of ``model`` of the deformation of ``link`` (module docstring)."""
     names = [b.name for b in scene.buildings]
     out = np.zeros(model.n)
-    for sign, name, storey, point in zip((-1.0, 1.0), link.between, link.storeys, link.points):
-        i = names.index(name)
-        b, system = scene.buildings[i], model.systems[i]
-        centres = np.array([s.centre for s in b.slabs])
-        T = placement(centres, [storey], np.asarray(point, float), link.direction, b.n_storeys)[0]
-        m0 = int(model.mode_start[i])
-        out[m0 : m0 + system.modes.shape[1]] += sign * (T @ system.modes)
+    for name, row in building_rows(scene, model.systems, link).items():
+        m0 = int(model.mode_start[names.index(name)])
+        out[m0 : m0 + row.shape[0]] = row
     return out
 
 

@@ -239,10 +239,18 @@ class Yielding:
                                                      self.peak[lo:hi].copy(), self.block_rows(blk))
         return out
 
-    def joined_histories(self, hist: np.ndarray) -> dict:
-        """Per link between slabs (by name): :func:`link_record` of its histories and totals."""
-        return {link.name: link_record(link, hist[0, :, s], hist[1, :, s], hist[2, :, s], float(self.peak[s]),
-                                       self.state[s]) for link, s in self.joined}
+    def joined_histories(self, hist: np.ndarray, names: list, mode_start, n_modes) -> dict:
+        """Per link between slabs (by name): :func:`link_record` of its histories and totals, with its
+        row over each building's own modes (``names``, their first stacked modes and mode counts)."""
+        out = {}
+        for link, s in self.joined:
+            grp = next(g for g in self.groups if g.lo <= s < g.hi)
+            row = np.zeros(self.n)
+            row[grp.sl] = self.links.G[s, : grp.sl.stop - grp.sl.start]
+            rows = {nm: row[int(mode_start[names.index(nm)]) : int(mode_start[names.index(nm)]) + n_modes[names.index(nm)]].copy()
+                    for nm in dict.fromkeys(link.between)}
+            out[link.name] = link_record(link, hist[0, :, s], hist[1, :, s], hist[2, :, s], float(self.peak[s]), self.state[s], rows)
+        return out
 
     def joined_energy(self) -> dict:
         """The links between slabs' own account [J]: ``dissipated`` (their laws' own dissipation along
@@ -373,13 +381,14 @@ def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
             "peak": peak}
 
 
-def link_record(link, d, r, h, peak: float, state: np.ndarray) -> dict:
+def link_record(link, d, r, h, peak: float, state: np.ndarray, rows: dict) -> dict:
     """What a run keeps of one link between slabs: ``between``, ``storeys``, ``points`` (2, 2) [m],
     ``deformation``, ``force``, ``dissipated`` (nt,) at the output rate [m, N, J] (the law's own
     dissipation), ``peak`` [m] peak |deformation| over every step, ``peak_force`` [N] over the
-    output rows, ``energy_dissipated`` [J] at the end."""
+    output rows, ``energy_dissipated`` [J] at the end, ``rows`` {building name: (n_b,) its row over
+    that building's modes} (the force's modal load on building b is -force x rows[b])."""
     force = np.ascontiguousarray(r)
-    return {"between": list(link.between), "storeys": list(link.storeys), "points": link.points.copy(),
+    return {"between": list(link.between), "storeys": list(link.storeys), "points": link.points.copy(), "rows": rows,
             "law": link.law.describe(), "deformation": np.ascontiguousarray(d), "force": force,
             "dissipated": np.ascontiguousarray(h), "peak": peak,
             "peak_force": float(np.max(np.abs(force), initial=abs(float(state[1])))), "energy_dissipated": float(state[2])}
