@@ -3,7 +3,7 @@ the same scene without links, and what the dampers do.
 
     python benchmarks/bench_links.py [--no-write]
 
-The paper pair at 0.03 m (examples/paper/pair_gap_0.03.toml, 15 s of El Centro at 0.32 g) with two
+The paper pair at 0.03 m (examples/paper/pair_gap_0.03.toml, the whole El Centro record, 31 s at 0.32 g) with two
 linear viscous dampers (c = 2e6 N s/m each) between the top slab of "low" (storey 3) and the slab of
 "high" at the same level, along x at y = 2 m and y = 8 m, from x = 14.9 m on "low" to x = 15.13 m on
 "high". Two settings:

@@ -133,6 +133,43 @@ def test_two_buildings_joined_by_a_spring_vibrate_at_the_coupled_frequencies():
     assert np.max(np.abs(acc - expected)) <= 64 * EPS * (ka + kb + 2 * k) * x0[0] / MASS
 
 
+def test_a_link_between_two_floors_of_one_building_adds_its_stiffness_to_the_building():
+    """A spring k between floors 1 and 2 of the two-storey building "b", off its centre line (from
+    (12, 3) to (14, 3) along x: it twists the floors too), released from a drift of floor 2: the
+    building is the linear system M x'' + (K + k t t^T) x = 0, t the link's row over the 6 slab DOFs,
+    and Newmark's discrete solution of it is x_n = sum_j phi_j (phi_j^T M x0) cos(w~_j t_n),
+    w~ = (2 / h) atan(w h / 2), with (w_j, phi_j) its generalised eigenpairs: followed to rounding
+    (the bound of the two-building test). Building "a", joined to nothing, stays at rest."""
+    from pounding.framework.model.kinematics import placement
+
+    k, h, steps = 2.0e8, 0.002, 400
+    data = linked_pair({"name": "elastic", "stiffness": k}, storeys=(1, 2), dt=h, duration=steps * h)
+    data["link"][0].update(between=["b", "b"], storeys=[1, 2], points=[[12.0, 3.0], [14.0, 3.0]])
+    scene = parse_scene(data).with_ground_motion(STILL)
+    d = Driver(scene)
+    b, system = scene.buildings[1], d.model.systems[1]
+    centres = np.array([s.centre for s in b.slabs])
+    rows = placement(centres, [1, 2], np.array([12.0, 3.0]), np.array([1.0, 0.0]), 2)
+    t_row = rows[1] - rows[0]
+    K = system.K + k * np.outer(t_row, t_row)
+    m_half = np.sqrt(system.mass)
+    w2, psi = np.linalg.eigh(K / np.outer(m_half, m_half))
+    phi = psi / m_half[:, None]  # M-orthonormal
+    x0 = np.array([0.0, 0.0, 0.0, 0.01, 0.0, 0.0])
+    t = np.arange(steps + 1) * h
+    wd = 2.0 / h * np.arctan(np.sqrt(w2) * h / 2.0)
+    exact = (phi * (phi.T @ (system.mass * x0))) @ np.cos(np.outer(wd, t))  # (6, nt)
+    q0 = np.zeros(d.model.n)
+    m0 = int(d.model.mode_start[1])
+    q0[m0 : m0 + system.n_dof] = system.modes.T @ (system.mass * x0)
+    start_from(d, q0, np.zeros_like(q0))
+    res = d.run()
+    ours = res.cm("b").reshape(steps + 1, 6).T
+    assert np.max(np.abs(ours - exact)) <= 64 * steps * EPS * x0[3]
+    assert np.max(np.abs(ours[2::3])) > 1e-3 * x0[3] / 10.0  # not vacuous: the floors twist (rad over 10 m)
+    assert np.all(res.cm("a") == 0.0)
+
+
 # ----------------------------------------------------------------------------------- (d) conservation
 def test_a_link_moves_no_momentum_out_of_the_pair_and_its_energy_account_closes():
     """No ground motion, no damping: "a" released with a velocity 0.2 m/s along x, joined to "b" by a

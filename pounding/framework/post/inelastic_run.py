@@ -179,7 +179,9 @@ def _building_response(driver, i: int, springs: SpringSet) -> BuildingResponse:
     strain = 0.5 * float(np.sum(system.omega**2 * q * q)) - elastic_springs + float(stored.sum())
     energy = {"input": float(E[0]), "kinetic": kinetic, "strain": strain, "damping": float(E[1]), "hysteretic": hysteretic,
               "hysteretic_law": float(state[:, 2].sum())}
-    err = energy["input"] - (kinetic + strain + energy["damping"] + energy["hysteretic"])
+    if driver.springs is not None and driver.springs.joined:  # the work of the links between slabs on it
+        energy["links"] = -float(driver.springs.joined_work[i])
+    err = energy["input"] + energy.get("links", 0.0) - (kinetic + strain + energy["damping"] + energy["hysteretic"])
     energy["balance_error"] = float(err)
     energy["relative_error"] = float(abs(err) / max(abs(energy["input"]), 1e-300))
     return BuildingResponse(
