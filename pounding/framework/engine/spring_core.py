@@ -5,7 +5,7 @@ remainder f = r(u) - k0 u, a modal load g = G^T f over its building's modes (u =
 from the modal state z is the integrator's linear step with the start remainders' load -g0, the
 links' Newton on their end deformations,
 
-    u1 + S(h) f(u1) = G q_lin,        S(h) = G diag(B1(h)) G^T  (block diagonal by building),
+    u1 + S(h) f(u1) = G q_lin,        S(h) = G diag(B1(h)) G^T  (block diagonal by Newton group),
 
 and the end load: z1 = z_lin - B1 G^T f(u1) (the method: :mod:`pounding.framework.engine.inelastic`).
 
@@ -42,7 +42,7 @@ from pounding.framework.engine.links import law_update
 
 @njit
 def solve_group(laws, j, links, h, S, now, out, ws):
-    """Newton on ``u + S f(u) = dl`` for the links of group j (one building), for a step of h [s].
+    """Newton on ``u + S f(u) = dl`` for the links of group j (one building, or the buildings links join), for a step of h [s].
 
     links : :class:`Links` (the group's bounds, law indices, parameters, initial stiffnesses and
     residual tolerance [m] are read); S (ns, ns) the step's compliance (block diagonal by group);
@@ -112,7 +112,7 @@ def solve_group(laws, j, links, h, S, now, out, ws):
 
 @njit
 def compliance_load(f, S, bounds, sf):
-    """sf (ns,) <- S f per group (S block diagonal by building)."""
+    """sf (ns,) <- S f per group (S block diagonal by group)."""
     for j in range(bounds.shape[0] - 1):
         for a in range(bounds[j], bounds[j + 1]):
             acc = 0.0

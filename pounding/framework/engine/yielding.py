@@ -9,7 +9,10 @@ one after an impact, a trial of the impact locator) is
     u1 + S(h) f(u1) = G q_lin          (Newton, as in the contact-free stepping),
     z1 = z_lin - B1 G^T f(u1),
 
-with S(h) = G diag(B1(h)) G^T per building (the buildings' springs are uncoupled). A trial
+with S(h) = G diag(B1(h)) G^T per Newton group: a building's springs, or those of the buildings
+that links between slabs (the scene's ``[[link]]`` tables, :mod:`pounding.framework.engine.link_table`)
+join, which are coupled; groups are uncoupled. A link between slabs has no split (k0 = 0): its whole
+force is the remainder. A trial
 writes only a trial buffer (:class:`~pounding.framework.engine.bundles.LinkTrial`); the driver commits it with the step it
 accepts, so a rejected or bisected step leaves the springs as they were. Impulses change
 velocities only, so the springs' states stay valid across impacts.
@@ -18,7 +21,9 @@ Steps in which forces act that depend on the end state (pairs held in sustained 
 penalty forces) solve the springs by an outer fixed-point loop on their end remainders around
 the contact solve (:meth:`Yielding.fixed_point`): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
-storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance.
+storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance. A
+link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than the step's inertia
+(S k_t >> 1) makes the plain map expand, and the relaxed passes below are then what converge.
 
 Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
 :func:`pounding.framework.engine.spring_core.stretch`): the same step, and the slab pairs' check of the
@@ -151,51 +156,17 @@ class Yielding:
         for cls_ in [c for sp in sets if sp.size for c in sp.laws] + [type(k.law) for k in scene.links]:
             if cls_ not in laws:
                 laws.append(cls_)
-        spans = link_groups(len(names), ends, active)
-        start = [int(m) for m in model.mode_start]
-        nm = [system.modes.shape[1] for system in model.systems]
-        rows, pars, law_ids, k0s, scales = [], [], [], [], []
-        groups, blocks, joined = [], [], []
-        lo = 0
-        for j, (first, last) in enumerate(spans):
-            sl = slice(start[first], start[last] + nm[last])
-            g_lo, g_scales = lo, []
+        lay = _Layout(scene, model, tuple(laws), tolerance)
+        for first, last in link_groups(len(names), ends, active):
+            lay.open(first, last)
             for i in range(first, last + 1):
-                sp = sets[i]
-                if not sp.size:
-                    continue
-                r = np.zeros((sp.size, sl.stop - sl.start))
-                r[:, start[i] - sl.start : start[i] - sl.start + nm[i]] = sp.T @ model.systems[i].modes
-                rows.append(r)
-                pars += list(sp.params)
-                law_ids += [laws.index(sp.laws[t]) for t in sp.law_id]
-                k0s += list(sp.k0)
-                g_scales += list(sp.yield_deformation)
-                blocks.append(Block(sp, i, lo, slice(start[i], start[i] + nm[i]), j))
-                lo += sp.size
+                if sets[i].size:
+                    lay.add_springs(i, sets[i])
             for k, link in enumerate(scene.links):
                 if first <= ends[k][0] <= last:
-                    rows.append(link_row(scene, model, link)[None, sl])
-                    pars.append(link.params)
-                    law_ids.append(laws.index(type(link.law)))
-                    k0s.append(0.0)  # its stiffness cannot go into the per-building modes: all its force is remainder
-                    g_scales.append(type(link.law).deformation_scale(link.params))
-                    joined.append((link, lo))
-                    lo += 1
-            heights = np.concatenate([scene.buildings[i].storey_heights for i in range(first, last + 1)])
-            groups.append(Group(first, last, g_lo, lo, sl, tolerance * newton_scale(np.array(g_scales), heights)))
-        width = max(c.n_params for c in laws)
-        nmax = max(g.sl.stop - g.sl.start for g in groups)
-        G = np.zeros((lo, nmax))
-        params = np.zeros((lo, width))
-        at = 0
-        for r in rows:
-            G[at : at + r.shape[0], : r.shape[1]] = r
-            at += r.shape[0]
-        for s, p in enumerate(pars):
-            params[s, : len(p)] = p
-        return cls(groups, blocks, joined, tuple(laws), np.array(law_ids, dtype=np.int64), G, params,
-                   np.array(k0s, dtype=float), model.n, len(model.systems))
+                    lay.add_link(link, link_row(scene, model, link))
+            lay.close()
+        return cls(lay.groups, lay.blocks, lay.joined, lay.laws, *lay.arrays(), model.n, len(model.systems))
 
     @property
     def size(self) -> int:
@@ -207,7 +178,7 @@ class Yielding:
         return self.rec.hist
 
     def S(self, B1: np.ndarray) -> np.ndarray:
-        """The step's compliance (ns, ns), block diagonal by building: G diag(B1) G^T for the
+        """The step's compliance (ns, ns), block diagonal by Newton group: G diag(B1) G^T for the
         stacked B1 = B[:, 0, 1] (n,) of the step."""
         key = B1.tobytes()
         out = self._S.get(key)
@@ -364,6 +335,67 @@ class Yielding:
             raise FloatingPointError(f"the links' Newton iteration did not converge in the step starting at "
                                      f"t = {k * driver.dt:g} s ({NEWTON_HINT})")
         return k, status, pair
+
+
+class _Layout:
+    """The flat link arrays of a run, built group by group (:meth:`Yielding.of`): every group's storey
+    springs, building by building, then the links between slabs it holds; each link's row over its
+    group's modes, law index, parameters and split k0 (a storey spring's initial stiffness; 0 for a
+    link between slabs, whose stiffness cannot go into the per-building modes)."""
+
+    def __init__(self, scene, model, laws: tuple, tolerance: float):
+        self.scene, self.model, self.laws, self.tolerance = scene, model, laws, tolerance
+        self.start = [int(m) for m in model.mode_start]
+        self.nm = [system.modes.shape[1] for system in model.systems]
+        self.rows, self.pars, self.law_ids, self.k0s = [], [], [], []
+        self.groups, self.blocks, self.joined = [], [], []
+        self.lo = 0
+
+    def open(self, first: int, last: int) -> None:
+        """Start the group of buildings first..last (their modes: one contiguous range)."""
+        self.first, self.last, self.g_lo, self.scales = first, last, self.lo, []
+        self.sl = slice(self.start[first], self.start[last] + self.nm[last])
+
+    def add_springs(self, i: int, sp: SpringSet) -> None:
+        """Building i's storey springs: their rows on its own modes, placed in the group's range."""
+        r = np.zeros((sp.size, self.sl.stop - self.sl.start))
+        off = self.start[i] - self.sl.start
+        r[:, off : off + self.nm[i]] = sp.T @ self.model.systems[i].modes
+        self.rows.append(r)
+        self.pars += list(sp.params)
+        self.law_ids += [self.laws.index(sp.laws[t]) for t in sp.law_id]
+        self.k0s += list(sp.k0)
+        self.scales += list(sp.yield_deformation)
+        self.blocks.append(Block(sp, i, self.lo, slice(self.start[i], self.start[i] + self.nm[i]), len(self.groups)))
+        self.lo += sp.size
+
+    def add_link(self, link, row: np.ndarray) -> None:
+        """A link between slabs with its row (n,) over the stacked modes."""
+        self.rows.append(row[None, self.sl])
+        self.pars.append(link.params)
+        self.law_ids.append(self.laws.index(type(link.law)))
+        self.k0s.append(0.0)  # its whole force is the stepping's remainder
+        self.scales.append(type(link.law).deformation_scale(link.params))
+        self.joined.append((link, self.lo))
+        self.lo += 1
+
+    def close(self) -> None:
+        """End the group: its Newton tolerance from its links' deformation scales (or its storeys)."""
+        heights = np.concatenate([self.scene.buildings[i].storey_heights for i in range(self.first, self.last + 1)])
+        tol = self.tolerance * newton_scale(np.array(self.scales), heights)
+        self.groups.append(Group(self.first, self.last, self.g_lo, self.lo, self.sl, tol))
+
+    def arrays(self) -> tuple:
+        """(law (ns,), G (ns, nmax), params (ns, width), k0 (ns,)): the flat arrays, zero-padded."""
+        G = np.zeros((self.lo, max(g.sl.stop - g.sl.start for g in self.groups)))
+        params = np.zeros((self.lo, max(c.n_params for c in self.laws)))
+        at = 0
+        for r in self.rows:
+            G[at : at + r.shape[0], : r.shape[1]] = r
+            at += r.shape[0]
+        for s, p in enumerate(self.pars):
+            params[s, : len(p)] = p
+        return np.array(self.law_ids, dtype=np.int64), G, params, np.array(self.k0s, dtype=float)
 
 
 def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
