@@ -369,3 +369,34 @@ def test_a_scene_with_links_round_trips(tmp_path):
     back = load_scene(write_scene(scene, tmp_path / "linked.toml"))
     assert scene_differences(scene, back) == []
     assert math.isclose(back.links[1].params[1], 2.0e5)
+
+
+# ----------------------------------------------------------------------------------- outputs
+def test_a_run_folder_keeps_every_link_and_plots_its_loop(tmp_path):
+    """response.npz holds each link's deformation, force and dissipation at the output times;
+    summary.json ``links`` states its ends, its peak force (the largest |force| of those), its peak
+    stroke (over every step: at least the largest |deformation| of the output times) and the energy it
+    dissipated (the last of its cumulative dissipation); the folder reads back with the same links and
+    energy terms, and ``pounding plot`` draws link_loops.png from it."""
+    import json
+
+    from pounding.framework.post.run import run
+    from pounding.io.plots import plot_all
+    from pounding.io.results import load_result, write_results
+
+    data = linked_pair({"name": "viscous", "coefficient": 3.0e6}, duration=1.0)
+    data["analysis"]["output_every"] = 2
+    res = run(parse_scene(data))
+    folder = write_results(res, tmp_path / "run")
+    summ = json.loads((folder / "summary.json").read_text())["links"]["l1"]
+    with np.load(folder / "response.npz") as npz:
+        d, f, e = npz["link_l1_deformation"], npz["link_l1_force"], npz["link_l1_dissipated"]
+    assert d.shape == f.shape == e.shape == res.t.shape
+    assert summ["between"] == ["a", "b"] and summ["storeys"] == [1, 1] and summ["law"]["name"] == "viscous"
+    assert summ["peak_force"] == np.abs(f).max() and summ["energy_dissipated"] == e[-1] > 0.0
+    assert summ["peak_stroke"] >= np.abs(d).max() > 0.0
+    scene, back = load_result(folder)
+    assert np.array_equal(back.links["l1"]["force"], f)
+    assert back.energy["a"]["links"] == res.energy["a"]["links"]
+    paths = plot_all(scene, back, tmp_path / "plots")
+    assert (tmp_path / "plots" / "link_loops.png") in paths
