@@ -170,6 +170,21 @@ def test_a_link_between_two_floors_of_one_building_adds_its_stiffness_to_the_bui
     assert np.all(res.cm("a") == 0.0)
 
 
+def test_newton_groups_are_the_buildings_links_join_over_contiguous_modes():
+    """The Newton groups (:func:`link_groups`): the connected components of the buildings joined by
+    links, each widened to the consecutive buildings between its first and last (one contiguous
+    range of the stacked modes, so a group's rows need no gather), overlapping ranges merged; a
+    building with links of its own (storey springs) and joined to none is its own group; buildings
+    with no link at all are in none."""
+    from pounding.framework.engine.link_table import link_groups
+
+    assert link_groups(4, [], [1, 3]) == [(1, 1), (3, 3)]
+    assert link_groups(4, [(0, 1)], [0, 1, 3]) == [(0, 1), (3, 3)]
+    assert link_groups(4, [(2, 0)], [0, 2, 1]) == [(0, 2)]  # building 1 lies inside 0..2: one group
+    assert link_groups(5, [(0, 2), (1, 3)], [0, 1, 2, 3]) == [(0, 3)]  # interleaved components merge
+    assert link_groups(3, [(1, 1)], [1]) == [(1, 1)]  # two floors of one building
+
+
 # ----------------------------------------------------------------------------------- (d) conservation
 def test_a_link_moves_no_momentum_out_of_the_pair_and_its_energy_account_closes():
     """No ground motion, no damping: "a" released with a velocity 0.2 m/s along x, joined to "b" by a
