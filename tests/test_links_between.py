@@ -60,17 +60,12 @@ def linked_pair(law: dict, *, storeys=(1, 1), kx_a=(1.0e8, 1.0e8), kx_b=(2.0e8, 
             "analysis": {"integrator": "newmark", "dt": dt, "duration": duration, "contact": "none"}}
 
 
-def slab_vector(d: Driver, x: np.ndarray) -> np.ndarray:
-    """The stacked slab DOFs (u, v, phi per floor, building by building) of the stacked modal vector x."""
-    return np.concatenate([s.modes @ x[int(m0) : int(m0) + s.modes.shape[1]] for s, m0 in zip(d.model.systems, d.model.mode_start)])
-
-
 def start_from(d: Driver, q: np.ndarray, v: np.ndarray) -> None:
-    """Put the driver at rest-free initial modal displacements q and velocities v (n,), with every link's
+    """Put the driver at the initial modal displacements q and velocities v (n,), with every link's
     committed state the state of that displacement (deformation, force k u of an elastic link) and the
     accelerations in equilibrium with it: the consistent start of the free vibration."""
     sp = d.springs
-    u = sp.links.G @ np.zeros(sp.links.G.shape[1])  # (shape only)
+    u = np.zeros(sp.size)
     for grp in sp.groups:
         u[grp.lo:grp.hi] = sp.links.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start] @ q[grp.sl]
     state = np.zeros_like(sp.state)
