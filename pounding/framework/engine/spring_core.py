@@ -399,9 +399,13 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
         if joined:  # the links between slabs' share of that work, by the same rule
             joined_load(f1, links, gx1)
             spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, gx0, gx1, w)
-            for i in range(n):
-                joined_work[bidx[i]] += w[i]
+            for b in range(nb):
+                per[b] = 0.0
+            for i in range(n):  # per building first, then booked: the Python step's order (bincount)
+                per[bidx[i]] += w[i]
                 gx0[i] = gx1[i]
+            for b in range(nb):
+                joined_work[b] += per[b]
         # commit the links
         for i in range(n):
             g[i] = g1[i]
