@@ -280,6 +280,9 @@ def human_summary(result, out: Path) -> str:
     for name in result.names:
         pk = result.peaks(name)
         lines.append(f"{name}: peak |u| {pk[:, 0].max() * 1e3:.1f} mm, |v| {pk[:, 1].max() * 1e3:.1f} mm, |phi| {pk[:, 2].max() * 1e3:.3f} mrad (top storey {pk[-1, 0] * 1e3:.1f} mm in x)")
+    for name, rec in getattr(result, "links", {}).items():  # links between slabs
+        lines.append(f"link {name}: peak force {rec['peak_force'] * 1e-3:.4g} kN, stroke {rec['peak'] * 1e3:.1f} mm, "
+                     f"dissipated {rec['energy_dissipated'] * 1e-3:.4g} kJ")
     lines.append(f"results in {out}/ (response.npz, summary.json, impacts.csv, contacts.csv)")
     return "\n".join(lines)
 

@@ -153,6 +153,7 @@ def describe(scene, path: Path | None = None) -> str:
                  + (f"; silenced: {', '.join(an.silence)}" if an.silence else ""))
     for rule in scene.contacts:  # [[contact]]: a pair of buildings with a law of its own
         lines.append(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {rule.law}{params(CONTACT_LAWS, rule.law, rule.params)}")
+    lines += [_link_line(k) for k in scene.links]  # [[link]]: a law between two slabs
     for b in scene.buildings:
         s = assemble(b)
         d = b.damping
@@ -185,6 +186,14 @@ def describe(scene, path: Path | None = None) -> str:
         for text in pairs:
             lines.append(text)
     return "\n".join(lines)
+
+
+def _link_line(link) -> str:
+    """One line of `pounding check` for a link: where its ends are and its law with its parameters."""
+    (pa, pb), (a, b) = link.points, link.between
+    law = ", ".join(f"{key} = {v:g}" if isinstance(v, float) else f"{key} = {v}" for key, v in link.law.describe().items())
+    return (f"link {link.name!r}: {a!r} storey {link.storeys[0]} at ({pa[0]:g}, {pa[1]:g}) m to {b!r} storey "
+            f"{link.storeys[1]} at ({pb[0]:g}, {pb[1]:g}) m; {law}")
 
 
 def _facing(scene) -> list[str]:

@@ -366,6 +366,8 @@ def plot_energy(result, path, *, scene=None) -> Path:
     bal = energy_balance(result)
     e = result.energy
     terms = [("input", "input"), ("kinetic", "kinetic"), ("strain", "strain"), ("damping", "damping"), ("contact_forces", "contact-force work")]
+    if any("links" in e[name] for name in result.names):  # the work of the links between slabs on each building
+        terms.append(("links", "link work"))
     x = np.arange(len(terms) + 2)
     bottom = np.zeros(len(terms))
     for i, name in enumerate(result.names):
@@ -509,4 +511,8 @@ def plot_all(scene, result, out_dir, *, reference=None, points: Sequence | None 
 
         paths.append(plot_hysteresis(result, out / "hysteresis_loops.png", springs=springs, reference=reference))
         paths.append(plot_spring_profiles(result, out / "spring_profiles.png", reference=reference))
+    if getattr(result, "links", None):  # links between slabs: their loops
+        from pounding.io.spring_plots import plot_link_loops
+
+        paths.append(plot_link_loops(result, out / "link_loops.png", reference=reference))
     return paths

@@ -197,9 +197,17 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "contact_episodes": episodes,
         "convergence": convergence_note(),
         "energy_balance": balance,
+        **_links(result),
         "peaks_over": _peaks_over(result),
         **result.info,
     }
+
+
+def _links(result: Result) -> dict:
+    """``{"links": ...}`` with the links between slabs (:func:`pounding.io.link_outputs.links_summary`), else {}."""
+    from pounding.io.link_outputs import links_summary
+
+    return {"links": links_summary(result)} if getattr(result, "links", None) else {}
 
 
 def _isolators(result: Result, system) -> dict:
@@ -256,6 +264,9 @@ def write_files(result: Result, folder: Path, scene_text: str | None = None) -> 
         arrays[f"{name}_cm"] = result.cm(name)
         arrays[f"{name}_vertices"] = result.vertices(name)
         arrays.update({f"{name}_{key}": val for key, val in histories[name].items()})
+    from pounding.io.link_outputs import link_arrays
+
+    arrays.update(link_arrays(result))  # the links between slabs
     np.savez(folder / "response.npz", **arrays)  # uncompressed: writing stays ~10x faster than zlib
     (folder / "summary.json").write_text(json.dumps(summary(result, histories), indent=1, default=_jsonable) + "\n")
     with open(folder / "impacts.csv", "w", newline="") as fh:
@@ -333,6 +344,7 @@ def load_result(folder: str | Path):
     from pounding.errors import InputError
     from pounding.framework.model.assembly import assemble
     from pounding.framework.engine.results import Impact
+    from pounding.io.link_outputs import load_links
     from pounding.io.scene import parse_scene
 
     folder = Path(folder)
@@ -354,7 +366,7 @@ def load_result(folder: str | Path):
         )
     ]
     pairs = [(int(a), int(fa), int(b), int(fb), float(g)) for (a, fa, b, fb), g in zip(data["pairs"], data["pair_rest_gap"])]
-    terms = ("input", "damping", "contact_forces", "kinetic", "strain", "hysteretic")  # as the run booked them (the rest is derived)
+    terms = ("input", "damping", "contact_forces", "kinetic", "strain", "hysteretic", "links")  # as the run booked them (the rest is derived)
     energy = {name: {k: b["energy"][k] for k in terms if k in b["energy"]} for name, b in summ["buildings"].items()}
     springs = _load_springs(folder, scene, summ)
     result = Result(
@@ -368,6 +380,8 @@ def load_result(folder: str | Path):
         slab_peaks=data["slab_peaks"] if "slab_peaks" in data else None,  # older run folders: from the histories
         springs=springs,
         contacts=episodes_from(data),
+        links=load_links(folder, scene),
+        link_energy={k: summ["energy_balance"]["links"][k] for k in ("dissipated", "stored")} if "links" in summ["energy_balance"] else None,
     )
     from pounding.framework.engine.driver import Model
 

@@ -355,7 +355,10 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
         raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")
     contacts = _contact_rules(data.get("contact", []), names, analysis, search)
-    return Scene(tuple(buildings), gm, analysis, source, contacts)
+    from pounding.io.scene_links import parse_links
+
+    links = parse_links(data.get("link", []), buildings)
+    return Scene(tuple(buildings), gm, analysis, source, contacts, links=links)
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -176,9 +176,10 @@ def _nested_owner(sub: Mapping) -> Mapping:
 def all_undocumented() -> list[str]:
     """Every undocumented key of the core and of every registered plugin."""
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, ground_motion_schema, SCENE
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, LINK, ground_motion_schema, SCENE
 
-    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact"))
+    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact", "link"))
+    out += undocumented(LINK, "link")
     out += undocumented(ground_motion_schema(), "ground_motion")
     out += undocumented(ANALYSIS, "analysis")
     out += undocumented(CONTACT, "contact")
@@ -335,7 +336,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         by default only those that ship with pounding (the checked-in page).
     """
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, SCENE, ground_motion_schema
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, LINK, SCENE, ground_motion_schema
 
     parts = [
         "# Scene file reference\n\n"
@@ -346,7 +347,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         "value per storey, bottom first. `pounding template` prints a commented starting scene; "
         "`pounding check SCENE` validates one without running it and prints what it understood, with units.\n\n"
         "Contents: [top level](#top-level), [[ground_motion]](#ground_motion), [[analysis]](#analysis), "
-        "[[[contact]]](#contact), "
+        "[[[contact]]](#contact), [[[link]]](#link), "
         "[[[building]]](#building), [damping](#buildingdamping), [elements](#elements), [integrators](#integrators), "
         "[contact laws](#contact-laws), [plausibility warnings](#plausibility-warnings), [a whole scene](#a-whole-scene).\n",
         table_section("Top level", {"properties": {k: v for k, v in SCENE["properties"].items()}, "required": SCENE["required"]},
@@ -354,6 +355,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         table_section("[ground_motion]", ground_motion_schema()),
         table_section("[analysis]", ANALYSIS),
         table_section("[[contact]]", CONTACT) + "\n" + CONTACT_EXAMPLE,
+        table_section("[[link]]", LINK) + "\n" + LINK_EXAMPLE,
         table_section("[[building]]", {**BUILDING, "properties": {k: v for k, v in BUILDING["properties"].items() if k != "damping"}}),
         table_section("[building.damping]", DAMPING, "An inline table inside `[[building]]`, e.g. "
                       "`damping = { type = \"rayleigh\", ratio = 0.05, modes = [1, 3] }`. " + DAMPING["description"]),
@@ -410,6 +412,30 @@ contact = { name = "penalty", stiffness = 1e9, restitution = 0.5 }
 between = ["wall", "B"]
 law = { name = "penalty", stiffness = 5e9, restitution = 0.3 }
 ```
+"""
+
+#: the [[link]] section's example
+LINK_EXAMPLE = """Example: a linear viscous damper between the top slab of `low` (storey 3) and the slab of `high` at the
+same level, across a 0.03 m gap, and a bilinear steel link between floors 2 and 3 of `high`:
+
+```toml
+[[link]]
+name = "damper-1"
+between = ["low", "high"]
+storeys = [3, 3]
+points = [[15.0, 5.0], [15.03, 5.0]]
+law = { name = "viscous", coefficient = 2.0e6, exponent = 1.0 }
+
+[[link]]
+between = ["high", "high"]
+storeys = [2, 3]
+points = [[20.0, 5.0], [22.0, 5.0]]
+law = { name = "bilinear", stiffness = 5.0e7, yield_force = 2.0e5, hardening = 0.02 }
+```
+
+Its deformation, force and dissipated energy are in response.npz (`link_<name>_deformation`, `_force`,
+`_dissipated`), its peaks in summary.json (`links`), and the work it does on each building is that building's
+`links` term in the energy account.
 """
 
 #: the contact-laws section's note on laws that are not installed

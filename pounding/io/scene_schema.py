@@ -357,6 +357,42 @@ CONTACT = {
     },
 }
 
+LINK = {
+    "type": "object",
+    "additionalProperties": False,
+    "required": ["between", "storeys", "points", "law"],
+    "description": "A link between two slabs (`[[link]]`, repeated: one table per link): a damper, a spring or any "
+    "hysteresis law acting between a point of one building's slab and a point of another's (or of another floor of "
+    "the same building), along the line from the first point to the second at rest, as OpenSees' zeroLength element "
+    "with a uniaxial material. Its deformation is the second point's displacement minus the first's along that line.",
+    "properties": {
+        "name": {"type": "string", "description": "The link's name in the outputs (default: `link-K`, K its 1-based "
+                 "place among the `[[link]]` tables).", "examples": ["damper-1"]},
+        "between": {
+            "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,
+            "description": "The names of the two buildings (a building named twice: two of its floors).",
+            "examples": [["low", "high"]],
+        },
+        "storeys": {
+            "type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 2, "maxItems": 2, "units": "-",
+            "description": "The slab (storey, 1-based) of each building the link is attached to.", "examples": [[3, 3]],
+        },
+        "points": {
+            "type": "array", "items": POINT, "minItems": 2, "maxItems": 2, "units": "m",
+            "description": "The attachment points [x, y], each on its slab; they must differ (the line between them is "
+            "the link's direction).", "examples": [[[15.0, 5.0], [15.03, 5.0]]],
+        },
+        "law": {
+            "type": "object", "required": ["name"],
+            "description": "The link's law: `{ name = ..., parameter = ... }`: `viscous` (coefficient, exponent), "
+            "`maxwell` and `kelvin` (stiffness, coefficient, exponent), `elastic` (stiffness), or a hysteresis law "
+            "(`bilinear`, `bouc_wen`, a plugin's) with `stiffness` [N/m], `yield_force` [N] and `hardening` [-] beside "
+            "its own parameters.",
+            "examples": [{"name": "viscous", "coefficient": 2.0e6, "exponent": 1.0}],
+        },
+    },
+}
+
 SCENE = {
     "type": "object",
     "required": ["building"],
@@ -367,6 +403,7 @@ SCENE = {
         "ground_motion": {"type": "object", "description": "See *[ground_motion]*."},
         "analysis": ANALYSIS,
         "contact": {"type": "array", "items": CONTACT, "description": "See *[[contact]]*."},
+        "link": {"type": "array", "items": LINK, "description": "See *[[link]]*."},
     },
 }
 

@@ -233,6 +233,13 @@ def _plugin_problems(data: Mapping) -> list[Problem]:
     for i, table in enumerate(contacts if isinstance(contacts, list) else ()):
         if isinstance(table, Mapping):
             places.append((("contact", i, "law"), table.get("law"), CONTACT_LAWS))
+    from pounding.framework.model.registry import HYSTERESIS
+
+    links = data.get("link")
+    for i, table in enumerate(links if isinstance(links, list) else ()):
+        if isinstance(table, Mapping) and isinstance(table.get("law"), Mapping):
+            # its parameters: the law's own, and a yielding law's stiffness, yield_force, hardening (checked on building it)
+            places.append((("link", i, "law"), {"name": table["law"].get("name")}, HYSTERESIS))
     out = []
     for at, value, registry in places:
         name = value if isinstance(value, str) else value.get("name") if isinstance(value, Mapping) else None

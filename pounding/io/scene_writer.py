@@ -42,6 +42,10 @@ def scene_table(scene, record_stem: str) -> tuple[dict[str, Any], dict[str, np.n
     table["building"] = [_building(b) for b in scene.buildings]
     table["ground_motion"] = ground
     table["analysis"] = _analysis(scene.analysis)
+    if scene.links:
+        from pounding.io.scene_links import link_table
+
+        table["link"] = [link_table(k) for k in scene.links]
     return table, records
 
 
@@ -145,7 +149,7 @@ def _value(v: Any) -> str:
 def to_toml(table: dict[str, Any]) -> str:
     """TOML text of a scene table: top-level values, then ``[[building]]`` (with ``[[building.element]]``),
     ``[ground_motion]`` and ``[analysis]``; deeper tables inline."""
-    lines = [f"{_key(k)} = {_value(v)}" for k, v in table.items() if k not in ("building", "ground_motion", "analysis")]
+    lines = [f"{_key(k)} = {_value(v)}" for k, v in table.items() if k not in ("building", "ground_motion", "analysis", "link")]
     for b in table.get("building", []):
         lines += ["", "[[building]]"]
         lines += [f"{_key(k)} = {_value(v)}" for k, v in b.items() if k != "element"]
@@ -156,6 +160,8 @@ def to_toml(table: dict[str, Any]) -> str:
         if section in table:
             lines += ["", f"[{section}]"]
             lines += [f"{_key(k)} = {_value(v)}" for k, v in table[section].items()]
+    for link in table.get("link", []):
+        lines += ["", "[[link]]"] + [f"{_key(k)} = {_value(v)}" for k, v in link.items()]
     return "\n".join(lines) + "\n"
 
 

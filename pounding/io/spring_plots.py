@@ -4,7 +4,8 @@
   spring of largest ductility demand in every building), with a ``reference`` run (e.g. the same
   scene without pounding) dashed grey;
 * ``spring_profiles.png`` - per building (one row each), per yielding line, over the storeys:
-  peak drift ratio, ductility demand and residual drift ratio, the reference dashed.
+  peak drift ratio, ductility demand and residual drift ratio, the reference dashed;
+* ``link_loops.png`` - force against deformation of every link between slabs (`[[link]]`).
 
 matplotlib is imported by the figure helpers of :mod:`pounding.io.plots` only.
 """
@@ -104,4 +105,26 @@ def plot_spring_profiles(result, path, *, reference=None) -> Path:
             if c == 0:
                 ax.legend(fontsize=6)
     fig.suptitle("yielding storey springs" + (" (dashed: reference run)" if reference is not None else ""), fontsize=10)
+    return _save(fig, path)
+
+
+def plot_link_loops(result, path, *, reference=None) -> Path:
+    """``link_loops.png``: force against deformation of every link between slabs (one panel each),
+    titled by its place and peaks; a ``reference`` run's loop of the same link dashed grey."""
+    names = list(result.links)
+    fig = _figure(4.0 * len(names), 3.4)
+    axes = fig.subplots(1, len(names), squeeze=False)[0]
+    for ax, name in zip(axes, names):
+        rec = result.links[name]
+        ref = reference.links.get(name) if reference is not None else None
+        if ref is not None:
+            ax.plot(ref["deformation"] * 1e3, ref["force"] * 1e-3, "--", color="0.55", lw=0.8, label="reference")
+        ax.plot(rec["deformation"] * 1e3, rec["force"] * 1e-3, "-", color=COLOURS[0], lw=0.9, label="this run")
+        (a, b), (sa, sb) = rec["between"], rec["storeys"]
+        ax.set_title(f"{name}: {a} {sa} - {b} {sb} (stroke {float(rec['peak']) * 1e3:.1f} mm, "
+                     f"{float(rec['energy_dissipated']) * 1e-3:.3g} kJ)", fontsize=9)
+        ax.set_xlabel("link deformation [mm]")
+        ax.set_ylabel("link force [kN]")
+        ax.grid(alpha=0.3)
+        ax.legend(fontsize=7)
     return _save(fig, path)

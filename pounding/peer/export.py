@@ -76,6 +76,9 @@ def opensees_script(scene, *, out_of_plane: float = OUT_OF_PLANE) -> tuple[str, 
         raise InputError(f"cannot export to OpenSees: {exc}") from None
     integrator, note = _integrator(scene)
     notes += [note] if note else []
+    if scene.links:  # (the peer model of the tests has them: pounding.peer.opensees_springs.run_linked_transient)
+        notes.append(f"the scene's {len(scene.links)} [[link]] table(s) are not in the script: add each as a zeroLength "
+                     "element between nodes of the two slabs' diaphragms")
     analysis = ScriptOps()
     from pounding.peer.opensees import transient_analysis
 

@@ -30,36 +30,62 @@ def _material(ops, tag: int, element, storey: int, boucwen_tol: float, tags=None
     if not element.yields:
         ops.uniaxialMaterial("Elastic", tag, k0)
         return
-    fy = float(element.yield_force[storey])
-    b = float(element.hardening)
-    law = element.law.name
-    if law == "bilinear":
+    law_material(ops, tag, element.law, k0, float(element.yield_force[storey]), float(element.hardening), boucwen_tol, tags)
+
+
+def law_material(ops, tag: int, law, k0: float, fy: float, b: float, boucwen_tol: float = 1e-13, tags=None) -> None:
+    """The uniaxial material ``tag`` of a link law with initial stiffness k0 [N/m], yield force fy [N]
+    and hardening b [-] (a storey spring's, or a ``[[link]]``'s from its parameter vector)."""
+    name = law.name
+    if name == "bilinear":
         ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
-    elif law == "bouc_wen":
+    elif name == "bouc_wen":
         uy = fy / k0
-        n, beta, gamma = element.law.n, element.law.beta, element.law.gamma
+        n, beta, gamma = law.n, law.beta, law.gamma
         ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)
-    elif law == "friction_pendulum" and element.law.friction_slow is None:
+    elif name == "friction_pendulum" and law.friction_slow is None:
         # constant friction: W/R beside the elastic-perfectly-plastic slider (mu W / u_y, yield mu W) is
         # kinematic hardening with the law's k0, Fy and b (singleFPBearing also adds F u / R to the
         # normal force, which the law leaves out)
         ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
-    elif law == "elastic":
-        ops.uniaxialMaterial("Elastic", tag, element.law.stiffness)
-    elif law == "viscous":
-        ops.uniaxialMaterial("Viscous", tag, element.law.coefficient, element.law.exponent)
-    elif law == "maxwell":
+    elif name == "elastic":
+        ops.uniaxialMaterial("Elastic", tag, law.stiffness)
+    elif name == "viscous":
+        ops.uniaxialMaterial("Viscous", tag, law.coefficient, law.exponent)
+    elif name == "maxwell":
         # the adaptive Dormand-Prince of the material, to 1e-10 relative (its default is 1e-6)
-        ops.uniaxialMaterial("ViscousDamper", tag, element.law.stiffness, element.law.coefficient, element.law.exponent,
+        ops.uniaxialMaterial("ViscousDamper", tag, law.stiffness, law.coefficient, law.exponent,
                              0.0, 1, 1e-10, 1e-12, 20)
-    elif law == "kelvin" and tags is not None:
+    elif name == "kelvin" and tags is not None:
         spring, dashpot = tags(), tags()
-        ops.uniaxialMaterial("Elastic", spring, element.law.stiffness)
-        ops.uniaxialMaterial("Viscous", dashpot, element.law.coefficient, element.law.exponent)
+        ops.uniaxialMaterial("Elastic", spring, law.stiffness)
+        ops.uniaxialMaterial("Viscous", dashpot, law.coefficient, law.exponent)
         ops.uniaxialMaterial("Parallel", tag, spring, dashpot)
     else:
-        raise NotImplementedError(f"no OpenSees material for hysteresis law {law!r}"
-                                  + (" with velocity-dependent friction" if law == "friction_pendulum" else ""))
+        raise NotImplementedError(f"no OpenSees material for hysteresis law {name!r}"
+                                  + (" with velocity-dependent friction" if name == "friction_pendulum" else ""))
+
+
+def between_slabs(ops, link, ends: list[tuple[int, float]], tags, boucwen_tol: float = 1e-13) -> tuple[int, list[int]]:
+    """A ``[[link]]`` as OpenSees' ``zeroLength`` element with its law's material: a node at each
+    attachment point at its slab's elevation (``ends``: (diaphragm master tag, elevation [m]) of each
+    slab), restrained in uz, rx, ry, which nothing else stiffens; acting along the link's line
+    (``-dir 1 -orient n_x n_y 0 -n_y n_x 0``), so its deformation is n . (u_b - u_a) at the points.
+    Returns the element's tag and the two nodes, to be made slaves of their masters' diaphragms."""
+    nodes = []
+    for (_, z), (x, y) in zip(ends, link.points):
+        tag = tags()
+        ops.node(tag, float(x), float(y), float(z))
+        ops.fix(tag, 0, 0, 1, 1, 1, 0)
+        nodes.append(tag)
+    mat = tags()
+    k0, fy, b = (float(v) for v in link.params[:3])
+    law_material(ops, mat, link.law, k0, fy, b, boucwen_tol, tags)
+    d = link.direction
+    tag = tags()
+    ops.element("zeroLength", tag, *nodes, "-mat", mat, "-dir", 1,
+                "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0)
+    return tag, nodes
 
 
 def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13, *,

@@ -35,14 +35,15 @@ from pounding.peer.opensees_links import storey_links
 MASTER_FIX = (0, 0, 1, 1, 1, 0)
 
 
-def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1e-13):
+def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1e-13, extra_slaves=None):
     """Add one storey-spring building to the domain (see the module docstring).
 
     Returns
     -------
     (masters, nodes, elements, yielding) : master tags per floor, every node tag, every
     element tag, and the link tags of the yielding springs in the order of
-    :func:`pounding.framework.engine.inelastic.spring_set`.
+    :func:`pounding.framework.engine.inelastic.spring_set`. ``extra_slaves(masters)`` may add
+    nodes of other elements to the floors' diaphragms: a list of node lists, one per floor.
     """
     from pounding.peer.opensees import _elements_by_kind, _Tags
 
@@ -64,6 +65,9 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
         elements.extend(links)
         if e.yields:
             yielding.extend(links)
+    if extra_slaves is not None:
+        for f, more in enumerate(extra_slaves(masters)):
+            slaves[f].extend(more)
     for master, sl in zip(masters, slaves):
         if sl:
             ops.rigidDiaphragm(3, master, *sl)
@@ -168,3 +172,55 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
     iterations = step_through(ops, n_steps, dt, record)
     ops.wipe()
     return disp, forces, gap_forces, iterations
+
+
+def run_linked_transient(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-13, max_iter: int = 100):
+    """Storey-spring buildings joined by the scene's ``[[link]]`` s, in OpenSees: the buildings of
+    :func:`build_spring_building`, each link a ``zeroLength`` element with its law's material between
+    nodes on the two slabs (:func:`pounding.peer.opensees_links.between_slabs`), slaves of their
+    floors' diaphragms; each building's Rayleigh damping on its initial stiffness; Newmark average
+    acceleration, Newton (``NormDispIncr`` ``tol`` [m]), the ground motion along x.
+
+    Returns
+    -------
+    (disp, forces) : dict name -> (n_steps + 1, storeys, 3) master-node (ux [m], uy [m], rz [rad]);
+    (n_steps + 1, n_links) the links' basic forces [N] (scene order).
+    """
+    from pounding.peer.opensees import _Tags, building_rayleigh, newmark_along_x, rayleigh_damping
+    from pounding.peer.opensees_links import between_slabs
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    names = [b.name for b in scene.buildings]
+    link_tags = _Tags(5_000_000)
+    # the links' nodes first (their masters' tags are known: a building's floors are its first tags)
+    masters = {b.name: [100_000 * i + 1 + f for f in range(b.n_storeys)] for i, b in enumerate(scene.buildings)}
+    ends_of = {b.name: [[] for _ in b.slabs] for b in scene.buildings}
+    links = []
+    for link in scene.links:
+        ends = [(masters[nm][s - 1], scene.buildings[names.index(nm)].slabs[s - 1].elevation)
+                for nm, s in zip(link.between, link.storeys)]
+        tag, nodes = between_slabs(ops, link, ends, link_tags)
+        links.append(tag)
+        for nm, s, node in zip(link.between, link.storeys, nodes):
+            ends_of[nm][s - 1].append(node)
+    built = {}
+    for i, b in enumerate(scene.buildings):
+        built[b.name] = build_spring_building(ops, b, 100_000 * i, extra_slaves=lambda m, b=b: ends_of[b.name])
+        assert built[b.name][0] == masters[b.name]
+    rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
+    newmark_along_x(ops, scene.ground_motion, "run_linked_transient", tol, max_iter)
+    disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
+    forces = np.zeros((n_steps + 1, len(links)))
+
+    def record(k):
+        for b in scene.buildings:
+            for f, t in enumerate(built[b.name][0]):
+                disp[b.name][k, f] = (ops.nodeDisp(t, 1), ops.nodeDisp(t, 2), ops.nodeDisp(t, 6))
+        forces[k] = [ops.eleResponse(e, "basicForce")[0] for e in links]
+
+    from pounding.peer.opensees import step_through
+
+    step_through(ops, n_steps, dt, record)
+    ops.wipe()
+    return disp, forces

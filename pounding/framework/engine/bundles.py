@@ -192,12 +192,15 @@ class EventLog(NamedTuple):
 
 
 class Links(NamedTuple):
-    """The links with laws of a run (the yielding storey springs), as flat arrays over the buildings.
+    """The links with laws of a run (yielding storey springs, and the ``[[link]]`` tables' links
+    between slabs), as flat arrays over the Newton groups.
 
-    Link s has deformation u_s = G[s] q over its building's modes; the links of group (building)
-    j are ``bounds[j]:bounds[j + 1]``, their rows over modes ``gmodes[j, 0] : gmodes[j, 0] +
-    gmodes[j, 1]`` of the stacked model (G is padded with zeros to the most modes). Each link's law
-    is ``laws[law[s]]`` of the tuple the stepping takes (:mod:`pounding.framework.engine.links`).
+    A group is a run of consecutive buildings whose links are coupled (buildings joined by a link,
+    :func:`pounding.framework.engine.link_table.link_groups`; a building on its own otherwise).
+    Link s has deformation u_s = G[s] q over its group's modes; the links of group j are
+    ``bounds[j]:bounds[j + 1]``, their rows over modes ``gmodes[j, 0] : gmodes[j, 0] + gmodes[j, 1]``
+    of the stacked model (G is padded with zeros to the most modes of a group). Each link's law is
+    ``laws[law[s]]`` of the tuple the stepping takes (:mod:`pounding.framework.engine.links`).
     """
 
     law: np.ndarray  #: (ns,) int64, index of every link's law in the run's law tuple
@@ -207,6 +210,9 @@ class Links(NamedTuple):
     k0: np.ndarray  #: (ns,) initial stiffness [N/m] (kept in the modes; the laws' remainder r - k0 u is a load)
     tol: np.ndarray  #: (n_groups,) Newton residual tolerance of every group [m]
     params: np.ndarray  #: (ns, n_params) law parameters, zero-padded to the widest law
+    #: (ns,) 1.0 for a link between slabs (a ``[[link]]`` table: its work is booked to the buildings'
+    #: ``links`` term), 0.0 for a storey spring (its work is its building's hysteretic term)
+    joins: np.ndarray
 
 
 class LinkTrial(NamedTuple):
@@ -222,9 +228,11 @@ class LinkRecord(NamedTuple):
 
     peak: np.ndarray  #: (ns,) running peak |deformation| [m]
     tangent: np.ndarray  #: (ns,) tangent [N/m] of the last committed step (the tangent-change count's memory)
-    work: np.ndarray  #: (n_buildings,) work of the remainders' modal loads [J]
+    work: np.ndarray  #: (n_buildings,) work of the remainders' modal loads [J] (every link's, into the links)
     counts: np.ndarray  #: (n_groups, 3) int64, Newton iterations, steps that iterated, tangent changes (compiled steps)
     hist: np.ndarray  #: (3, n_out, ns) deformation [m], force [N], dissipated energy [J] at the output rows
+    #: (n_buildings,) the part of ``work`` done by the links between slabs (``Links.joins``) [J]
+    joined_work: np.ndarray
 
 
 class NewtonWork(NamedTuple):

@@ -611,6 +611,9 @@ class Driver:
             energy_tolerance=self.scene.analysis.energy_tolerance,
             slab_peaks=self.peak.copy() if self.every > 1 else None,
             springs=self.springs.histories(self.spring_hist, [s.name for s in m.systems]) if self.springs is not None else {},
+            links=self.springs.joined_histories(self.spring_hist, [s.name for s in m.systems], m.mode_start,
+                                                [s.modes.shape[1] for s in m.systems]) if self.springs is not None else {},
+            link_energy=self.springs.joined_energy() if self.springs is not None and self.springs.joined else None,
             event_t=np.array([e[0] for e in self.event_states]),
             event_q=np.array([e[1] for e in self.event_states]).reshape(ne, m.n),
             event_qd=np.array([e[2] for e in self.event_states]).reshape(ne, m.n),
@@ -652,6 +655,8 @@ class Driver:
             e = self.springs.energy(i, self.z[:, 0], s.omega, int(self.model.mode_start[i]))
             out[s.name]["strain"] += e["stored"] - e["elastic_springs"]
             out[s.name]["hysteretic"] = e["hysteretic"]
+            if self.springs.joined:  # the work of the links between slabs on this building
+                out[s.name]["links"] = e["links"]
         return out
 
     def needs_python(self, k: int) -> bool:
@@ -778,6 +783,9 @@ class Driver:
         per = np.bincount(self.model.bidx, weights=w, minlength=len(self.model.systems))
         self.E[:, 2] += per  # the contact column holds the contact forces' work only
         self.springs.work += per
+        if self.springs.joined:  # the links between slabs' part of it, by the same rule
+            self.springs.joined_work += self.springs.joined_part(
+                force_work, self.transition(h), float(h), self.load(t), self.load(t + h), st, ftot0, ftot1, self.model.bidx)
 
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""

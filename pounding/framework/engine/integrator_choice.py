@@ -9,7 +9,7 @@
   the converged rigid-impact limit: peak corner displacements within 1.4e-4 (paper pair) and
   1.1e-5 (L-shape scene) in 1.7x and 2.2x less solver time than Newmark's average acceleration at
   its own default step (32 steps per period), which lands within 2.5e-4 and 5.7e-5.
-* A building that yields, or a force contact law (penalty, facade penalty): ``newmark`` (average
+* A building that yields, links between slabs, or a force contact law (penalty, facade penalty): ``newmark`` (average
   acceleration). Their restoring or contact forces depend on the state inside the step, which the
   closed form does not follow; Newmark's implicit step is the usual choice there (OpenSees'
   ``Newmark 0.5 0.25``).
@@ -30,7 +30,7 @@ def chosen_integrator(scene) -> str:
     an = scene.analysis
     if an.integrator is not None:
         return an.integrator
-    if any(getattr(e, "yields", False) for b in scene.buildings for e in b.elements):
+    if any(getattr(e, "yields", False) for b in scene.buildings for e in b.elements) or getattr(scene, "links", ()):
         return OTHERWISE
     from pounding.framework.model.registry import CONTACT_LAWS
 

@@ -144,7 +144,8 @@ class Result:
         The contact episodes of force laws (:meth:`episodes` adds the impacts).
     energy : dict
         Per building: ground-motion input, damping, contact-force work, kinetic, strain [J]; with
-        yielding storey springs also hysteretic [J] (strain is then what the springs store).
+        yielding storey springs also hysteretic [J] (strain is then what the springs store); with
+        links between slabs also ``links``, the work they did on the building [J].
     """
 
     t: np.ndarray
@@ -177,6 +178,10 @@ class Result:
     timings: dict = field(default_factory=dict)
     #: per building with yielding storey springs: :func:`pounding.framework.engine.yielding.spring_record`
     springs: dict = field(default_factory=dict)
+    #: per link between slabs (by name): :func:`pounding.framework.engine.yielding.link_record`
+    links: dict = field(default_factory=dict)
+    #: the links between slabs' own account [J] (``dissipated``, ``stored``), None without links
+    link_energy: dict | None = None
     #: the integrator's own solution inside a step (:class:`pounding.framework.engine.peaks.ExactIntraStep`) for
     #: the true peaks, or None (the cubic Hermite through the step ends); not written to files
     intra_step: object = field(default=None, repr=False)

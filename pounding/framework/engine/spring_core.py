@@ -5,7 +5,7 @@ remainder f = r(u) - k0 u, a modal load g = G^T f over its building's modes (u =
 from the modal state z is the integrator's linear step with the start remainders' load -g0, the
 links' Newton on their end deformations,
 
-    u1 + S(h) f(u1) = G q_lin,        S(h) = G diag(B1(h)) G^T  (block diagonal by building),
+    u1 + S(h) f(u1) = G q_lin,        S(h) = G diag(B1(h)) G^T  (block diagonal by Newton group),
 
 and the end load: z1 = z_lin - B1 G^T f(u1) (the method: :mod:`pounding.framework.engine.inelastic`).
 
@@ -42,7 +42,7 @@ from pounding.framework.engine.links import law_update
 
 @njit
 def solve_group(laws, j, links, h, S, now, out, ws):
-    """Newton on ``u + S f(u) = dl`` for the links of group j (one building), for a step of h [s].
+    """Newton on ``u + S f(u) = dl`` for the links of group j (one building, or the buildings links join), for a step of h [s].
 
     links : :class:`Links` (the group's bounds, law indices, parameters, initial stiffnesses and
     residual tolerance [m] are read); S (ns, ns) the step's compliance (block diagonal by group);
@@ -112,7 +112,7 @@ def solve_group(laws, j, links, h, S, now, out, ws):
 
 @njit
 def compliance_load(f, S, bounds, sf):
-    """sf (ns,) <- S f per group (S block diagonal by building)."""
+    """sf (ns,) <- S f per group (S block diagonal by group)."""
     for j in range(bounds.shape[0] - 1):
         for a in range(bounds[j], bounds[j + 1]):
             acc = 0.0
@@ -145,6 +145,30 @@ def end_load(f1, G, bounds, gmodes, g):
             for s in range(bounds[j], bounds[j + 1]):
                 acc += G[s, i] * f1[s]
             g[m0 + i] = acc
+
+
+@njit
+def joined_load(f, links, g):
+    """g (n,) <- the modal load of the remainders f (ns,) of the links between slabs only
+    (``links.joins``): the part of :func:`end_load` whose work is booked to the buildings' ``links`` term."""
+    G, bounds, gmodes, joins = links.G, links.bounds, links.gmodes, links.joins
+    for i in range(g.shape[0]):
+        g[i] = 0.0
+    for j in range(bounds.shape[0] - 1):
+        m0, nm = gmodes[j, 0], gmodes[j, 1]
+        for i in range(nm):
+            acc = 0.0
+            for s in range(bounds[j], bounds[j + 1]):
+                acc += G[s, i] * (f[s] * joins[s])
+            g[m0 + i] = acc
+
+
+@njit
+def _has_joins(links):
+    for s in range(links.joins.shape[0]):
+        if links.joins[s] != 0.0:
+            return True
+    return False
 
 
 @njit
@@ -285,7 +309,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     links, S, now, lrec = run.links, run.S, run.now, run.record
     G, bounds, gmodes = links.G, links.bounds, links.gmodes
     f, g, state = now.f, now.g, now.state
-    work, counts, hist = lrec.work, lrec.counts, lrec.hist
+    work, counts, hist, joined_work = lrec.work, lrec.counts, lrec.hist, lrec.joined_work
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -307,6 +331,12 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     out = LinkTrial(f1, trial, g1)
     ws = newton_work(bounds)
     compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers solve_springs computes)
+    # the links between slabs: their modal load at the step's ends, whose work is booked apart
+    joined = _has_joins(links)
+    gx0 = np.zeros(n)
+    gx1 = np.zeros(n)
+    if joined:
+        joined_load(f, links, gx0)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -366,6 +396,16 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
         for b in range(nb):
             E[b, 2] += per[b]
             work[b] += per[b]
+        if joined:  # the links between slabs' share of that work, by the same rule
+            joined_load(f1, links, gx1)
+            spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, gx0, gx1, w)
+            for b in range(nb):
+                per[b] = 0.0
+            for i in range(n):  # per building first, then booked: the Python step's order (bincount)
+                per[bidx[i]] += w[i]
+                gx0[i] = gx1[i]
+            for b in range(nb):
+                joined_work[b] += per[b]
         # commit the links
         for i in range(n):
             g[i] = g1[i]

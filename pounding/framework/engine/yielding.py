@@ -9,7 +9,10 @@ one after an impact, a trial of the impact locator) is
     u1 + S(h) f(u1) = G q_lin          (Newton, as in the contact-free stepping),
     z1 = z_lin - B1 G^T f(u1),
 
-with S(h) = G diag(B1(h)) G^T per building (the buildings' springs are uncoupled). A trial
+with S(h) = G diag(B1(h)) G^T per Newton group: a building's springs, or those of the buildings
+that links between slabs (the scene's ``[[link]]`` tables, :mod:`pounding.framework.engine.link_table`)
+join, which are coupled; groups are uncoupled. A link between slabs has no split (k0 = 0): its whole
+force is the remainder. A trial
 writes only a trial buffer (:class:`~pounding.framework.engine.bundles.LinkTrial`); the driver commits it with the step it
 accepts, so a rejected or bisected step leaves the springs as they were. Impulses change
 velocities only, so the springs' states stay valid across impacts.
@@ -18,7 +21,9 @@ Steps in which forces act that depend on the end state (pairs held in sustained 
 penalty forces) solve the springs by an outer fixed-point loop on their end remainders around
 the contact solve (:meth:`Yielding.fixed_point`): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
-storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance.
+storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance. A
+link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than the step's inertia
+(S k_t >> 1) makes the plain map expand, and the relaxed passes below are then what converge.
 
 Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
 :func:`pounding.framework.engine.spring_core.stretch`): the same step, and the slab pairs' check of the
@@ -42,15 +47,33 @@ NEWTON_HINT = ("try a smaller dt; a viscous damper with an exponent below about 
                "stiffness as `maxwell`")
 
 
-class Group:
-    """The yielding springs of one building: its slice of the flat spring arrays and of the modes."""
+class Block:
+    """The yielding storey springs of one building: its slice of the flat link arrays, its own modal
+    slice ``sl``, and the Newton group it is solved in (``group``)."""
 
-    def __init__(self, springs, lo: int, start: int, n_modes: int, building: int, tolerance: float = NEWTON_TOL):
+    def __init__(self, springs, building: int, lo: int, sl: slice, group: int):
         self.springs = springs
         self.building = building
         self.lo, self.hi = lo, lo + springs.size
-        self.sl = slice(start, start + n_modes)
-        self.tol = tolerance * newton_scale(springs)
+        self.sl = sl
+        self.group = group
+
+
+class Group:
+    """A Newton group: the links of consecutive buildings ``first..last`` solved together (buildings
+    joined by a ``[[link]]``, or one building), their slice ``lo:hi`` of the flat link arrays, and
+    their modes ``sl`` of the stacked model (one contiguous range)."""
+
+    def __init__(self, first: int, last: int, lo: int, hi: int, sl: slice, tol: float):
+        self.first, self.last = first, last
+        self.lo, self.hi = lo, hi
+        self.sl = sl
+        self.tol = tol
+
+    @property
+    def building(self) -> int:
+        """The group's first building (its only one unless links join it to the next)."""
+        return self.first
 
 
 #: drift ratio [-] that scales the Newton tolerance of a building whose links have no yield deformation
@@ -58,19 +81,20 @@ class Group:
 NO_YIELD_DRIFT = 1e-3
 
 
-def newton_scale(springs) -> float:
-    """The deformation [m] that scales a building's Newton tolerance: its links' smallest yield
-    deformation (the laws' ``deformation_scale``), or, when none yields, NO_YIELD_DRIFT of the lowest
-    storey's height."""
-    scale = springs.yield_deformation
-    finite = scale[np.isfinite(scale)]
-    return float(finite.min()) if finite.size else NO_YIELD_DRIFT * float(springs.height.min())
+def newton_scale(scales: np.ndarray, heights: np.ndarray) -> float:
+    """The deformation [m] that scales a group's Newton tolerance: its links' smallest yield
+    deformation (the laws' ``deformation_scale``, ``scales``), or, when none yields, NO_YIELD_DRIFT of
+    the lowest storey height of its buildings (``heights``)."""
+    finite = scales[np.isfinite(scales)]
+    return float(finite.min()) if finite.size else NO_YIELD_DRIFT * float(np.min(heights))
 
 
 class Yielding:
-    """The yielding springs of every building of a driver's model, as links with laws in flat arrays
-    (:class:`~pounding.framework.engine.bundles.Links`, stepped by :mod:`pounding.framework.engine.spring_core`);
-    ``Yielding.of`` is None when there are none.
+    """The links with laws of a driver's model, in flat arrays
+    (:class:`~pounding.framework.engine.bundles.Links`, stepped by :mod:`pounding.framework.engine.spring_core`):
+    every building's yielding storey springs (``blocks``) and the scene's links between slabs
+    (``joined``: (Link, flat index) pairs, :mod:`pounding.framework.engine.link_table`), solved in
+    Newton groups of the buildings the links join (``groups``). ``Yielding.of`` is None when there are none.
 
     Attributes
     ----------
@@ -80,67 +104,69 @@ class Yielding:
     now : LinkTrial
         The committed links (remainders f (ns,), law states, modal load g (n,)).
     rec : LinkRecord
-        Peaks, last tangents, the remainders' work per building, Newton counts per group, and the
-        output rows' histories (allocated by :meth:`record_rows`).
+        Peaks, last tangents, the remainders' work per building (and the links between slabs' part of
+        it), Newton counts per group, and the output rows' histories (allocated by :meth:`record_rows`).
     """
 
-    def __init__(self, groups: list[Group], G_rows: list[np.ndarray], n: int, n_buildings: int):
+    def __init__(self, groups: list[Group], blocks: list[Block], joined: list, laws: tuple, law: np.ndarray,
+                 G: np.ndarray, params: np.ndarray, k0: np.ndarray, n: int, n_buildings: int):
         from pounding.framework.engine.links import law_tuple
 
-        self.groups = groups
+        self.groups, self.blocks, self.joined = groups, blocks, joined
         self.n = n
-        laws: list = []
-        for grp in groups:
-            for cls in grp.springs.laws:
-                if cls not in laws:
-                    laws.append(cls)
-        self.laws = tuple(laws)
+        self.laws = laws
         self.updates = law_tuple(self.laws)
-        ns = sum(grp.springs.size for grp in groups)
-        width = max(cls.n_params for cls in laws)
+        ns = law.shape[0]
         self.n_state = max(cls.n_state for cls in laws)
-        nmax = max(gr.shape[1] for gr in G_rows)
-        G = np.zeros((ns, nmax))
-        params = np.zeros((ns, width))
-        law = np.zeros(ns, dtype=np.int64)
-        for grp, gr in zip(groups, G_rows):
-            sp = grp.springs
-            G[grp.lo:grp.hi, : gr.shape[1]] = gr
-            params[grp.lo:grp.hi, : sp.params.shape[1]] = sp.params
-            law[grp.lo:grp.hi] = [self.laws.index(sp.laws[i]) for i in sp.law_id]
+        joins = np.zeros(ns)
+        joins[[s for _, s in joined]] = 1.0
         self.links = Links(
             law, G, np.array([grp.lo for grp in groups] + [ns], dtype=np.int64),
             np.array([[grp.sl.start, grp.sl.stop - grp.sl.start] for grp in groups], dtype=np.int64).reshape(-1, 2),
-            np.ascontiguousarray(params[:, 0]), np.array([grp.tol for grp in groups]), params,
+            k0, np.array([grp.tol for grp in groups]), params, joins,
         )
         self.now = LinkTrial(np.zeros(ns), np.zeros((ns, self.n_state)), np.zeros(n))
         self.rec = LinkRecord(np.zeros(ns), self.links.k0.copy(), np.zeros(n_buildings),
-                              np.zeros((len(groups), 3), dtype=np.int64), np.zeros((3, 1, ns)))
+                              np.zeros((len(groups), 3), dtype=np.int64), np.zeros((3, 1, ns)), np.zeros(n_buildings))
         # the committed links and the records, by name (the driver and the energy account read them;
         # the same arrays as the bundles', which the compiled stretch updates in place)
         self.f, self.state, self.g = self.now.f, self.now.state, self.now.g
-        self.peak, self.work = self.rec.peak, self.rec.work
+        self.peak, self.work, self.joined_work = self.rec.peak, self.rec.work, self.rec.joined_work
         self._S: dict = {}
 
     @classmethod
     def of(cls, scene, model, tolerance: float = NEWTON_TOL) -> "Yielding | None":
-        """The yielding springs of ``scene`` on the driver's ``model``; ``tolerance`` is the Newton
-        residual's, as a fraction of every building's smallest yield deformation."""
+        """The links of ``scene`` on the driver's ``model`` (storey springs and links between slabs);
+        ``tolerance`` is the Newton residual's, as a fraction of every group's smallest yield deformation."""
         from pounding.errors import InputError
+        from pounding.framework.engine.link_table import link_groups, link_row
 
-        groups, rows, lo = [], [], 0
-        for i, (b, system) in enumerate(zip(scene.buildings, model.systems)):
+        names = [b.name for b in scene.buildings]
+        sets = []
+        for i, b in enumerate(scene.buildings):
             try:
-                springs = spring_set(b, i)
+                sets.append(spring_set(b, i))
             except InputError as exc:
                 raise exc.located(file=str(scene.source) if scene.source else None) from None
-            if springs.size:
-                groups.append(Group(springs, lo, int(model.mode_start[i]), system.modes.shape[1], i, tolerance))
-                rows.append(springs.T @ system.modes)
-                lo += springs.size
-        if not groups:
+        ends = [tuple(names.index(nm) for nm in k.between) for k in scene.links]
+        active = [i for i, sp in enumerate(sets) if sp.size] + [i for e in ends for i in e]
+        if not active:
             return None
-        return cls(groups, rows, model.n, len(model.systems))
+        laws: list = []
+        for cls_ in [c for sp in sets if sp.size for c in sp.laws] + [type(k.law) for k in scene.links]:
+            if cls_ not in laws:
+                laws.append(cls_)
+        lay = _Layout(scene, model, tuple(laws), tolerance)
+        for first, last in link_groups(len(names), ends, active):
+            lay.open(first, last)
+            for i in range(first, last + 1):
+                if sets[i].size:
+                    lay.add_springs(i, sets[i])
+            for k, link in enumerate(scene.links):
+                if first <= ends[k][0] <= last:
+                    lay.add_link(link, link_row(scene, model, link))
+            lay.close()
+        return cls(lay.groups, lay.blocks, lay.joined, lay.laws, *lay.arrays(), model.n, len(model.systems))
 
     @property
     def size(self) -> int:
@@ -152,7 +178,7 @@ class Yielding:
         return self.rec.hist
 
     def S(self, B1: np.ndarray) -> np.ndarray:
-        """The step's compliance (ns, ns), block diagonal by building: G diag(B1) G^T for the
+        """The step's compliance (ns, ns), block diagonal by Newton group: G diag(B1) G^T for the
         stacked B1 = B[:, 0, 1] (n,) of the step."""
         key = B1.tobytes()
         out = self._S.get(key)
@@ -170,20 +196,45 @@ class Yielding:
         """row (3, ns): deformation, force and dissipated energy of every spring, groups in order."""
         row[:, :] = self.state[:, :3].T
 
+    def block_rows(self, blk: Block) -> np.ndarray:
+        """The rows (ns_b, n_b) of a building's storey springs over its own modes."""
+        off = blk.sl.start - self.groups[blk.group].sl.start
+        return np.ascontiguousarray(self.links.G[blk.lo:blk.hi, off : off + blk.sl.stop - blk.sl.start])
+
     def histories(self, hist: np.ndarray, names: list) -> dict:
         """Per building name with yielding springs: :func:`spring_record` of its springs."""
         out = {}
-        for grp in self.groups:
-            lo, hi = grp.lo, grp.hi
-            G = np.ascontiguousarray(self.links.G[lo:hi, : grp.sl.stop - grp.sl.start])
-            out[names[grp.building]] = spring_record(grp.springs, hist[0, :, lo:hi], hist[1, :, lo:hi], hist[2, :, lo:hi],
-                                                     self.peak[lo:hi].copy(), G)
+        for blk in self.blocks:
+            lo, hi = blk.lo, blk.hi
+            out[names[blk.building]] = spring_record(blk.springs, hist[0, :, lo:hi], hist[1, :, lo:hi], hist[2, :, lo:hi],
+                                                     self.peak[lo:hi].copy(), self.block_rows(blk))
         return out
+
+    def joined_histories(self, hist: np.ndarray, names: list, mode_start, n_modes) -> dict:
+        """Per link between slabs (by name): :func:`link_record` of its histories and totals, with its
+        row over each building's own modes (``names``, their first stacked modes and mode counts)."""
+        out = {}
+        for link, s in self.joined:
+            grp = next(g for g in self.groups if g.lo <= s < g.hi)
+            row = np.zeros(self.n)
+            row[grp.sl] = self.links.G[s, : grp.sl.stop - grp.sl.start]
+            rows = {nm: row[int(mode_start[names.index(nm)]) : int(mode_start[names.index(nm)]) + n_modes[names.index(nm)]].copy()
+                    for nm in dict.fromkeys(link.between)}
+            out[link.name] = link_record(link, hist[0, :, s], hist[1, :, s], hist[2, :, s], float(self.peak[s]), self.state[s], rows)
+        return out
+
+    def joined_energy(self) -> dict:
+        """The links between slabs' own account [J]: ``dissipated`` (their laws' own dissipation along
+        their paths) and ``stored`` (what their laws store now)."""
+        dissipated = sum(float(self.state[s, 2]) for _, s in self.joined)
+        stored = sum(float(type(link.law).stored_energy(self.state[s], self.links.params[s])) for link, s in self.joined)
+        return {"dissipated": dissipated, "stored": stored}
 
     def _diverged(self, j: int, t: float | None = None) -> FloatingPointError:
         when = "" if t is None else f" in the step starting at t = {t:g} s"
-        return FloatingPointError(f"building {self.groups[j].building}: the yielding springs' Newton iteration did not converge"
-                                  f"{when} ({NEWTON_HINT})")
+        grp = self.groups[j]
+        who = f"building {grp.first}" if grp.first == grp.last else f"buildings {grp.first} to {grp.last} (joined by links)"
+        return FloatingPointError(f"{who}: the links' Newton iteration did not converge{when} ({NEWTON_HINT})")
 
     def _trial(self) -> LinkTrial:
         # slots a narrower law does not write keep their committed values
@@ -233,6 +284,18 @@ class Yielding:
                 g = new.g if w == 1.0 else g + w * (new.g - g)
         raise FloatingPointError(f"the yielding springs' fixed-point iteration with contact forces did not converge ({NEWTON_HINT})")
 
+    def joined_part(self, force_work, tr, h: float, load0, load1, st, ftot0, ftot1, bidx) -> np.ndarray:
+        """Work per building [J] of the links between slabs' modal loads in the step ``st`` of h [s]
+        (from the committed remainders to the trial's ``st.sp``), by the integrator's rule ``force_work``;
+        bidx (n,) the building of every mode."""
+        from pounding.framework.engine.spring_core import joined_load
+
+        gx0, gx1 = np.empty(self.n), np.empty(self.n)
+        joined_load(self.f, self.links, gx0)
+        joined_load(np.ascontiguousarray(st.sp.f), self.links, gx1)
+        w = force_work(tr, h, load0, load1, st.z0, st.z1, ftot0, ftot1, gx0, gx1)
+        return np.bincount(bidx, weights=w, minlength=self.joined_work.shape[0])
+
     def commit(self, sp: LinkTrial) -> None:
         self.f[:] = sp.f
         self.state[:] = sp.state
@@ -240,18 +303,20 @@ class Yielding:
         self.g[:] = sp.g
 
     def energy(self, building: int, q: np.ndarray, omega: np.ndarray, start: int) -> dict:
-        """Strain and hysteretic energy of a building's springs [J] at modal displacements q (n,)."""
-        for grp in self.groups:
-            if grp.building != building:
+        """Strain and hysteretic energy of a building's storey springs [J] at modal displacements q (n,),
+        and ``links``: the work the links between slabs did on it (minus the part of the remainders'
+        work they took, which is not its springs')."""
+        links = -float(self.joined_work[building])
+        for blk in self.blocks:
+            if blk.building != building:
                 continue
-            G = self.links.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
-            u = G @ q[grp.sl]
-            stored = float(grp.springs.stored_energy(self.state[grp.lo:grp.hi]).sum())
-            k0 = self.links.k0[grp.lo:grp.hi]
+            u = self.block_rows(blk) @ q[blk.sl]
+            stored = float(blk.springs.stored_energy(self.state[blk.lo:blk.hi]).sum())
+            k0 = self.links.k0[blk.lo:blk.hi]
             elastic = 0.5 * float(np.sum(k0 * u * u))
-            return {"elastic_springs": elastic, "stored": stored,
-                    "hysteretic": elastic + float(self.work[building]) - stored}
-        return {"elastic_springs": 0.0, "stored": 0.0, "hysteretic": 0.0}
+            return {"elastic_springs": elastic, "stored": stored, "links": links,
+                    "hysteretic": elastic + float(self.work[building]) + links - stored}
+        return {"elastic_springs": 0.0, "stored": 0.0, "hysteretic": float(self.work[building]) + links, "links": links}
 
     # ------------------------------------------------------------ the compiled stretch
     def advance(self, driver, k0: int, k1: int):
@@ -267,9 +332,70 @@ class Yielding:
         k, status, pair = stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
                                   driver.kgeo, float(driver.tol), run)
         if status == Status.DIVERGED:
-            raise FloatingPointError(f"the yielding springs' Newton iteration did not converge in the step starting at "
+            raise FloatingPointError(f"the links' Newton iteration did not converge in the step starting at "
                                      f"t = {k * driver.dt:g} s ({NEWTON_HINT})")
         return k, status, pair
+
+
+class _Layout:
+    """The flat link arrays of a run, built group by group (:meth:`Yielding.of`): every group's storey
+    springs, building by building, then the links between slabs it holds; each link's row over its
+    group's modes, law index, parameters and split k0 (a storey spring's initial stiffness; 0 for a
+    link between slabs, whose stiffness cannot go into the per-building modes)."""
+
+    def __init__(self, scene, model, laws: tuple, tolerance: float):
+        self.scene, self.model, self.laws, self.tolerance = scene, model, laws, tolerance
+        self.start = [int(m) for m in model.mode_start]
+        self.nm = [system.modes.shape[1] for system in model.systems]
+        self.rows, self.pars, self.law_ids, self.k0s = [], [], [], []
+        self.groups, self.blocks, self.joined = [], [], []
+        self.lo = 0
+
+    def open(self, first: int, last: int) -> None:
+        """Start the group of buildings first..last (their modes: one contiguous range)."""
+        self.first, self.last, self.g_lo, self.scales = first, last, self.lo, []
+        self.sl = slice(self.start[first], self.start[last] + self.nm[last])
+
+    def add_springs(self, i: int, sp: SpringSet) -> None:
+        """Building i's storey springs: their rows on its own modes, placed in the group's range."""
+        r = np.zeros((sp.size, self.sl.stop - self.sl.start))
+        off = self.start[i] - self.sl.start
+        r[:, off : off + self.nm[i]] = sp.T @ self.model.systems[i].modes
+        self.rows.append(r)
+        self.pars += list(sp.params)
+        self.law_ids += [self.laws.index(sp.laws[t]) for t in sp.law_id]
+        self.k0s += list(sp.k0)
+        self.scales += list(sp.yield_deformation)
+        self.blocks.append(Block(sp, i, self.lo, slice(self.start[i], self.start[i] + self.nm[i]), len(self.groups)))
+        self.lo += sp.size
+
+    def add_link(self, link, row: np.ndarray) -> None:
+        """A link between slabs with its row (n,) over the stacked modes."""
+        self.rows.append(row[None, self.sl])
+        self.pars.append(link.params)
+        self.law_ids.append(self.laws.index(type(link.law)))
+        self.k0s.append(0.0)  # its whole force is the stepping's remainder
+        self.scales.append(type(link.law).deformation_scale(link.params))
+        self.joined.append((link, self.lo))
+        self.lo += 1
+
+    def close(self) -> None:
+        """End the group: its Newton tolerance from its links' deformation scales (or its storeys)."""
+        heights = np.concatenate([self.scene.buildings[i].storey_heights for i in range(self.first, self.last + 1)])
+        tol = self.tolerance * newton_scale(np.array(self.scales), heights)
+        self.groups.append(Group(self.first, self.last, self.g_lo, self.lo, self.sl, tol))
+
+    def arrays(self) -> tuple:
+        """(law (ns,), G (ns, nmax), params (ns, width), k0 (ns,)): the flat arrays, zero-padded."""
+        G = np.zeros((self.lo, max(g.sl.stop - g.sl.start for g in self.groups)))
+        params = np.zeros((self.lo, max(c.n_params for c in self.laws)))
+        at = 0
+        for r in self.rows:
+            G[at : at + r.shape[0], : r.shape[1]] = r
+            at += r.shape[0]
+        for s, p in enumerate(self.pars):
+            params[s, : len(p)] = p
+        return np.array(self.law_ids, dtype=np.int64), G, params, np.array(self.k0s, dtype=float)
 
 
 def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
@@ -285,6 +411,19 @@ def spring_record(springs: SpringSet, d, r, h, peak, G) -> dict:
             "k0": springs.k0.copy(), "yield_deformation": springs.yield_deformation.copy(), "G": G,
             "deformation": np.ascontiguousarray(d), "force": np.ascontiguousarray(r), "dissipated": np.ascontiguousarray(h),
             "peak": peak}
+
+
+def link_record(link, d, r, h, peak: float, state: np.ndarray, rows: dict) -> dict:
+    """What a run keeps of one link between slabs: ``between``, ``storeys``, ``points`` (2, 2) [m],
+    ``deformation``, ``force``, ``dissipated`` (nt,) at the output rate [m, N, J] (the law's own
+    dissipation), ``peak`` [m] peak |deformation| over every step, ``peak_force`` [N] over the
+    output rows, ``energy_dissipated`` [J] at the end, ``rows`` {building name: (n_b,) its row over
+    that building's modes} (the force's modal load on building b is -force x rows[b])."""
+    force = np.ascontiguousarray(r)
+    return {"between": list(link.between), "storeys": list(link.storeys), "points": link.points.copy(), "rows": rows,
+            "law": link.law.describe(), "deformation": np.ascontiguousarray(d), "force": force,
+            "dissipated": np.ascontiguousarray(h), "peak": peak,
+            "peak_force": float(np.max(np.abs(force), initial=abs(float(state[1])))), "energy_dissipated": float(state[2])}
 
 
 def check_springs(scene) -> None:

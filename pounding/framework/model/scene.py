@@ -161,6 +161,40 @@ class ContactRule:
 
 
 @dataclass(frozen=True, eq=False)
+class Link:
+    """A link between two slabs (a ``[[link]]`` table): a law acting between a point of one slab and
+    a point of another (two buildings, or two floors of one), along the line between the points at
+    rest, as OpenSees' zeroLength element with a uniaxial material.
+
+    name : str
+        The link's name (summary.json, response.npz).
+    between : (str, str)
+        The two buildings' names (a building may be named twice: two of its floors).
+    storeys : (int, int)
+        The slab of each building, 1-based.
+    points : ndarray (2, 2)
+        The attachment points in plan [m], each on its slab; they differ.
+    law : HysteresisLaw
+        The link's law (an instance of a ``pounding.hysteresis`` class).
+    params : ndarray (n_params,)
+        The law's parameter vector (:meth:`HysteresisLaw.pack`: k0 [N/m], Fy [N], b [-], its own).
+    """
+
+    name: str
+    between: tuple[str, str]
+    storeys: tuple[int, int]
+    points: np.ndarray
+    law: Any
+    params: np.ndarray
+
+    @property
+    def direction(self) -> np.ndarray:
+        """Unit vector (2,) from the first point to the second at rest: the line the link acts along."""
+        d = self.points[1] - self.points[0]
+        return d / float(np.hypot(*d))
+
+
+@dataclass(frozen=True, eq=False)
 class Scene:
     """Everything a run needs: the buildings, the ground motion and the options."""
 
@@ -170,6 +204,8 @@ class Scene:
     source: Path | None = None
     #: per pair of buildings, a contact law instead of ``analysis.contact`` (:class:`ContactRule`)
     contacts: tuple[ContactRule, ...] = ()
+    #: links between slabs (:class:`Link`, the ``[[link]]`` tables)
+    links: tuple[Link, ...] = ()
 
     def building(self, name: str) -> Building:
         for b in self.buildings:
@@ -219,4 +255,7 @@ class Scene:
                 elements = tuple(e.replaced(point=e.point + offset) for e in b.elements)
                 b = replace(b, slabs=slabs, elements=elements)
             out.append(b)
-        return replace(self, buildings=tuple(out))
+        # a link's point on the moved building moves with it
+        links = tuple(replace(k, points=k.points + np.array([offset if nm == name else 0.0 * offset for nm in k.between]))
+                      for k in self.links)
+        return replace(self, buildings=tuple(out), links=links)

@@ -57,14 +57,15 @@ def impact_work(result) -> dict[str, float]:
 
 
 def building_balances(result) -> dict[str, dict]:
-    """Per building: its terms [J], ``error`` = input + contact_forces + impacts - kinetic - strain - damping
-    [J], and ``relative_error`` (of its input)."""
+    """Per building: its terms [J], ``error`` = input + contact_forces + impacts + links - kinetic - strain
+    - damping - hysteretic [J], and ``relative_error`` (of its input)."""
     imp = impact_work(result)
     out = {}
     for name in result.names:
         e = dict(result.energy[name])
         e["impacts"] = imp[name]
-        err = e["input"] + e["contact_forces"] + e["impacts"] - e["kinetic"] - e["strain"] - e["damping"] - e.get("hysteretic", 0.0)
+        err = (e["input"] + e["contact_forces"] + e["impacts"] + e.get("links", 0.0)
+               - e["kinetic"] - e["strain"] - e["damping"] - e.get("hysteretic", 0.0))
         out[name] = {**e, "error": err, "relative_error": err / e["input"] if e["input"] else 0.0}
     return out
 
@@ -110,6 +111,7 @@ SIGNED_TERMS = (
     ("impact_loss", +1, "an impact with restitution in [0, 1] only dissipates"),
     ("hysteretic", +1, "a hysteresis loop only dissipates"),
     ("contact_force_work", -1, "a passive contact only takes energy out of the buildings"),
+    ("link_work", -1, "a passive link only takes energy out of the buildings (it dissipates or stores it)"),
 )
 
 
@@ -129,7 +131,8 @@ def rounding_bound(result) -> float:
     eb = pair_terms(result)
     n = int(sum(s.n_dof for s in result.systems))
     bookings = int(result.steps) + 2 * len(getattr(result, "event_t", ()))
-    scale = sum(abs(eb[k]) for k in ("input", "damping", "contact_force_work", "impact_loss", "hysteretic", "kinetic_plus_strain"))
+    scale = sum(abs(eb[k]) for k in ("input", "damping", "contact_force_work", "impact_loss", "hysteretic", "kinetic_plus_strain",
+                                     "link_work"))
     return float(bookings * (17 + n) * np.finfo(float).eps * scale)
 
 
@@ -139,17 +142,42 @@ def energy_balance(result) -> dict:
     ``ok`` when the balance closes within ``energy_tolerance`` of the input and no term breaks the sign
     physics fixes (``sign_violations``, :func:`sign_violations`)."""
     out = pair_terms(result)
-    err = out["input"] + out["contact_force_work"] - out["kinetic_plus_strain"] - out["damping"] - out["impact_loss"] - out["hysteretic"]
+    err = (out["input"] + out["contact_force_work"] + out["link_work"] - out["kinetic_plus_strain"] - out["damping"]
+           - out["impact_loss"] - out["hysteretic"])
     out.update(tolerance=result.energy_tolerance, error=err, relative_error=err / out["input"] if out["input"] else 0.0)
     # a run that breaks a sign is not ok, however well its account closes
     out["sign_violations"] = sign_violations(result, out)
     out["ok"] = bool(abs(out["relative_error"]) <= result.energy_tolerance) and not out["sign_violations"]
+    links = link_account(result)
+    if links is not None:
+        out["links"] = links
+        out["ok"] = out["ok"] and abs(links["relative_error"]) <= result.energy_tolerance
     return out
+
+
+def link_account(result) -> dict | None:
+    """The links between slabs' own account [J], or None without links: ``work`` (what they did on
+    the buildings, the sum of the buildings' ``links`` terms), ``dissipated`` (their laws' own
+    dissipation along their paths), ``stored`` (what their laws store at the end), and ``error`` =
+    work + dissipated + stored, which a passive link closes: the work the buildings did on it is
+    what it dissipated plus what it stores. By the stepping's energy rule (the trapezoid of the
+    force for average acceleration) the work of a law whose own dissipation is that trapezoid
+    (``maxwell``, ``elastic``, a bilinear spring off its kinks) closes to rounding; a dashpot at the
+    step's mean rate dissipates F(v) du while the rule books (F0 + F1) du / 2, a difference of
+    the order of the force's change per step (``relative_error``, of the input)."""
+    own = getattr(result, "link_energy", None)
+    if own is None:
+        return None
+    work = sum(e.get("links", 0.0) for e in result.energy.values())
+    err = work + own["dissipated"] + own["stored"]
+    total = sum(e["input"] for e in result.energy.values())
+    return {"work": work, "dissipated": own["dissipated"], "stored": own["stored"], "error": err,
+            "relative_error": err / total if total else 0.0}
 
 
 def pair_terms(result) -> dict[str, float]:
     """The pair's account terms [J]: every building's input, kinetic_plus_strain, damping,
-    contact_force_work and hysteretic summed, and the impacts' impact_loss."""
+    contact_force_work, hysteretic and link_work (its ``links`` term) summed, and the impacts' impact_loss."""
     e = result.energy
     return {
         "input": sum(v["input"] for v in e.values()),
@@ -158,6 +186,7 @@ def pair_terms(result) -> dict[str, float]:
         "contact_force_work": sum(v["contact_forces"] for v in e.values()),
         "impact_loss": sum(i.energy_loss for i in result.impacts),
         "hysteretic": sum(v.get("hysteretic", 0.0) for v in e.values()),
+        "link_work": sum(v.get("links", 0.0) for v in e.values()),
     }
 
 
@@ -188,7 +217,7 @@ def warn_if_sign_broken(result) -> None:
     from pounding.errors import AnalysisWarning
 
     for v in sign_violations(result):
-        want = ">= 0" if v["term"] != "contact_force_work" else "<= 0"
+        want = "<= 0" if v["term"] in ("contact_force_work", "link_work") else ">= 0"
         warnings.warn(
             f"energy account: {v['term']} = {v['value']:.4g} J, expected {want} ({v['why']}; rounding allows "
             f"{v['bound']:.2g} J): the run created energy (summary.json: energy_balance.sign_violations)",

@@ -155,18 +155,19 @@ def _building_response(driver, i: int, springs: SpringSet) -> BuildingResponse:
     Q, V = driver.Q[:, sl], driver.V[:, sl]
     q, v = driver.z[sl, 0], driver.z[sl, 1]
     E = driver.E[i]
-    grp = next((g for g in driver.springs.groups if g.building == i), None) if driver.springs is not None else None
-    if grp is None:
+    blk = next((b for b in driver.springs.blocks if b.building == i), None) if driver.springs is not None else None
+    if blk is None:
         ns = springs.size
         D = R = H = np.zeros((len(Q), ns))
         state, peak, work, counts = np.zeros((ns, 3)), np.zeros(ns), 0.0, np.zeros(3, dtype=np.int64)
     else:
-        lo, hi = grp.lo, grp.hi
+        lo, hi = blk.lo, blk.hi
         hist = driver.spring_hist
         D, R, H = hist[0, :, lo:hi].copy(), hist[1, :, lo:hi].copy(), hist[2, :, lo:hi].copy()
         state, peak = driver.springs.state[lo:hi].copy(), driver.springs.peak[lo:hi].copy()
-        work = float(driver.springs.work[i])
-        counts = driver.springs.rec.counts[driver.springs.groups.index(grp)]
+        # (the links between slabs' share is not the springs': run_inelastic's scenes have none)
+        work = float(driver.springs.work[i] - driver.springs.joined_work[i])
+        counts = driver.springs.rec.counts[blk.group]
     kel = springs.k0
     u = springs.T @ system.modes @ q
     stored = springs.stored_energy(state)
@@ -178,7 +179,9 @@ def _building_response(driver, i: int, springs: SpringSet) -> BuildingResponse:
     strain = 0.5 * float(np.sum(system.omega**2 * q * q)) - elastic_springs + float(stored.sum())
     energy = {"input": float(E[0]), "kinetic": kinetic, "strain": strain, "damping": float(E[1]), "hysteretic": hysteretic,
               "hysteretic_law": float(state[:, 2].sum())}
-    err = energy["input"] - (kinetic + strain + energy["damping"] + energy["hysteretic"])
+    if driver.springs is not None and driver.springs.joined:  # the work of the links between slabs on it
+        energy["links"] = -float(driver.springs.joined_work[i])
+    err = energy["input"] + energy.get("links", 0.0) - (kinetic + strain + energy["damping"] + energy["hysteretic"])
     energy["balance_error"] = float(err)
     energy["relative_error"] = float(abs(err) / max(abs(energy["input"]), 1e-300))
     return BuildingResponse(

@@ -163,14 +163,29 @@ def storey_forces(system, cm: np.ndarray, springs: dict | None = None) -> Storey
 
 
 # --------------------------------------------------------------------------- accelerations
-def floor_acceleration(system, q: np.ndarray, qd: np.ndarray, springs: dict | None = None) -> np.ndarray:
+def floor_acceleration(system, q: np.ndarray, qd: np.ndarray, springs: dict | None = None,
+                       links: np.ndarray | None = None) -> np.ndarray:
     """Absolute floor acceleration, smooth part, (nt, N, 3) [m/s^2, m/s^2, rad/s^2]: -M^-1 (K x + C v),
-    plus, with yielding springs (``springs``), their remainders' share -M^-1 T^T (r - k0 u)."""
+    plus, with yielding springs (``springs``), their remainders' share -M^-1 T^T (r - k0 u), and with
+    links between slabs, their forces' share (``links``: their modal load (nt, n_b), :func:`link_loads`)."""
     modal = q * system.omega**2 + qd * (2.0 * system.zeta * system.omega)
     if springs:
         modal = modal + (springs["force"] - springs["k0"] * springs["deformation"]) @ springs["G"]
+    if links is not None:
+        modal = modal + links
     acc = -modal @ system.modes.T
     return acc.reshape(q.shape[0], system.n_storeys, 3)
+
+
+def link_loads(result, name: str) -> np.ndarray | None:
+    """The modal load (nt, n_b) of the links between slabs on building ``name`` (force x its row over
+    the building's modes, summed over its links), or None when no link acts on it."""
+    out = None
+    for rec in getattr(result, "links", {}).values():
+        row = rec["rows"].get(name)
+        if row is not None:
+            out = (0.0 if out is None else out) + np.outer(rec["force"], row)
+    return out
 
 
 # --------------------------------------------------------------------------- impacts
@@ -250,7 +265,7 @@ def building_response(result, name: str, durations: np.ndarray) -> dict[str, np.
     d_cm, d_corner = drift_ratios(s, cm)
     sp = getattr(result, "springs", {}).get(name)
     sf = storey_forces(s, cm, sp)
-    acc = floor_acceleration(s, result.modal(name), result.modal(name, velocity=True), sp)
+    acc = floor_acceleration(s, result.modal(name), result.modal(name, velocity=True), sp, link_loads(result, name))
     times, jumps, spikes = floor_velocity_jumps(result, name, durations)
     extra = {}
     if sp:
