@@ -35,8 +35,9 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.framework.engine.bundles import LinkTrial, NewtonWork, Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
-from pounding.framework.engine.kernel import _accumulate, modal_load, update_peaks
-from pounding.framework.engine.pairs import pair_gap_into
+from pounding.contact.geometry import clearance_bound
+from pounding.framework.engine.kernel import _accumulate, _slab_dofs, modal_load, update_peaks
+from pounding.framework.engine.pairs import dofs_gap
 from pounding.framework.engine.links import law_update
 
 
@@ -279,7 +280,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     ``Driver.commit``): the modal step with the remainders' start load -g, the links' Newton
     (:func:`_solve_springs`), the end load, the energy audit (the remainders' work booked to
     ``run.record.work`` per building and to the contact column as the Python path books it), the records.
-    After the step every slab pair is checked (:func:`~pounding.framework.engine.pairs.pair_gap_into`): when a pair ends within
+    After the step every slab pair is checked (:func:`~pounding.framework.engine.pairs.pair_gap`'s cascade): when a pair ends within
     ``tol`` of contact (or overlapping), the step is rolled back (state, links and energy
     untouched) and the stretch returns (k, OVERLAP, pair): the driver takes that step in Python,
     where contact is handled. A model without pairs (contact off) steps to k1.
@@ -306,6 +307,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     dt, ag = ground.dt, ground.ag
     every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
     rows, n_modes = geo.rows, geo.n_modes
+    pa, pb, off, radii, rest = geo.pa, geo.pb, geo.off, geo.radii, geo.rest
     links, S, now, lrec = run.links, run.S, run.now, run.record
     G, bounds, gmodes = links.G, links.bounds, links.gmodes
     f, g, state = now.f, now.g, now.state
@@ -375,9 +377,17 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
         # contact check: within the tolerance, the Python step decides
         for i in range(n):
             q1[i] = z[i, 0]
-        for p in range(geo.pa.shape[0]):
-            # within the tolerance (or overlapping): pair_gap's cascade, whose bounds exceed tol
-            if pair_gap_into(q1, p, tol, da, db, geo) <= tol:
+        for p in range(pa.shape[0]):
+            # the rest-gap bound inline first (most steps of most pairs end there: a call per pair and
+            # step with the pair arrays cost more than the bound), then pair_gap's cascade; within the
+            # tolerance (or overlapping) the Python step decides
+            ba, bb = pa[p, 0], pb[p, 0]
+            sa, sb = off[ba] + pa[p, 1], off[bb] + pb[p, 1]
+            _slab_dofs(rows[sa, :, : n_modes[ba, 1]], q1[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1]], da)
+            _slab_dofs(rows[sb, :, : n_modes[bb, 1]], q1[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1]], db)
+            if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
+                continue
+            if dofs_gap(da, db, p, tol, geo)[0] <= tol:
                 for i in range(n):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]
