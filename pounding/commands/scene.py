@@ -123,7 +123,7 @@ def describe(scene, path: Path | None = None) -> str:
     integrator = chosen_integrator(scene)
     int_src = "" if an.integrator else " (chosen for the scene)"
     m = Model(scene)  # as the driver chooses (pounding.framework.engine.timestep, contact_step)
-    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), integrator)
+    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), integrator)
     if an.dt:
         dt_src = ""
     elif contact_time.duration < float("inf"):

@@ -71,7 +71,10 @@ def pair_law_names(result: Result) -> list[str]:
     """The name of every slab pair's contact law (``[analysis] contact`` or its pair's ``[[contact]]``)."""
     default = result.contact.get("name", "")
     by = {frozenset(r["between"]): r.get("name", "") for r in result.contact.get("between", [])}
-    return [by.get(frozenset((result.names[a], result.names[b])), default) for a, _, b, _, _ in result.pairs]
+    walls = {w["wall"]: w.get("name", "") for w in result.contact.get("walls", [])}
+    on_wall = getattr(result, "walls", {})
+    return [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
+            for p, (a, _, b, _, _) in enumerate(result.pairs)]
 
 
 def contact_rows(result: Result) -> list[list]:
@@ -90,7 +93,7 @@ def contact_rows(result: Result) -> list[list]:
         a, fa, b, fb, _ = result.pairs[e.pair]
         # the 1-based contact episode (chatter merged: Result.contact_episodes) the row belongs to
         episode = next(k + 1 for k, m in enumerate(merged) if m.pair == e.pair and m.start <= e.start <= m.end)
-        rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, result.names[b], fb + 1, e.point[0], e.point[1],
+        rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, *result.second_body(e.pair), e.point[0], e.point[1],
                      e.normal[0], e.normal[1], e.approach_velocity, force, e.peak_penetration, e.impulse, e.energy_dissipated,
                      episode])
     return rows
@@ -109,8 +112,8 @@ def episodes_summary(result: Result) -> dict:
         "per_storey": {str(k): v for k, v in sorted(Counter(result.pairs[e.pair][1] + 1 for e in eps).items())},
         "strikes": int(sum(e.strikes for e in eps)),
         "most_strikes": int(max((e.strikes for e in eps), default=0)),
-        "merge_interval_s": {f"{result.names[a]}.{fa + 1}-{result.names[b]}.{fb + 1}": float(t)
-                             for (a, fa, b, fb, _), t in zip(result.pairs, tau)},
+        "merge_interval_s": {"{}.{}-{}.{}".format(result.names[a], fa + 1, *result.second_body(p)): float(t)
+                             for p, ((a, fa, _, _, _), t) in enumerate(zip(result.pairs, tau))},
         "rule": (f"a pair's impacts (or force contacts) form one episode while each begins less than {CHATTER_FRACTION:g} "
                  "of the faster fundamental period of the pair's two buildings after the previous one ended"),
     }
@@ -373,6 +376,7 @@ def load_result(folder: str | Path):
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
     result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene
+    result.walls = model.walls
     return scene, result
 
 

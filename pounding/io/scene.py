@@ -25,7 +25,8 @@ import numpy as np
 
 from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, same_level
-from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab
+from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab, Wall
+from pounding.framework.model.walls import cut_storeys
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
 
@@ -328,6 +329,54 @@ def _contact_rules(tables: list, names: list[str], analysis: Analysis, search: t
     return tuple(out)
 
 
+def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: tuple) -> tuple[Wall, ...]:
+    """The ``[[wall]]`` tables: retaining walls fixed to the ground (:mod:`pounding.framework.model.walls`)."""
+    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    out, seen = [], {}
+    names = [b.name for b in buildings]
+    for i, table in enumerate(tables):
+        where = f"wall[{i}]"
+        name = table["name"]
+        if name in seen:
+            raise InputError(f"wall name {name!r} is used twice (wall[{seen[name]}])", field=f"{where}.name")
+        if name in names:
+            raise InputError(f"wall name {name!r} is a building's name; impacts.csv names the struck body", field=f"{where}.name")
+        seen[name] = i
+        face = np.asarray(table["face"], dtype=float)
+        lengths = np.hypot(*np.diff(face, axis=0).T)
+        if np.any(lengths <= LEVEL_TOL):
+            k = int(np.argmax(lengths <= LEVEL_TOL))
+            raise InputError(f"expected segments of nonzero length, got points {k} and {k + 1} at the same place "
+                             f"({face[k, 0]:g}, {face[k, 1]:g})", field=f"{where}.face")
+        if "contact" in table:
+            value = table["contact"]
+            if isinstance(value, str) or "name" in value:
+                law, params = _plugin(value, CONTACT_LAWS, f"{where}.contact", search)
+            else:  # [analysis] contact with parameters of its own (a restitution)
+                law, params = None, dict(value)
+                _check_params(CONTACT_LAWS.get(analysis.contact, search=search), {**analysis.contact_params, **params}, f"{where}.contact")
+        else:
+            law, params = None, {}
+        wall = Wall(name, face, float(table["top"]), law, params)
+        for j, b in enumerate(buildings):
+            cut = cut_storeys(b, wall)
+            if cut:
+                raise InputError(f"the wall's face cuts the space of storey {cut[0] + 1} of {b.name!r}, which stands below its top "
+                                 f"({wall.top:g} m): a wall may stand beside a storey or under a slab above its top, not through it",
+                                 field=f"{where}.face")
+        out.append(wall)
+    scene_like = Scene((), None, analysis)
+    default = CONTACT_LAWS.get(analysis.contact, search=search)(**analysis.contact_params)
+    for i, wall in enumerate(out):
+        try:
+            wall_law(scene_like, wall, default)
+        except ValueError as exc:
+            raise InputError(str(exc).removeprefix(f"wall {wall.name!r}: "), field=f"wall[{i}].contact") from None
+    return tuple(out)
+
+
 # --------------------------------------------------------------------------- entry point
 def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     """Validate a parsed TOML document and build the Scene (errors carry no file; see load_scene)."""
@@ -355,7 +404,8 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
         raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")
     contacts = _contact_rules(data.get("contact", []), names, analysis, search)
-    return Scene(tuple(buildings), gm, analysis, source, contacts)
+    walls = _walls(data.get("wall", []), buildings, analysis, search)
+    return Scene(tuple(buildings), gm, analysis, source, contacts, walls)
 
 
 def load_scene(path: str | Path) -> Scene:

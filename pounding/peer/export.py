@@ -169,7 +169,7 @@ def _time_grid(scene) -> tuple[float, int]:
         from pounding.framework.model.registry import CONTACT_LAWS
 
         m = Model(scene)
-        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), chosen_integrator(scene))[0]
+        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), chosen_integrator(scene))[0]
     duration = float(an.duration or gm.duration)
     return dt, max(1, int(np.ceil(duration / dt - 1e-9)))
 
