@@ -176,12 +176,13 @@ def _nested_owner(sub: Mapping) -> Mapping:
 def all_undocumented() -> list[str]:
     """Every undocumented key of the core and of every registered plugin."""
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, ground_motion_schema, SCENE
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, WALL, ground_motion_schema, SCENE
 
-    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact"))
+    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact", "wall"))
     out += undocumented(ground_motion_schema(), "ground_motion")
     out += undocumented(ANALYSIS, "analysis")
     out += undocumented(CONTACT, "contact")
+    out += undocumented(WALL, "wall")
     out += undocumented(BUILDING, "building")
     for name in ELEMENTS.names():
         out += undocumented(ELEMENTS.get(name).schema, f"element {name!r}")
@@ -335,7 +336,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         by default only those that ship with pounding (the checked-in page).
     """
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, SCENE, ground_motion_schema
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, SCENE, WALL, ground_motion_schema
 
     parts = [
         "# Scene file reference\n\n"
@@ -346,7 +347,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         "value per storey, bottom first. `pounding template` prints a commented starting scene; "
         "`pounding check SCENE` validates one without running it and prints what it understood, with units.\n\n"
         "Contents: [top level](#top-level), [[ground_motion]](#ground_motion), [[analysis]](#analysis), "
-        "[[[contact]]](#contact), "
+        "[[[contact]]](#contact), [[[wall]]](#wall), "
         "[[[building]]](#building), [damping](#buildingdamping), [elements](#elements), [integrators](#integrators), "
         "[contact laws](#contact-laws), [plausibility warnings](#plausibility-warnings), [a whole scene](#a-whole-scene).\n",
         table_section("Top level", {"properties": {k: v for k, v in SCENE["properties"].items()}, "required": SCENE["required"]},
@@ -354,6 +355,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         table_section("[ground_motion]", ground_motion_schema()),
         table_section("[analysis]", ANALYSIS),
         table_section("[[contact]]", CONTACT) + "\n" + CONTACT_EXAMPLE,
+        table_section("[[wall]]", WALL) + "\n" + WALL_EXAMPLE,
         table_section("[[building]]", {**BUILDING, "properties": {k: v for k, v in BUILDING["properties"].items() if k != "damping"}}),
         table_section("[building.damping]", DAMPING, "An inline table inside `[[building]]`, e.g. "
                       "`damping = { type = \"rayleigh\", ratio = 0.05, modes = [1, 3] }`. " + DAMPING["description"]),
@@ -409,6 +411,21 @@ contact = { name = "penalty", stiffness = 1e9, restitution = 0.5 }
 [[contact]]
 between = ["wall", "B"]
 law = { name = "penalty", stiffness = 5e9, restitution = 0.3 }
+```
+"""
+
+#: the [[wall]] section's example
+WALL_EXAMPLE = """A moat wall 0.25 m from the base slab of a base-isolated building (slab 1 at 1.0 m), with a law of its own:
+
+```toml
+[analysis]
+contact = { name = "kelvin", stiffness = 2.0e9, restitution = 0.7 }
+
+[[wall]]
+name = "moat"
+face = [[-0.25, -1.0], [-0.25, 9.0]]
+top = 1.0
+contact = { name = "kelvin", stiffness = 1.0e9, restitution = 0.5 }
 ```
 """
 

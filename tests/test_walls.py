@@ -1,0 +1,210 @@
+"""Retaining walls fixed to the ground (``[[wall]]``): a slab striking a body that never moves.
+
+The scene: one storey (a single rigid slab of mass M on springs of total stiffness K along x, split
+on the two x lines so that nothing twists), no damping, a wall face ``GAP`` to the left of the slab.
+From rest, a constant ground acceleration A0 along +x loads the slab by -M A0: undamped, it swings
+towards the wall as u(t) = -(A0 / w^2) (1 - cos w t), w = sqrt(K / M), and meets the face (u = -GAP)
+at t* = arccos(1 - GAP w^2 / A0) / w with speed b = (A0 / w) sin(w t*). The wall has infinite mass:
+Newton's rule sends the slab back at e b (one impulse (1 + e) M b, shared by the face's two ends),
+and the impact removes (1 - e^2) M b^2 / 2, all of it from the slab's building.
+"""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from pounding.errors import InputError
+from pounding.framework.engine.driver import Driver
+from pounding.io.ground_motion import GroundMotion
+from pounding.io.scene import load_scene, parse_scene
+
+EPS = np.finfo(float).eps
+M = 1.0e5  # [kg] the slab
+K = 4.0e6  # [N/m] along x (w = sqrt(40) rad/s, T = 0.99 s)
+A0 = 2.0  # [m/s^2] the ground's constant acceleration, along +x
+GAP = 0.02  # [m] clear distance from the slab's left edge (x = 0) to the wall's face
+W = np.sqrt(K / M)
+T_HIT = np.arccos(1.0 - GAP * W**2 / A0) / W  # [s] the closed-form instant of the first impact
+B_HIT = A0 / W * np.sin(W * T_HIT)  # [m/s] the closing speed then
+
+
+def _springs(start, end, k) -> dict:
+    return {"type": "storey_springs", "start": start, "end": end, "stiffness": k, "storeys": 1}
+
+
+def _box(name: str = "box", x0: float = 0.0, storeys: int = 1) -> dict:
+    x1 = x0 + 10.0
+    return {"name": name, "storey_heights": [1.0] * storeys, "slab": [[x0, 0.0], [x1, 0.0], [x1, 8.0], [x0, 8.0]], "mass": M,
+            "damping": {"type": "modal", "ratio": 0.0},
+            "element": [_springs([x0, 0.0], [x1, 0.0], K / 2), _springs([x0, 8.0], [x1, 8.0], K / 2),
+                        _springs([x0 + 5.0, 0.0], [x0 + 5.0, 8.0], K)]}
+
+
+def _data(restitution: float = 0.5, wall_contact=None, duration: float = 0.6) -> dict:
+    wall = {"name": "moat", "face": [[-GAP, -1.0], [-GAP, 9.0]], "top": 1.0}
+    if wall_contact is not None:
+        wall["contact"] = wall_contact
+    return {"building": [_box()], "ground_motion": {"record": "elcentro"},
+            "analysis": {"dt": 0.01, "duration": duration, "contact": {"name": "impulse", "restitution": restitution}},
+            "wall": [wall]}
+
+
+def _run(data: dict):
+    step = GroundMotion(np.array([0.0, 10.0]), np.array([A0, A0]), name="step", source="test")
+    scene = parse_scene(data).with_ground_motion(step)
+    driver = Driver(scene)
+    return driver, driver.run()
+
+
+def _free(t0: float, u0: float, v0: float, t: np.ndarray):
+    """(u, v) at times t [s] of the undamped slab under the load -M A0 from (u0 [m], v0 [m/s]) at t0."""
+    tau, ust = t - t0, -A0 / W**2
+    return (ust + (u0 - ust) * np.cos(W * tau) + v0 / W * np.sin(W * tau),
+            -(u0 - ust) * W * np.sin(W * tau) + v0 * np.cos(W * tau))
+
+
+# --------------------------------------------------------------------------- (a) the rigid-wall limit
+@pytest.mark.parametrize("e, wall_contact", [(0.5, None), (0.8, {"restitution": 0.8})], ids=["scene's law", "wall's own restitution"])
+def test_slab_rebounds_from_the_wall_at_minus_e_times_its_speed_at_the_closed_form_instant(e, wall_contact):
+    """The first impact comes at t* with closing speed b (module docstring); after it the slab moves freely
+    from (-GAP, +e b) at t*, so its displacement and velocity at every output time up to the next impact
+    are the closed form's. The scene's impulse law has e = 0.5; the second case gives the wall its own
+    restitution 0.8 (``contact = { restitution = 0.8 }``).
+
+    Tolerances: the crossing locator puts the instant where the gap is zero to ``driver.eps`` (the
+    geometry's zero), so t is within eps / b of t*; the exact integrator adds rounding of the
+    amplitude (A0 / w^2) per step, 64 eps over the 30 steps compared. The state after carries the
+    time error times the velocity jump (1 + e) b: eps (1 + e) in displacement, w times that in velocity.
+    """
+    driver, result = _run(_data(0.5, wall_contact))
+    first = [i for i in result.impacts if i.time == result.impacts[0].time]
+    assert {result.struck_building(i) for i in first} == {"moat"} and len(first) == 2  # the face's two ends
+    t_i = first[0].time
+    dt_tol = driver.eps / B_HIT + 64 * EPS * T_HIT
+    assert abs(t_i - T_HIT) <= dt_tol
+    assert all(abs(i.approach_velocity - B_HIT) <= W * A0 / W * dt_tol + 64 * EPS * B_HIT for i in first)
+    # the impulse: (1 + e) M b, on the slab alone (the wall's mass is infinite)
+    assert sum(i.impulse for i in first) == pytest.approx((1.0 + e) * M * B_HIT, rel=1e-9)
+    later = [i.time for i in result.impacts if i.time > t_i]
+    assert later, "the slab comes back to the wall"
+    k = (result.t > t_i) & (result.t < later[0])
+    u_cl, v_cl = _free(T_HIT, -GAP, e * B_HIT, result.t[k])
+    cm = result.cm("box")[k, 0]
+    vel = result.cm("box", velocity=True)[k, 0]
+    amp = A0 / W**2 + GAP
+    assert np.max(np.abs(cm[:, 0] - u_cl)) <= (1.0 + e) * driver.eps + 64 * EPS * amp
+    assert np.max(np.abs(vel[:, 0] - v_cl)) <= W * ((1.0 + e) * driver.eps + 64 * EPS * amp)
+    # nothing turns or moves across: the wall's normal is -x
+    assert np.max(np.abs(cm[:, 1:])) <= 64 * EPS * amp
+
+
+# --------------------------------------------------------------------------- (b) momentum and energy
+def test_a_wall_impact_changes_the_buildings_momentum_by_the_impulse_and_books_its_loss_in_its_account():
+    """Across the first impact the slab's momentum M u' jumps by the impulse along the wall's normal:
+    M (v+ - v-) = sum I_j (n_j . x) with n from the slab to the wall (-x), so +sum I_j, v- the closed
+    form's -b and v+ read from the run's state at the next output time carried back to the instant by
+    the free motion (exact). The energy the impact removes, (1 - e^2) M b^2 / 2 [J], is the sum of the
+    impacts' losses, and the building's own account books it as the work of the impulses on it
+    (``impacts`` = -loss: the wall stores none), its balance closing to rounding.
+
+    Tolerances: the instant to eps / b (test above); the carried-back velocity to 64 eps of w times the
+    amplitude; the account closes to :func:`rounding_bound`-sized sums (1e-9 of the input here, a few
+    hundred bookings of 1 mode).
+    """
+    from pounding.framework.post.energy_account import building_balances
+
+    e = 0.5
+    driver, result = _run(_data(e, duration=0.25))  # up to the first impact and a little after
+    assert len({i.time for i in result.impacts}) == 1
+    t_i = result.impacts[0].time
+    k = int(np.argmax(result.t > t_i))
+    u_k, v_k = result.cm("box")[k, 0, 0], result.cm("box", velocity=True)[k, 0, 0]
+    _, v_after = _free(result.t[k], u_k, v_k, np.array([t_i]))
+    impulse_x = sum(-i.impulse * i.normal[0] for i in result.impacts)
+    tol = M * (W * A0 / W * (driver.eps / B_HIT) * (2.0 + e) + 64 * EPS * W * (A0 / W**2 + GAP))
+    assert abs(M * (v_after[0] - (-B_HIT)) - impulse_x) <= tol
+    loss = 0.5 * (1.0 - e**2) * M * B_HIT**2
+    assert sum(i.energy_loss for i in result.impacts) == pytest.approx(loss, rel=1e-9)
+    account = building_balances(result)["box"]
+    assert account["impacts"] == pytest.approx(-loss, rel=1e-9)
+    assert abs(account["error"]) <= 1e-9 * account["input"]
+
+
+# --------------------------------------------------------------------------- the scene
+def test_a_wall_in_the_gap_between_two_buildings_loads_and_each_strikes_its_own_side():
+    """A wall standing in the gap between two one-storey buildings (its top at their slabs) does not
+    overlap either: the scene loads, and each building's slab is paired with a fixed rectangle behind
+    the face on the side away from it, its rest gap the distance to the face."""
+    data = _data()
+    data["building"] = [_box("left", -10.5), _box("right", 0.5)]
+    data["wall"][0]["face"] = [[0.0, -1.0], [0.0, 9.0]]
+    scene = parse_scene(data)
+    from pounding.framework.engine.driver import Model
+
+    m = Model(scene)
+    on_wall = {m.pairs[p][0]: m.pairs[p][4] for p in m.walls}
+    assert on_wall == {0: pytest.approx(0.5, abs=1e-12), 1: pytest.approx(0.5, abs=1e-12)}
+
+
+def test_scene_with_walls_is_written_and_read_back_equal(tmp_path):
+    """write_scene then load_scene gives the same walls (name, face, top, law and parameters), the
+    [[contact]] tables too."""
+    from pounding.io.scene_writer import scene_differences, write_scene
+
+    data = _data()
+    data["analysis"]["contact"] = {"name": "penalty", "stiffness": 2e9}
+    data["wall"][0]["contact"] = {"name": "kelvin", "stiffness": 1e9, "restitution": 0.5}
+    data["wall"].append({"name": "kerb", "face": [[-1.0, 10.0], [11.0, 10.0]], "top": 0.5})
+    scene = parse_scene(data)
+    back = load_scene(write_scene(scene, tmp_path / "scene.toml"))
+    assert scene_differences(scene, back) == []
+    assert [w.name for w in back.walls] == ["moat", "kerb"]
+
+
+# --------------------------------------------------------------------------- (d) bad input
+BAD = [
+    ("face cuts a storey", {"face": [[5.0, -1.0], [5.0, 9.0]]}, "wall[0].face", "cuts the space of storey 1 of 'box'"),
+    ("top not positive", {"top": 0.0}, "wall[0].top", "expected a number > 0"),
+    ("one point", {"face": [[-1.0, 0.0]]}, "wall[0].face", "at least 2 items"),
+    ("zero-length segment", {"face": [[-1.0, 0.0], [-1.0, 0.0], [-1.0, 5.0]]}, "wall[0].face", "nonzero length"),
+    ("law out of range", {"contact": {"name": "impulse", "restitution": 1.5}}, "wall[0].contact.restitution", "[0, 1]"),
+    ("own restitution out of range", {"contact": {"restitution": -0.1}}, "wall[0].contact.restitution", "[0, 1]"),
+    ("unknown law parameter", {"contact": {"name": "impulse", "stifness": 1e9}}, "wall[0].contact.stifness", "unknown"),
+    ("force law with impulses", {"contact": {"name": "kelvin", "stiffness": 1e9}}, "wall[0].contact", "a run takes forces on every pair or on none"),
+    ("name of a building", {"name": "box"}, "wall[0].name", "a building's name"),
+]
+
+
+@pytest.mark.parametrize("case", BAD, ids=[c[0] for c in BAD])
+def test_bad_wall_is_one_message_naming_file_field_and_what_was_expected(tmp_path, case):
+    """Each defect of a [[wall]] table: one InputError naming the scene file, the key path and what was expected."""
+    from pounding.io.scene_writer import to_toml
+
+    _, change, field, words = case
+    data = _data()
+    data["wall"][0].update(change)
+    path = tmp_path / "scene.toml"
+    path.write_text(to_toml(data))
+    with pytest.raises(InputError) as exc:
+        load_scene(path)
+    text = str(exc.value)
+    assert str(path) in text and field in text and words in text, text
+
+
+def test_cli_refuses_a_wall_through_a_storey_in_one_line_exit_2_nothing_written(tmp_path):
+    """``pounding run`` of a scene whose wall cuts a storey: one line on stderr, exit code 2, no output folder."""
+    from pounding.io.scene_writer import to_toml
+
+    data = _data()
+    data["wall"][0]["face"] = [[5.0, -1.0], [5.0, 9.0]]
+    path = tmp_path / "scene.toml"
+    path.write_text(to_toml(data))
+    out = tmp_path / "out"
+    proc = subprocess.run([sys.executable, "-m", "pounding", "run", str(path), "--out", str(out)], capture_output=True, text=True)
+    assert proc.returncode == 2 and "Traceback" not in proc.stderr
+    assert len(proc.stderr.strip().splitlines()) == 1 and "wall[0].face" in proc.stderr
+    assert not out.exists()
