@@ -208,3 +208,26 @@ def test_cli_refuses_a_wall_through_a_storey_in_one_line_exit_2_nothing_written(
     assert proc.returncode == 2 and "Traceback" not in proc.stderr
     assert len(proc.stderr.strip().splitlines()) == 1 and "wall[0].face" in proc.stderr
     assert not out.exists()
+
+
+# --------------------------------------------------------------------------- (e) the gap study
+def test_gap_study_reports_the_clearance_to_each_wall_the_peak_displacement_toward_it():
+    """Without contact the undamped slab swings to u = -2 A0 / w^2 (at t = pi / w) and never moves toward
+    +x: the clearance it needs to the wall on its left is 2 A0 / w^2, to a wall on its right 0, whatever
+    their distances at rest (GAP and 0.3 m, reported as they are).
+
+    Tolerance: the study takes the peak over the step ends (dt = 0.01 s); the nearest is within dt / 2
+    of pi / w, where the closed form falls short by (A0 / w^2)(1 - cos(w dt / 2)) <= (A0 / w^2)(w dt)^2 / 8.
+    """
+    from pounding.framework.studies.wall_gap import wall_gaps
+
+    data = _data(duration=0.8)
+    data["wall"].append({"name": "east", "face": [[10.3, 9.0], [10.3, -1.0]], "top": 1.0})
+    step = GroundMotion(np.array([0.0, 10.0]), np.array([A0, A0]), name="step", source="test")
+    out = {c.wall: c for c in wall_gaps(parse_scene(data).with_ground_motion(step))}
+    peak, dt = 2.0 * A0 / W**2, 0.01
+    assert out["moat"].required <= peak + 64 * EPS * peak
+    assert out["moat"].required >= peak - (A0 / W**2) * (W * dt) ** 2 / 8
+    assert abs(out["moat"].time - np.pi / W) <= dt / 2 + 1e-12
+    assert out["moat"].current == pytest.approx(GAP, abs=1e-12) and not out["moat"].ok  # 0.02 m < 0.2 m: it strikes
+    assert out["east"].required == 0.0 and out["east"].current == pytest.approx(0.3, abs=1e-12) and out["east"].ok
