@@ -95,9 +95,9 @@ def _clearance(building, wall, result) -> WallClearance | None:
 def wall_gaps(scene, *, progress=None) -> list[WallClearance]:
     """:func:`wall_clearances` from one run of ``scene`` without contact."""
     from pounding.framework.post.run import run
-    from pounding.framework.studies.gap import no_contact
 
-    return wall_clearances(scene, run(no_contact(scene), progress=progress))
+    # without contact, recording every step (as the pairs' study runs it)
+    return wall_clearances(scene, run(scene.with_analysis(contact="none", contact_params={}, output_every=1), progress=progress))
 
 
 def format_walls(clearances: list[WallClearance]) -> str:
