@@ -153,6 +153,10 @@ def describe(scene, path: Path | None = None) -> str:
                  + (f"; silenced: {', '.join(an.silence)}" if an.silence else ""))
     for rule in scene.contacts:  # [[contact]]: a pair of buildings with a law of its own
         lines.append(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {rule.law}{params(CONTACT_LAWS, rule.law, rule.params)}")
+    for w in scene.walls:  # [[wall]]: fixed to the ground, struck by the slabs at or below its top
+        law, given = (an.contact, {**an.contact_params, **w.params}) if w.law is None else (w.law, w.params)
+        face = " - ".join(f"({x:g}, {y:g})" for x, y in w.face)
+        lines.append(f"wall {w.name!r}: face {face} m, top {w.top:g} m; contact {law}{params(CONTACT_LAWS, law, given)}")
     for b in scene.buildings:
         s = assemble(b)
         d = b.damping
