@@ -101,6 +101,11 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
     masters = {name: parts[0] for name, parts in built.items()}
     ops.comment("contact")
     notes = _contact(ops, scene, masters, tags)
+    if scene.walls:  # (pounding.peer.opensees_walls models them for the tests, not in this script)
+        note = (f"the scene's walls ({', '.join(repr(w.name) for w in scene.walls)}) are not written: the script's slabs "
+                "strike nothing fixed to the ground")
+        ops.comment(note)
+        notes.append(note)
     ops.comment("the ground motion (accelerations [m/s2])")
     uniform_excitation(ops, scene.ground_motion)
     return masters, notes
