@@ -214,7 +214,8 @@ def test_cli_refuses_a_wall_through_a_storey_in_one_line_exit_2_nothing_written(
 def test_gap_study_reports_the_clearance_to_each_wall_the_peak_displacement_toward_it():
     """Without contact the undamped slab swings to u = -2 A0 / w^2 (at t = pi / w) and never moves toward
     +x: the clearance it needs to the wall on its left is 2 A0 / w^2, to a wall on its right 0, whatever
-    their distances at rest (GAP and 0.3 m, reported as they are).
+    their distances at rest (GAP and 0.3 m, reported as they are). The moat has a force law of its own,
+    which the free run turns off with the scene's.
 
     Tolerance: the study takes the peak over the step ends (dt = 0.01 s); the nearest is within dt / 2
     of pi / w, where the closed form falls short by (A0 / w^2)(1 - cos(w dt / 2)) <= (A0 / w^2)(w dt)^2 / 8.
@@ -222,6 +223,8 @@ def test_gap_study_reports_the_clearance_to_each_wall_the_peak_displacement_towa
     from pounding.framework.studies.wall_gap import wall_gaps
 
     data = _data(duration=0.8)
+    data["analysis"]["contact"] = {"name": "penalty", "stiffness": 1e9}  # the moat's own law below: contact off in the free run too
+    data["wall"][0]["contact"] = {"name": "kelvin", "stiffness": 1e9}
     data["wall"].append({"name": "east", "face": [[10.3, 9.0], [10.3, -1.0]], "top": 1.0})
     step = GroundMotion(np.array([0.0, 10.0]), np.array([A0, A0]), name="step", source="test")
     out = {c.wall: c for c in wall_gaps(parse_scene(data).with_ground_motion(step))}

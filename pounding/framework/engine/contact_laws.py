@@ -73,7 +73,8 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     which = np.array([by_pair.get(frozenset((names[a], names[b])), 0) for a, _, b, _, _ in pairs], dtype=np.int64)
     by_wall = {}
     for wall in getattr(scene, "walls", ()):
-        laws.append(wall_law(scene, wall, default))
+        # with contact off (a gap study's free run) nothing is watched: the walls take that law too
+        laws.append(wall_law(scene, wall, default) if default.watches() else default)
         by_wall[wall.name] = len(laws) - 1
     for p, wall in (walls or {}).items():
         which[p] = by_wall[wall.name]
