@@ -302,3 +302,27 @@ def test_points_of_one_instant_with_their_own_restitutions_each_leave_at_minus_k
     assert np.allclose(b - W @ I, [-0.8 * 0.3, -0.5 * 0.2], rtol=0.0, atol=8 * EPS * 0.3)
     same = Driver._group_impulses(SimpleNamespace(laws=laws), W, b, np.array([0, 0]))
     assert np.array_equal(same, laws[0].impulses(W, b))
+
+
+def test_a_plastic_impact_leaves_the_slab_resting_on_the_wall_held_there_by_its_load():
+    """With e = 0 the slab stops at the face (u = -GAP, u' = 0) and the load pressing it on (M A0 = 2e5 N
+    against the springs' K GAP = 8e4 N) keeps it there: the pair is held in sustained contact (a rigid
+    unilateral constraint against a body of infinite mass) to the end, the slab at the face to the
+    geometry's zero (driver.eps) plus rounding, the building's account closing with the held contact
+    doing no work (the slab does not move) and the impact's loss M b^2 / 2 booked as impact work."""
+    from pounding.framework.post.energy_account import building_balances
+
+    driver, result = _run(_data(0.0))
+    t_i = result.impacts[0].time
+    assert abs(t_i - T_HIT) <= driver.eps / B_HIT + 64 * EPS * T_HIT
+    after = result.t > t_i
+    u = result.cm("box")[after, 0, 0]
+    v = result.cm("box", velocity=True)[after, 0, 0]
+    assert np.max(np.abs(u + GAP)) <= 2 * driver.eps + 64 * EPS * GAP
+    assert np.max(np.abs(v)) <= W * (2 * driver.eps + 64 * EPS * GAP)
+    held = result.info["sustained_pairs_at_end"]
+    assert held and set(held) <= set(driver.model.walls)
+    account = building_balances(result)["box"]
+    assert account["impacts"] == pytest.approx(-0.5 * M * B_HIT**2, rel=1e-9)
+    assert abs(account["contact_forces"]) <= 1e-9 * account["input"]
+    assert abs(account["error"]) <= 1e-9 * account["input"]
