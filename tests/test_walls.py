@@ -326,3 +326,28 @@ def test_a_plastic_impact_leaves_the_slab_resting_on_the_wall_held_there_by_its_
     assert account["impacts"] == pytest.approx(-0.5 * M * B_HIT**2, rel=1e-9)
     assert abs(account["contact_forces"]) <= 1e-9 * account["input"]
     assert abs(account["error"]) <= 1e-9 * account["input"]
+
+
+def test_impacts_on_a_wall_are_in_impacts_csv_contacts_csv_and_summary(tmp_path):
+    """The run folder names the wall as the struck body: impacts.csv rows with struck_building "moat",
+    storey 0, element "wall"; contacts.csv rows with building_b "moat", storey_b 0; summary.json's
+    ``walls.moat`` totals the impulse (1 + e) M b of the first impact plus the later ones, and the
+    energy its impacts dissipated, which is the loss the building's account books (its impact work)."""
+    import csv
+    import json
+
+    from pounding.io.results import write_results
+
+    _, result = _run(_data(0.5, duration=0.25))  # one impact instant (two face ends)
+    out = write_results(result, tmp_path / "run")
+    rows = list(csv.DictReader(open(out / "impacts.csv")))
+    assert len(rows) == 2 and {(r["struck_building"], r["struck_storey"], r["struck_element"]) for r in rows} == {("moat", "0", "wall")}
+    contacts = list(csv.DictReader(open(out / "contacts.csv")))
+    assert {(r["building_b"], r["storey_b"]) for r in contacts} == {("moat", "0")}
+    summary = json.loads((out / "summary.json").read_text())
+    moat = summary["walls"]["moat"]
+    assert moat["struck_by"] == ["box"] and moat["n_contacts"] == 2
+    assert moat["impulse"] == pytest.approx(1.5 * M * B_HIT, rel=1e-9)
+    loss = 0.5 * (1.0 - 0.5**2) * M * B_HIT**2
+    assert moat["energy_dissipated"] == pytest.approx(loss, rel=1e-9)
+    assert summary["buildings"]["box"]["energy"]["impacts"] == pytest.approx(-loss, rel=1e-9)

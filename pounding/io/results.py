@@ -143,6 +143,20 @@ def contacts_summary(result: Result) -> dict:
     }
 
 
+def walls_summary(result: Result) -> dict:
+    """summary.json's ``walls``: per retaining wall, its contacts (impacts of impulse laws, episodes of
+    force laws), their total impulse [N s] and dissipated energy [J], its largest contact force [N]
+    (force laws) and the buildings that struck it."""
+    out = {}
+    for wall in dict.fromkeys(w.name for w in result.walls.values()):
+        eps = [e for e in result.episodes() if e.pair in result.walls and result.walls[e.pair].name == wall]
+        forces = [e.peak_force for e in eps if np.isfinite(e.peak_force)]
+        out[wall] = {"n_contacts": len(eps), "impulse": float(sum(e.impulse for e in eps)),
+                     "energy_dissipated": float(sum(e.energy_dissipated for e in eps)), "peak_force": float(max(forces, default=0.0)),
+                     "struck_by": sorted({result.names[result.pairs[e.pair][0]] for e in eps})}
+    return out
+
+
 def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
     """Per building, the response histories of :func:`pounding.framework.post.response.building_response`."""
     from pounding.framework.post.response import building_response, impact_forces
@@ -196,6 +210,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "impact_energy_loss": float(sum(i.energy_loss for i in result.impacts)),
         "n_contacts": result.n_impacts,
         "contacts": contacts_summary(result),
+        **({"walls": walls_summary(result)} if getattr(result, "walls", None) else {}),
         "n_contact_episodes": episodes["n"],
         "contact_episodes": episodes,
         "convergence": convergence_note(),
