@@ -351,3 +351,22 @@ def test_impacts_on_a_wall_are_in_impacts_csv_contacts_csv_and_summary(tmp_path)
     loss = 0.5 * (1.0 - 0.5**2) * M * B_HIT**2
     assert moat["energy_dissipated"] == pytest.approx(loss, rel=1e-9)
     assert summary["buildings"]["box"]["energy"]["impacts"] == pytest.approx(-loss, rel=1e-9)
+
+
+def test_a_wall_under_an_overhang_above_its_top_is_accepted():
+    """A storey whose floor below is at or above the wall's top does not stand where the wall is: a face
+    under the overhanging second floor of a two-storey building (storey 1 from 0 to 1.0 m over the
+    12 m slab, storey 2 from 1.0 m up over a slab reaching 2 m further west) with its top at 1.0 m
+    loads; the same face 0.5 m higher cuts storey 2's space and is refused."""
+    data = _data()
+    b = data["building"][0]
+    b.update(storey_heights=[1.0, 3.2], mass=[M, M], slabs=[[[0, 0], [10, 0], [10, 8], [0, 8]], [[-2, 0], [10, 0], [10, 8], [-2, 8]]])
+    b.pop("slab")
+    for e in b["element"]:
+        e.pop("storeys")  # both storeys
+    data["wall"][0]["face"] = [[-1.0, -1.0], [-1.0, 9.0]]
+    scene = parse_scene(data)
+    assert scene.walls[0].top == 1.0
+    data["wall"][0]["top"] = 1.5
+    with pytest.raises(InputError, match="storey 2 of 'box'"):
+        parse_scene(data)
