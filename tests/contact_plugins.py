@@ -108,3 +108,19 @@ class Hertzdamp(Hertz):
         if delta <= 0.0 or v0 <= 0.0:
             return self.stiffness * max(delta, 0.0) ** self.exponent
         return max(self.stiffness * delta**self.exponent * (1.0 + self.xi * rate / v0), 0.0)
+
+
+class NewtonInPython(ContactLaw):
+    """Newton's impulse law written from the base class alone: the impulses of a group of touching
+    features solve the Newton problem with restitution e (the public
+    :func:`~pounding.contact.base.newton_impulses`). It does not declare ``compiled_impulses``, so
+    the engine calls its ``impulses`` from Python: the same rule as the built-in ``impulse`` law,
+    reached through the plugin path."""
+
+    name: ClassVar[str] = "newton_in_python"
+    kind: ClassVar[str] = "impulse"
+
+    def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:
+        from pounding.contact.base import newton_impulses
+
+        return newton_impulses(W, b, self.restitution)

@@ -1065,10 +1065,10 @@ class Driver:
         """Apply impulses at time t to every touching, approaching pair among ``pairs`` (default:
         every pair not held; a held pair is given where a point of it arrives). True if any impulse acted.
 
-        The same steps as the kernel's :func:`~pounding.framework.engine.kernel.impulses_at` (which
-        applies the impulses of a law declaring ``compiled_impulses`` inside compiled
-        stretches), with the law's own ``impulses(W, b)``, logged to the same records. A pair whose rebound is too slow to open the tolerance within one
-        step (Zeno) is held from then on.
+        The kernel's one impulse step (:func:`~pounding.framework.engine.kernel.impulses_at`, which
+        its compiled stretches call too) with this run's law (:meth:`_law_impulses_at`), logged to
+        the same records. A pair whose rebound is too slow to open the tolerance within one step
+        (Zeno) is held from then on.
         """
         if not self.law.at_events:
             return False
@@ -1078,10 +1078,6 @@ class Driver:
         m = self.model
         candidates = np.zeros(len(m.pairs), dtype=np.bool_)
         candidates[self.free_pairs() if pairs is None else np.asarray(pairs, dtype=np.int64)] = True
-        # The Python path keeps numpy's arithmetic for the features' Delassus matrix and closing
-        # speeds: routing it through the compiled impulses_at (numba's matrix products) moved
-        # results by rounding, which the stress suite's chaotic random scenes amplified into an
-        # event sequence that gained energy; with this path the runs are main's to the bit.
         n_before = len(self.impacts)
         acted = self._law_impulses_at(t, candidates)
         self.drain_kernel_events()
@@ -1119,64 +1115,32 @@ class Driver:
         return bool(np.min(duration) < self.dt)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
-        """:func:`~pounding.framework.engine.kernel.impulses_at` for the Python path: the same features
-        (:func:`~pounding.framework.engine.pairs.touching_features`), the same groups of pairs linked
-        through shared buildings (:func:`~pounding.framework.engine.pairs.building_groups`), each group
-        one Newton problem given to ``self.law.impulses(W, b)``, written to the same records.
+        """The one impulse step (:func:`~pounding.framework.engine.kernel.impulses_at`) at time t
+        [s] on the ``candidates`` (P,) bool, with this run's law: compiled with the Newton rule
+        for a law that declares ``compiled_impulses``, else the same function with the compiler
+        off around the law's own ``impulses(W, b)``. Its records go to the log (drained by the
+        caller). True if an impulse acted."""
+        from pounding.framework.engine.kernel import impulses_at, newton_rule
 
-        The velocity arithmetic (closing speeds, Delassus matrices, velocity jumps) is numpy's
-        here and numba's in the kernel: routing this path through the compiled products moved
-        results by rounding (1e-16 relative), which chaotic scenes of the stress suite amplify
-        (issue #12); a law only Python knows needs this path anyway.
-        """
-        m, log = self.model, self.log
-        q = np.ascontiguousarray(self.z[:, 0])
-        count, pair, who, vertex, Q, N, Wst = pg.touching_features(q, candidates, self.tol, m.n, m.geo)
-        pair, Wst = pair[:count], Wst[:count]
-        b = np.zeros(count)
-        kept, approaching = [], []
-        for p in dict.fromkeys(pair.tolist()):  # touching pairs in stacked order
-            sel = pair == p
-            bp = -(Wst[sel] @ self.z[:, 1])
-            approaching.append(bp.max() > self.v_min)  # rounding-level closing is not approach
-            bp[(bp > 0.0) & (bp <= self.v_min)] = 0.0
-            b[sel] = bp
-            kept.append(p)
-        if not any(approaching):
-            return False
-        kept = np.array(kept, dtype=np.int64)
-        label = pg.building_groups(kept, m.geo)
-        group_of = dict(zip(kept.tolist(), label.tolist()))
-        fgroup = np.array([group_of[p] for p in pair.tolist()], dtype=np.int64)
-        I_all, after_all = np.zeros(count), np.zeros(count)
-        # a group with an approaching pair is one Newton problem; its touching pairs take part
-        groups = sorted({int(g) for g, a in zip(label.tolist(), approaching) if a})
-        for g in groups:
-            sel = fgroup == g
-            Wr = Wst[sel]
-            W = Wr @ Wr.T
-            I = np.asarray(self._group_impulses(W, b[sel], self.pair_law[pair[sel]]), dtype=float)
-            I_all[sel], after_all[sel] = I, b[sel] - W @ I
-        if not np.any(I_all > 0):
-            return False
-        if log.last_t[0] != t:
-            self.event_states.append((t, self.z[:, 0].copy(), self.z[:, 1].copy()))
-            log.last_t[0] = t
-        for g in groups:
-            sel = fgroup == g
-            self.z[:, 1] += Wst[sel].T @ I_all[sel]
-        if self.law.after_impact == "equilibrium":
-            rem = self.springs.g if self.springs is not None else 0.0  # the springs' remainders load too
-            self.z[:, 2] = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * self.z[:, 0]
-        for j in np.flatnonzero(I_all > 0).tolist():  # the fields of an IMPACT_DTYPE record (Impact.from_record), directly
-            self.impacts.append(Impact(float(t), int(pair[j]), int(who[j]), int(vertex[j]), float(I_all[j]), N[j, :2].copy(),
-                                       float(b[j]), float(0.5 * I_all[j] * (b[j] + after_all[j])), Q[j, :2].copy()))
-        for p, a in zip(kept.tolist(), approaching):  # Zeno, as in impulses_at
-            sel = pair == p
-            if a and np.any(I_all[sel] > 0) and b[sel].max() * self.dt < self.tol:
-                log.zeno[p] = True
-        return True
+        m, law = self.model, self.law
+        fc = self.fc - self.springs.g if self.springs is not None else self.fc  # the springs' remainders load too
+        settings = self.settings._replace(after_eq=law.after_impact == "equilibrium")
+        if len({float(x.restitution) for x in self.laws}) > 1:  # a wall's own restitution: each point its pair's
+            step = impulses_at.py_func
 
+            def rule(D, b, _settings, pairs):
+                return np.asarray(self._group_impulses(D, b, self.pair_law[pairs]), dtype=float)
+        elif law.compiled_impulses:
+            step, rule = impulses_at, newton_rule
+            settings = settings._replace(restitution=float(law.restitution))
+        else:
+            step = impulses_at.py_func
+
+            def rule(D, b, _settings, _pairs):
+                return np.asarray(law.impulses(D, b), dtype=float)
+        acted, _ = step(rule, float(t), self.ag_at(t), self.z, np.ascontiguousarray(fc, dtype=float), m.modes, settings,
+                        float(self.dt), self.log, m.geo, candidates)
+        return bool(acted)
 
     def _group_impulses(self, W: np.ndarray, b: np.ndarray, which: np.ndarray) -> np.ndarray:
         """Impulses (m,) [N s] of one group's features, given their Delassus matrix W (m, m), closing speeds
