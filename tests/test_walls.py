@@ -370,3 +370,13 @@ def test_a_wall_under_an_overhang_above_its_top_is_accepted():
     data["wall"][0]["top"] = 1.5
     with pytest.raises(InputError, match="storey 2 of 'box'"):
         parse_scene(data)
+
+
+def test_with_wall_checks_the_wall_as_the_loader_does():
+    """``Scene.with_wall`` (the Python API) adds a wall that can stand and refuses, as the scene file does,
+    one whose face cuts a storey's space, naming the call and the field."""
+    scene = parse_scene(_data())
+    kerb = scene.with_wall("kerb", [[-1.0, 10.0], [11.0, 10.0]], 0.5)
+    assert [w.name for w in kerb.walls] == ["moat", "kerb"] and [w.name for w in scene.walls] == ["moat"]
+    with pytest.raises(InputError, match=r"Scene.with_wall\('cut'\).face: the wall's face cuts the space of storey 1"):
+        scene.with_wall("cut", [[5.0, -1.0], [5.0, 9.0]], 1.0)

@@ -26,7 +26,7 @@ import numpy as np
 from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, same_level
 from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab, Wall
-from pounding.framework.model.walls import cut_storeys
+from pounding.framework.model.walls import check_wall
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
 
@@ -335,21 +335,13 @@ def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: 
     from pounding.framework.model.registry import CONTACT_LAWS
 
     out, seen = [], {}
-    names = [b.name for b in buildings]
     for i, table in enumerate(tables):
         where = f"wall[{i}]"
         name = table["name"]
         if name in seen:
             raise InputError(f"wall name {name!r} is used twice (wall[{seen[name]}])", field=f"{where}.name")
-        if name in names:
-            raise InputError(f"wall name {name!r} is a building's name; impacts.csv names the struck body", field=f"{where}.name")
         seen[name] = i
         face = np.asarray(table["face"], dtype=float)
-        lengths = np.hypot(*np.diff(face, axis=0).T)
-        if np.any(lengths <= LEVEL_TOL):
-            k = int(np.argmax(lengths <= LEVEL_TOL))
-            raise InputError(f"expected segments of nonzero length, got points {k} and {k + 1} at the same place "
-                             f"({face[k, 0]:g}, {face[k, 1]:g})", field=f"{where}.face")
         if "contact" in table:
             value = table["contact"]
             if isinstance(value, str) or "name" in value:
@@ -360,12 +352,10 @@ def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: 
         else:
             law, params = None, {}
         wall = Wall(name, face, float(table["top"]), law, params)
-        for j, b in enumerate(buildings):
-            cut = cut_storeys(b, wall)
-            if cut:
-                raise InputError(f"the wall's face cuts the space of storey {cut[0] + 1} of {b.name!r}, which stands below its top "
-                                 f"({wall.top:g} m): a wall may stand beside a storey or under a slab above its top, not through it",
-                                 field=f"{where}.face")
+        try:
+            check_wall(wall, buildings)
+        except InputError as exc:
+            raise exc.located(field_prefix=where) from None
         out.append(wall)
     scene_like = Scene((), None, analysis)
     default = CONTACT_LAWS.get(analysis.contact, search=search)(**analysis.contact_params)

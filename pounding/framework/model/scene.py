@@ -221,10 +221,18 @@ class Scene:
     def with_wall(self, name: str, face: Any, top: float, law: Any = None, **params: Any) -> "Scene":
         """A copy with a retaining wall ``name`` (replacing one of that name): its face a plan polyline
         (k, 2) [m], its top [m] above the ground, its contact law (None: ``[analysis] contact``, whose
-        parameters ``params`` then override, e.g. ``restitution``). Not validated: see
-        :func:`pounding.io.scene.check_walls` (the scene loader runs it)."""
+        parameters ``params`` then override, e.g. ``restitution``). Raises :class:`~pounding.errors.InputError`
+        for a wall that cannot stand here (:func:`pounding.framework.model.walls.check_wall`); its law is
+        checked when a run builds it."""
+        from pounding.framework.model.walls import check_wall
+
+        wall = Wall(name, np.asarray(face, dtype=float), float(top), law, dict(params))
+        try:
+            check_wall(wall, self.buildings)
+        except InputError as exc:
+            raise exc.located(field_prefix=f"Scene.with_wall({name!r})") from None
         keep = tuple(w for w in self.walls if w.name != name)
-        return replace(self, walls=keep + (Wall(name, np.asarray(face, dtype=float), float(top), law, dict(params)),))
+        return replace(self, walls=keep + (wall,))
 
     def with_ground_motion(self, ground_motion: Any) -> "Scene":
         """A copy shaken by ``ground_motion`` (a :class:`~pounding.io.ground_motion.GroundMotion` or a

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon
 
 #: [m] depth of a wall slab behind its face: far more than a slab can press into a wall in one
@@ -146,3 +147,28 @@ def cut_storeys(building, wall) -> list[int]:
         if any(segment_cuts_polygon(p0, p1, np.asarray(slab.vertices, float)) for p0, p1 in segments(wall.face)):
             out.append(f)
     return out
+
+
+def check_wall(wall, buildings) -> None:
+    """Raise :class:`~pounding.errors.InputError` (its field relative to the wall's table: ``name``,
+    ``face``, ``top``) for a wall that cannot stand in a scene of ``buildings``: a name a building has,
+    a top <= 0, a face of fewer than two points or with a segment of no length, a face that cuts
+    the space of a storey standing below its top (:func:`cut_storeys`)."""
+    if wall.name in [b.name for b in buildings]:
+        raise InputError(f"wall name {wall.name!r} is a building's name; impacts.csv names the struck body", field="name")
+    if not wall.top > 0.0:
+        raise InputError(f"expected a number > 0, got {wall.top!r}", field="top")
+    face = np.asarray(wall.face, dtype=float)
+    if face.ndim != 2 or face.shape[1] != 2 or len(face) < 2:
+        raise InputError(f"expected at least 2 points [x, y], got {face.tolist()!r}", field="face")
+    lengths = np.hypot(*np.diff(face, axis=0).T)
+    if np.any(lengths <= LEVEL_TOL):
+        k = int(np.argmax(lengths <= LEVEL_TOL))
+        raise InputError(f"expected segments of nonzero length, got points {k} and {k + 1} at the same place "
+                         f"({face[k, 0]:g}, {face[k, 1]:g})", field="face")
+    for b in buildings:
+        cut = cut_storeys(b, wall)
+        if cut:
+            raise InputError(f"the wall's face cuts the space of storey {cut[0] + 1} of {b.name!r}, which stands below its top "
+                             f"({wall.top:g} m): a wall may stand beside a storey or under a slab above its top, not through it",
+                             field="face")
