@@ -401,8 +401,10 @@ class Driver:
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
-        # a wall with a restitution of its own: the driver applies every impulse (per-point restitution)
-        compiled = compiled and len({float(law.restitution) for law in self.laws}) == 1
+        #: a wall with a restitution of its own: every impulse is the driver's, each point with its pair's
+        #: restitution (:meth:`_group_impulses`)
+        self.own_restitutions = len({float(law.restitution) for law in self.laws}) > 1
+        compiled = compiled and not self.own_restitutions
         self.settings = Settings(
             self.tol, 0.0 if self.law.with_step else (-self.eps if self.crossing else -self.tol), float(self.v_min),
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
@@ -1125,7 +1127,7 @@ class Driver:
         m, law = self.model, self.law
         fc = self.fc - self.springs.g if self.springs is not None else self.fc  # the springs' remainders load too
         settings = self.settings._replace(after_eq=law.after_impact == "equilibrium")
-        if len({float(x.restitution) for x in self.laws}) > 1:  # a wall's own restitution: each point its pair's
+        if self.own_restitutions:  # a wall's own restitution: each point its pair's
             step = impulses_at.py_func
 
             def rule(D, b, _settings, pairs):
