@@ -61,6 +61,8 @@ def cmd_gap(args: argparse.Namespace) -> int:
 
             raise InputError("--history writes one run's clearances; with --angles there is one run per angle", field="--history")
         return _angle_study(args, scene, direction)
+    if len(scene.buildings) == 1 and scene.walls:  # no pair: only the clearances to the walls
+        return _walls_only(args, scene)
     if len(scene.buildings) > 2:
         return _row(args, scene, direction)
     report = minimum_gap(scene, direction)
@@ -73,9 +75,30 @@ def cmd_gap(args: argparse.Namespace) -> int:
         sys.stdout.write("\n")
     else:
         print(format_report(report))
+        _print_walls(report.walls)
     if report.check is not None and not report.check.ok:
         print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
         return 1
+    return 0
+
+
+def _print_walls(clearances: list) -> None:
+    from pounding.framework.studies.wall_gap import format_walls
+
+    if clearances:
+        print(format_walls(clearances))
+
+
+def _walls_only(args, scene) -> int:
+    """One building and its walls: the clearance it needs to each (exit 0 whatever it has: a report)."""
+    from pounding.framework.studies.wall_gap import wall_gaps
+
+    clearances = wall_gaps(scene)
+    if args.json:
+        json.dump({"walls": [c.to_dict() for c in clearances]}, sys.stdout, indent=1)
+        sys.stdout.write("\n")
+    else:
+        _print_walls(clearances)
     return 0
 
 
@@ -102,6 +125,7 @@ def _row(args, scene, direction) -> int:
         sys.stdout.write("\n")
     else:
         print(f"{len(scene.buildings)} buildings, {plural(len(row.reports), 'adjacent pair')} (each measured and checked as if alone):")
+        _print_walls(row.walls)
         for r in row.reports:
             print(format_report(r))
             if r.buildings in partial:

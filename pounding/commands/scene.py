@@ -123,7 +123,7 @@ def describe(scene, path: Path | None = None) -> str:
     integrator = chosen_integrator(scene)
     int_src = "" if an.integrator else " (chosen for the scene)"
     m = Model(scene)  # as the driver chooses (pounding.framework.engine.timestep, contact_step)
-    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), integrator)
+    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), integrator)
     if an.dt:
         dt_src = ""
     elif contact_time.duration < float("inf"):
@@ -154,6 +154,10 @@ def describe(scene, path: Path | None = None) -> str:
     for rule in scene.contacts:  # [[contact]]: a pair of buildings with a law of its own
         lines.append(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {rule.law}{params(CONTACT_LAWS, rule.law, rule.params)}")
     lines += [_link_line(k) for k in scene.links]  # [[link]]: a law between two slabs
+    for w in scene.walls:  # [[wall]]: fixed to the ground, struck by the slabs at or below its top
+        law, given = (an.contact, {**an.contact_params, **w.params}) if w.law is None else (w.law, w.params)
+        face = " - ".join(f"({x:g}, {y:g})" for x, y in w.face)
+        lines.append(f"wall {w.name!r}: face {face} m, top {w.top:g} m; contact {law}{params(CONTACT_LAWS, law, given)}")
     for b in scene.buildings:
         s = assemble(b)
         d = b.damping

@@ -242,6 +242,31 @@ class ContactLaw(ABC):
                     f"{default.name or default.__name__!r} does not: a run takes forces on every pair or on none")
         return None
 
+    def wall_problem(self, default: "ContactLaw") -> str | None:
+        """Why this law cannot serve the slabs against a fixed wall (a ``[[wall]]`` table) in a run whose
+        slab pairs take ``default``, or None when it can.
+
+        A force law serves a wall as it serves one pair of buildings (:meth:`override_problem`). An
+        impulse law serves a wall when it is ``default`` with, at most, a restitution of its own: the
+        run's events (tolerance, locator, accelerations after an impact) are one for all pairs, and
+        a restitution of its own is applied inside the Newton problem of an instant only to a law
+        whose impulses are Newton's with its restitution (``compiled_impulses``)."""
+        if self.with_step or default.with_step:
+            return type(self).override_problem(type(default))
+        if type(self) is not type(default):
+            return (f"the impulse law {self.name or type(self).__name__!r} differs from [analysis] contact "
+                    f"{default.name or type(default).__name__!r}: one impulse law serves every pair of a run "
+                    "(a wall may take its own restitution)")
+        mine = {k: v for k, v in self.describe().items() if k != "restitution"}
+        theirs = {k: v for k, v in default.describe().items() if k != "restitution"}
+        if mine != theirs:
+            differ = ", ".join(sorted(k for k in mine if mine.get(k) != theirs.get(k)))
+            return f"{differ} must be [analysis] contact's (the run's events are one for every pair); only the restitution may differ"
+        if self.restitution != default.restitution and not self.compiled_impulses:
+            return (f"{self.name or type(self).__name__!r} does not declare its impulses Newton's with its restitution "
+                    "(compiled_impulses), so a wall cannot take a restitution of its own with it")
+        return None
+
     def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:
         """Impulses I >= 0 [N s] (m,) at the touching features of one slab pair (impulse laws),
         given the Delassus matrix W (m, m) [1/kg] and the closing speeds b (m,) [m/s]."""

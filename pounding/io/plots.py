@@ -77,8 +77,9 @@ def default_points(result) -> list[tuple[str, int, int, str]]:
     """(building, storey 1-based, vertex, "x") of each common-storey corner of the lower building facing the other."""
     low = lower_building(result)
     out = []
-    for a, fa, b, fb, _ in pairs_of(result):
-        if low not in (a, b):
+    walls = getattr(result, "walls", {})
+    for p, (a, fa, b, fb, _) in enumerate(pairs_of(result)):
+        if low not in (a, b) or p in walls:  # (a wall pair's second slab is a wall)
             continue
         f, other = (fa, result.systems[b].slabs[fb]) if a == low else (fb, result.systems[a].slabs[fa])
         slab = result.systems[low].slabs[f]
@@ -208,7 +209,7 @@ def _plot_force_contacts(ax, result, contacts: list) -> None:
     groups: dict = {}
     for e in contacts:
         a, _, b, _, _ = result.pairs[e.pair]
-        groups.setdefault((result.names[a], result.names[b]), []).append(e)
+        groups.setdefault((result.names[a], result.second_body(e.pair)[0]), []).append(e)
     imax = max(e.impulse for e in contacts) or 1.0
     for g, (key, eps) in enumerate(sorted(groups.items())):
         colour = COLOURS[(g + 3) % len(COLOURS)]
@@ -242,7 +243,8 @@ def plot_impact_timeline(result, path) -> Path:
             F = facades.get(imp.pair)
             key = (result.striking_building(imp), imp.vertex, result.struck_building(imp), -1 if F is None else F.storey + 1)
             groups.setdefault(key, []).append(imp)
-        keys = sorted(groups, key=lambda k: (result.names.index(k[0]), k[1], result.names.index(k[2]), k[3]))
+        order = {name: i for i, name in enumerate(result.names)}  # (a wall, not a building: after them)
+        keys = sorted(groups, key=lambda k: (order[k[0]], k[1], order.get(k[2], len(order)), k[2], k[3]))
         imax = max(i.impulse for i in result.impacts) or 1.0
         n = len(keys)
         for g, key in enumerate(keys):
@@ -252,6 +254,7 @@ def plot_impact_timeline(result, path) -> Path:
             y = [result.impact_storey(i) + off for i in imps]
             s = [15 + 300 * i.impulse / imax for i in imps]
             struck = f"{key[2]} slab" if key[3] < 0 else f"{key[2]} storey {key[3]} columns"
+            struck = f"wall {key[2]}" if key[2] not in order else struck
             label = f"{key[0]} {'face' if key[1] < 0 else f'vertex {key[1]}'} -> {struck}"
             ax.scatter(t, y, s=s, marker=MARKERS[g % len(MARKERS)], color=COLOURS[g % len(COLOURS)], alpha=0.7, edgecolors="k", linewidths=0.4, label=label)
         leg = ax.legend(title="striking -> struck", fontsize=8, title_fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
@@ -283,6 +286,8 @@ def plot_gap_histories(result, path, *, gaps: np.ndarray | None = None, toleranc
         tol = contact_tolerance(result) if tolerance is None else tolerance
         for p, (a, fa, b, fb, rest) in enumerate(pairs):
             lab = f"storey {fa + 1}" if fa == fb else f"{result.names[a]} {fa + 1} / {result.names[b]} {fb + 1}"
+            if p in getattr(result, "walls", {}):
+                lab = f"{result.names[a]} {fa + 1} / wall {result.walls[p].name}"
             c = COLOURS[p % len(COLOURS)]
             ax.plot(result.t, g[:, p] * 1e3, lw=1.0, color=c, label=f"{lab} (rest {rest * 1e3:.4g} mm)")
             ti = np.array([i.time for i in result.impacts if i.pair == p]) if result.pairs else np.array([])

@@ -71,7 +71,10 @@ def pair_law_names(result: Result) -> list[str]:
     """The name of every slab pair's contact law (``[analysis] contact`` or its pair's ``[[contact]]``)."""
     default = result.contact.get("name", "")
     by = {frozenset(r["between"]): r.get("name", "") for r in result.contact.get("between", [])}
-    return [by.get(frozenset((result.names[a], result.names[b])), default) for a, _, b, _, _ in result.pairs]
+    walls = {w["wall"]: w.get("name", "") for w in result.contact.get("walls", [])}
+    on_wall = getattr(result, "walls", {})
+    return [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
+            for p, (a, _, b, _, _) in enumerate(result.pairs)]
 
 
 def contact_rows(result: Result) -> list[list]:
@@ -90,7 +93,7 @@ def contact_rows(result: Result) -> list[list]:
         a, fa, b, fb, _ = result.pairs[e.pair]
         # the 1-based contact episode (chatter merged: Result.contact_episodes) the row belongs to
         episode = next(k + 1 for k, m in enumerate(merged) if m.pair == e.pair and m.start <= e.start <= m.end)
-        rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, result.names[b], fb + 1, e.point[0], e.point[1],
+        rows.append([e.start, e.end, laws[e.pair], result.names[a], fa + 1, *result.second_body(e.pair), e.point[0], e.point[1],
                      e.normal[0], e.normal[1], e.approach_velocity, force, e.peak_penetration, e.impulse, e.energy_dissipated,
                      episode])
     return rows
@@ -109,8 +112,8 @@ def episodes_summary(result: Result) -> dict:
         "per_storey": {str(k): v for k, v in sorted(Counter(result.pairs[e.pair][1] + 1 for e in eps).items())},
         "strikes": int(sum(e.strikes for e in eps)),
         "most_strikes": int(max((e.strikes for e in eps), default=0)),
-        "merge_interval_s": {f"{result.names[a]}.{fa + 1}-{result.names[b]}.{fb + 1}": float(t)
-                             for (a, fa, b, fb, _), t in zip(result.pairs, tau)},
+        "merge_interval_s": {"{}.{}-{}.{}".format(result.names[a], fa + 1, *result.second_body(p)): float(t)
+                             for p, ((a, fa, _, _, _), t) in enumerate(zip(result.pairs, tau))},
         "rule": (f"a pair's impacts (or force contacts) form one episode while each begins less than {CHATTER_FRACTION:g} "
                  "of the faster fundamental period of the pair's two buildings after the previous one ended"),
     }
@@ -138,6 +141,20 @@ def contacts_summary(result: Result) -> dict:
         "peak_penetration": float(max((e.peak_penetration for e in eps), default=0.0)),
         "longest": float(max((e.duration for e in eps), default=0.0)),
     }
+
+
+def walls_summary(result: Result) -> dict:
+    """summary.json's ``walls``: per retaining wall, its contacts (impacts of impulse laws, episodes of
+    force laws), their total impulse [N s] and dissipated energy [J], its largest contact force [N]
+    (force laws) and the buildings that struck it."""
+    out = {}
+    for wall in dict.fromkeys(w.name for w in result.walls.values()):
+        eps = [e for e in result.episodes() if e.pair in result.walls and result.walls[e.pair].name == wall]
+        forces = [e.peak_force for e in eps if np.isfinite(e.peak_force)]
+        out[wall] = {"n_contacts": len(eps), "impulse": float(sum(e.impulse for e in eps)),
+                     "energy_dissipated": float(sum(e.energy_dissipated for e in eps)), "peak_force": float(max(forces, default=0.0)),
+                     "struck_by": sorted({result.names[result.pairs[e.pair][0]] for e in eps})}
+    return out
 
 
 def response_histories(result: Result) -> dict[str, dict[str, np.ndarray]]:
@@ -193,6 +210,7 @@ def summary(result: Result, histories: dict | None = None) -> dict:
         "impact_energy_loss": float(sum(i.energy_loss for i in result.impacts)),
         "n_contacts": result.n_impacts,
         "contacts": contacts_summary(result),
+        **({"walls": walls_summary(result)} if getattr(result, "walls", None) else {}),
         "n_contact_episodes": episodes["n"],
         "contact_episodes": episodes,
         "convergence": convergence_note(),
@@ -387,6 +405,7 @@ def load_result(folder: str | Path):
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
     result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene
+    result.walls = model.walls
     return scene, result
 
 

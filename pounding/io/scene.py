@@ -25,7 +25,8 @@ import numpy as np
 
 from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, same_level
-from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab
+from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab, Wall
+from pounding.framework.model.walls import check_wall
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
 
@@ -328,6 +329,44 @@ def _contact_rules(tables: list, names: list[str], analysis: Analysis, search: t
     return tuple(out)
 
 
+def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: tuple) -> tuple[Wall, ...]:
+    """The ``[[wall]]`` tables: retaining walls fixed to the ground (:mod:`pounding.framework.model.walls`)."""
+    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    out, seen = [], {}
+    for i, table in enumerate(tables):
+        where = f"wall[{i}]"
+        name = table["name"]
+        if name in seen:
+            raise InputError(f"wall name {name!r} is used twice (wall[{seen[name]}])", field=f"{where}.name")
+        seen[name] = i
+        face = np.asarray(table["face"], dtype=float)
+        if "contact" in table:
+            value = table["contact"]
+            if isinstance(value, str) or "name" in value:
+                law, params = _plugin(value, CONTACT_LAWS, f"{where}.contact", search)
+            else:  # [analysis] contact with parameters of its own (a restitution)
+                law, params = None, dict(value)
+                _check_params(CONTACT_LAWS.get(analysis.contact, search=search), {**analysis.contact_params, **params}, f"{where}.contact")
+        else:
+            law, params = None, {}
+        wall = Wall(name, face, float(table["top"]), law, params)
+        try:
+            check_wall(wall, buildings)
+        except InputError as exc:
+            raise exc.located(field_prefix=where) from None
+        out.append(wall)
+    scene_like = Scene((), None, analysis)
+    default = CONTACT_LAWS.get(analysis.contact, search=search)(**analysis.contact_params)
+    for i, wall in enumerate(out):
+        try:
+            wall_law(scene_like, wall, default)
+        except ValueError as exc:
+            raise InputError(str(exc).removeprefix(f"wall {wall.name!r}: "), field=f"wall[{i}].contact") from None
+    return tuple(out)
+
+
 # --------------------------------------------------------------------------- entry point
 def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     """Validate a parsed TOML document and build the Scene (errors carry no file; see load_scene)."""
@@ -358,7 +397,8 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     from pounding.io.scene_links import parse_links
 
     links = parse_links(data.get("link", []), buildings)
-    return Scene(tuple(buildings), gm, analysis, source, contacts, links=links)
+    walls = _walls(data.get("wall", []), buildings, analysis, search)
+    return Scene(tuple(buildings), gm, analysis, source, contacts, links=links, walls=walls)
 
 
 def load_scene(path: str | Path) -> Scene:

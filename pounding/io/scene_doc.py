@@ -176,13 +176,15 @@ def _nested_owner(sub: Mapping) -> Mapping:
 def all_undocumented() -> list[str]:
     """Every undocumented key of the core and of every registered plugin."""
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, LINK, ground_motion_schema, SCENE
 
-    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact", "link"))
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, LINK, WALL, ground_motion_schema, SCENE
+
+    out = undocumented(SCENE, "(top level)", skip=("analysis", "building", "ground_motion", "contact", "link", "wall"))
     out += undocumented(LINK, "link")
     out += undocumented(ground_motion_schema(), "ground_motion")
     out += undocumented(ANALYSIS, "analysis")
     out += undocumented(CONTACT, "contact")
+    out += undocumented(WALL, "wall")
     out += undocumented(BUILDING, "building")
     for name in ELEMENTS.names():
         out += undocumented(ELEMENTS.get(name).schema, f"element {name!r}")
@@ -336,7 +338,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         by default only those that ship with pounding (the checked-in page).
     """
     from pounding.framework.model.registry import CONTACT_LAWS, ELEMENTS, INTEGRATORS
-    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, LINK, SCENE, ground_motion_schema
+    from pounding.io.scene_schema import ANALYSIS, BUILDING, CONTACT, DAMPING, LINK, SCENE, WALL, ground_motion_schema
 
     parts = [
         "# Scene file reference\n\n"
@@ -347,7 +349,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         "value per storey, bottom first. `pounding template` prints a commented starting scene; "
         "`pounding check SCENE` validates one without running it and prints what it understood, with units.\n\n"
         "Contents: [top level](#top-level), [[ground_motion]](#ground_motion), [[analysis]](#analysis), "
-        "[[[contact]]](#contact), [[[link]]](#link), "
+        "[[[contact]]](#contact), [[[link]]](#link), [[[wall]]](#wall), "
         "[[[building]]](#building), [damping](#buildingdamping), [elements](#elements), [integrators](#integrators), "
         "[contact laws](#contact-laws), [plausibility warnings](#plausibility-warnings), [a whole scene](#a-whole-scene).\n",
         table_section("Top level", {"properties": {k: v for k, v in SCENE["properties"].items()}, "required": SCENE["required"]},
@@ -356,6 +358,7 @@ def reference_markdown(*, installed: bool = False) -> str:
         table_section("[analysis]", ANALYSIS),
         table_section("[[contact]]", CONTACT) + "\n" + CONTACT_EXAMPLE,
         table_section("[[link]]", LINK) + "\n" + LINK_EXAMPLE,
+        table_section("[[wall]]", WALL) + "\n" + WALL_EXAMPLE,
         table_section("[[building]]", {**BUILDING, "properties": {k: v for k, v in BUILDING["properties"].items() if k != "damping"}}),
         table_section("[building.damping]", DAMPING, "An inline table inside `[[building]]`, e.g. "
                       "`damping = { type = \"rayleigh\", ratio = 0.05, modes = [1, 3] }`. " + DAMPING["description"]),
@@ -436,6 +439,21 @@ law = { name = "bilinear", stiffness = 5.0e7, yield_force = 2.0e5, hardening = 0
 Its deformation, force and dissipated energy are in response.npz (`link_<name>_deformation`, `_force`,
 `_dissipated`), its peaks in summary.json (`links`), and the work it does on each building is that building's
 `links` term in the energy account.
+"""
+
+#: the [[wall]] section's example
+WALL_EXAMPLE = """A moat wall 0.25 m from the base slab of a base-isolated building (slab 1 at 1.0 m), with a law of its own:
+
+```toml
+[analysis]
+contact = { name = "kelvin", stiffness = 2.0e9, restitution = 0.7 }
+
+[[wall]]
+name = "moat"
+face = [[-0.25, -1.0], [-0.25, 9.0]]
+top = 1.0
+contact = { name = "kelvin", stiffness = 1.0e9, restitution = 0.5 }
+```
 """
 
 #: the contact-laws section's note on laws that are not installed

@@ -393,6 +393,32 @@ LINK = {
     },
 }
 
+WALL = {
+    "type": "object",
+    "additionalProperties": False,
+    "required": ["name", "face", "top"],
+    "description": "A retaining wall fixed to the ground (`[[wall]]`, repeated: one table per wall), such as the moat "
+    "wall around a base-isolated building: every slab at or below its top can strike its face, and the wall does not "
+    "move. Its face may run between buildings, beside a storey or under a slab above its top, never through the plan of a "
+    "storey that stands below its top. Impacts on it are in impacts.csv (the struck body is the wall) and in the struck "
+    "building's energy account; `pounding gap` reports the clearance each building needs to it.",
+    "properties": {
+        "name": {"type": "string", "description": "The wall's name (the struck body in impacts.csv and contacts.csv).",
+                 "examples": ["moat"]},
+        "face": {"type": "array", "items": POINT, "minItems": 2, "units": "m",
+                 "description": "Plan polyline of the wall's face (two points or more); a building stands on the side of "
+                 "each segment where it is at rest.", "examples": [[[-0.25, -1.0], [-0.25, 11.0]]]},
+        "top": positive("Height of the wall's top above the ground: the slabs at or below it can strike the wall.", "m", example=1.0),
+        "contact": {
+            "oneOf": [NAMED_PLUGIN["oneOf"][0], {k: v for k, v in NAMED_PLUGIN["oneOf"][1].items() if k != "required"}],
+            "description": "Its contact law, as `[analysis] contact` (default: `[analysis] contact`). A force law when "
+            "`[analysis] contact` acts by forces too; with an impulse law, `[analysis] contact`'s law, whose restitution "
+            "the wall may change (`{ restitution = 0.8 }` without a name).",
+            "examples": [{"name": "kelvin", "stiffness": 1.0e9, "restitution": 0.5}],
+        },
+    },
+}
+
 SCENE = {
     "type": "object",
     "required": ["building"],
@@ -404,6 +430,7 @@ SCENE = {
         "analysis": ANALYSIS,
         "contact": {"type": "array", "items": CONTACT, "description": "See *[[contact]]*."},
         "link": {"type": "array", "items": LINK, "description": "See *[[link]]*."},
+        "wall": {"type": "array", "items": WALL, "description": "See *[[wall]]*."},
     },
 }
 

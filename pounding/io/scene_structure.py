@@ -240,6 +240,15 @@ def _plugin_problems(data: Mapping) -> list[Problem]:
         if isinstance(table, Mapping) and isinstance(table.get("law"), Mapping):
             # its parameters: the law's own, and a yielding law's stiffness, yield_force, hardening (checked on building it)
             places.append((("link", i, "law"), {"name": table["law"].get("name")}, HYSTERESIS))
+    walls = data.get("wall")
+    for i, table in enumerate(walls if isinstance(walls, list) else ()):
+        if isinstance(table, Mapping) and "contact" in table:
+            value = table["contact"]
+            if isinstance(value, Mapping) and "name" not in value:  # [analysis] contact's law, its parameters
+                default = analysis.get("contact", "impulse") if isinstance(analysis, Mapping) else "impulse"
+                name = default if isinstance(default, str) else default.get("name") if isinstance(default, Mapping) else None
+                value = {"name": name, **value} if isinstance(name, str) else None
+            places.append((("wall", i, "contact"), value, CONTACT_LAWS))
     out = []
     for at, value, registry in places:
         name = value if isinstance(value, str) else value.get("name") if isinstance(value, Mapping) else None

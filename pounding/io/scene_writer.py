@@ -46,7 +46,25 @@ def scene_table(scene, record_stem: str) -> tuple[dict[str, Any], dict[str, np.n
         from pounding.io.scene_links import link_table
 
         table["link"] = [link_table(k) for k in scene.links]
+    if scene.contacts:
+        table["contact"] = [{"between": list(r.between), "law": {"name": _law_name(r.law), **r.params}} for r in scene.contacts]
+    if scene.walls:
+        table["wall"] = [_wall(w) for w in scene.walls]
     return table, records
+
+
+def _law_name(law) -> str:
+    """A contact law as the scene names it: its registered name, ``module:Class`` for a class."""
+    return law if isinstance(law, str) else getattr(law, "name", "") or f"{law.__module__}:{law.__qualname__}"
+
+
+def _wall(w) -> dict[str, Any]:
+    out: dict[str, Any] = {"name": w.name, "face": [[float(x), float(y)] for x, y in w.face], "top": float(w.top)}
+    if w.law is not None:
+        out["contact"] = {"name": _law_name(w.law), **w.params}
+    elif w.params:
+        out["contact"] = dict(w.params)
+    return out
 
 
 def _building(b) -> dict[str, Any]:

@@ -197,12 +197,14 @@ def pair_gaps(result, pairs: Sequence | None = None) -> np.ndarray:
     slabs = [tuple(s.slabs) for s in result.systems]
     cm = [result.cm(n) for n in result.names]
     out = pair_gap_history(slabs, cm, result.pairs if pairs is None else pairs)
-    facades = getattr(result, "facades", None)
-    if pairs is None and facades:
-        # a slab against a neighbour's facade between floors: the facade's own motion (storey shape)
+    own = pairs is None or list(pairs) == list(result.pairs)
+    # a slab against a neighbour's facade between floors (the facade's own motion, its storey shape) or
+    # against a wall (fixed): the run's own pair geometry
+    special = list(getattr(result, "facades", None) or {}) + list(getattr(result, "walls", None) or {})
+    if own and special and result.geo is not None:
         from pounding.framework.engine.pairs import pair_gap
 
-        for p in facades:
+        for p in special:
             out[:, p] = [pair_gap(np.ascontiguousarray(q), p, np.inf, result.geo) for q in result.q]
     return out
 
@@ -339,6 +341,8 @@ class Drawing:
         flag = np.zeros(nc, dtype=np.int64)
         gap = np.full(nc, np.nan)
         for a, fa, b, fb, _ in pairs:
+            if (a, fa) == (b, fb):  # a slab against a fixed wall (its pair's second body): no slab's gap to draw
+                continue
             g = float(signed_gap(_f64(slab_polygon(slabs[a][fa], cm[a][fa])), _f64(slab_polygon(slabs[b][fb], cm[b][fb]))))
             for key in ((a, fa), (b, fb)):
                 c = self.slab_cell.get(key)

@@ -104,6 +104,11 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
     masters = {name: parts[0] for name, parts in built.items()}
     ops.comment("contact")
     notes = _contact(ops, scene, masters, tags)
+    if scene.walls:  # (pounding.peer.opensees_walls models them for the tests, not in this script)
+        note = (f"the scene's walls ({', '.join(repr(w.name) for w in scene.walls)}) are not written: the script's slabs "
+                "strike nothing fixed to the ground")
+        ops.comment(note)
+        notes.append(note)
     ops.comment("the ground motion (accelerations [m/s2])")
     uniform_excitation(ops, scene.ground_motion)
     return masters, notes
@@ -172,7 +177,7 @@ def _time_grid(scene) -> tuple[float, int]:
         from pounding.framework.model.registry import CONTACT_LAWS
 
         m = Model(scene)
-        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params)), chosen_integrator(scene))[0]
+        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), chosen_integrator(scene))[0]
     duration = float(an.duration or gm.duration)
     return dt, max(1, int(np.ceil(duration / dt - 1e-9)))
 

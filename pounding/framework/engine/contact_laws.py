@@ -18,7 +18,28 @@ COUPLING_RTOL = 1e-12
 COUPLING_SWEEPS = 200
 
 
-def pair_laws(scene, pairs: list, default: ContactLaw) -> tuple[list[ContactLaw], np.ndarray]:
+def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
+    """The contact law of the slabs against ``wall`` (a :class:`~pounding.framework.model.scene.Wall`).
+
+    Its own law (``wall.law`` with ``wall.params``), or without one ``[analysis] contact`` with
+    ``wall.params`` over its parameters (a restitution of its own). A force law may serve a wall
+    when ``[analysis] contact`` acts by forces too (as for a ``[[contact]]`` table); an impulse law
+    when it is ``[analysis] contact``'s class, which declares how a restitution of its own is applied
+    (:meth:`~pounding.contact.base.ContactLaw.wall_problem`). Raises ValueError naming what does not fit.
+    """
+    an = scene.analysis
+    if wall.law is None:
+        cls, params = CONTACT_LAWS.get(an.contact), {**an.contact_params, **wall.params}
+    else:
+        cls, params = CONTACT_LAWS.get(wall.law), dict(wall.params)
+    law = cls(**params)
+    problem = law.wall_problem(default)
+    if problem is not None:
+        raise ValueError(f"wall {wall.name!r}: {problem}")
+    return law
+
+
+def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
     """The laws of a run and the index of each pair's law.
 
     Parameters
@@ -29,11 +50,14 @@ def pair_laws(scene, pairs: list, default: ContactLaw) -> tuple[list[ContactLaw]
         The run's slab pairs (building indices in scene order).
     default : ContactLaw
         The law of ``[analysis] contact``: index 0.
+    walls : dict or None
+        {pair index: :class:`~pounding.framework.model.scene.Wall`} of the pairs where a slab meets a
+        wall (``Model.walls``): they take the wall's law (:func:`wall_law`).
 
     Returns
     -------
     laws : list of ContactLaw
-        ``default`` first, then one per rule.
+        ``default`` first, then one per rule, then one per wall of the scene.
     which : ndarray (P,) int64
         Index into ``laws`` of every pair's law.
     """
@@ -47,6 +71,13 @@ def pair_laws(scene, pairs: list, default: ContactLaw) -> tuple[list[ContactLaw]
         laws.append(cls(**rule.params))
         by_pair[frozenset(rule.between)] = len(laws) - 1
     which = np.array([by_pair.get(frozenset((names[a], names[b])), 0) for a, _, b, _, _ in pairs], dtype=np.int64)
+    by_wall = {}
+    for wall in getattr(scene, "walls", ()):
+        # with contact off (a gap study's free run) nothing is watched: the walls take that law too
+        laws.append(wall_law(scene, wall, default) if default.watches() else default)
+        by_wall[wall.name] = len(laws) - 1
+    for p, wall in (walls or {}).items():
+        which[p] = by_wall[wall.name]
     return laws, which
 
 

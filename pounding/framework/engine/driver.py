@@ -130,7 +130,11 @@ class Model:
         # the pair arrays hold the facade slabs after the real ones (slab index S + v: a pair's
         # "storey" there is S + v - off[building]); the real slabs' arrays stay as they are
         facades = self._facades()
-        V = len(facades)
+        # then the wall slabs (pounding.framework.model.walls): fixed rectangles behind the walls'
+        # faces, with zero rows (infinite mass); a pair's "b" is the striking building itself, so
+        # every mode range it addresses is that building's and the wall side adds nothing
+        walls = self._wall_sites()
+        V = len(facades) + len(walls)
         grows = np.zeros((S + V, 3, nmax))
         grows[:S] = self.rows
         gverts = np.zeros((S + V, kmax, 2))
@@ -156,6 +160,19 @@ class Model:
             pa.append([a, fa])
             pb.append([F.building, s - int(self.slab_off[F.building])])
             axes.append(pg.rest_axis(np.asarray(A, float), F.vertices, rest))
+        #: {pair index: the scene's :class:`~pounding.framework.model.scene.Wall`} of the pairs where a slab meets a wall
+        self.walls = {}
+        for v, (a, fa, ws) in enumerate(walls, start=len(facades)):
+            s = S + v  # (rows, floors and weights stay zero, -1 and 0: the wall never moves)
+            gverts[s, : len(ws.vertices)] = ws.vertices
+            gnvert[s], gcentres[s], gradii[s] = len(ws.vertices), ws.centre, ws.radius
+            A = np.asarray(self.systems[a].slabs[fa].vertices, float)
+            rest = geo.rest_gap(A, ws.vertices)
+            self.walls[len(self.pairs)] = self.scene.walls[ws.wall]
+            self.pairs.append((a, fa, a, fa, rest))
+            pa.append([a, fa])
+            pb.append([a, s - int(self.slab_off[a])])
+            axes.append(pg.rest_axis(A, ws.vertices, rest))
         self.geo = PairArrays(
             np.array(pa, dtype=np.int64).reshape(-1, 2),
             np.array(pb, dtype=np.int64).reshape(-1, 2),
@@ -196,6 +213,15 @@ class Model:
                         if F is not None:
                             out.append((a, fa, F))
         return out
+
+    def _wall_sites(self) -> list:
+        """(building, storey, :class:`~pounding.framework.model.walls.WallSlab`) of every slab at or below a
+        wall's top and every segment of its face (:func:`pounding.framework.model.walls.wall_sites`)."""
+        from pounding.framework.model.walls import wall_sites
+
+        if self.scene.analysis.contact == "none" or not getattr(self.scene, "walls", ()):
+            return []
+        return wall_sites(self.systems, self.scene.walls)
 
     def _rest_axis(self, p: int) -> np.ndarray:
         a, fa, b, fb, rest = self.pairs[p]
@@ -308,7 +334,7 @@ class Driver:
         integrator = chosen_integrator(scene)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
         #: every pair's law (:func:`~pounding.framework.engine.contact_laws.pair_laws`): self.laws[self.pair_law[p]]
-        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law)
+        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law, self.model.walls)
         # without a dt the step is chosen for accuracy from the significant modes and the shortest
         # contact (pounding.framework.engine.timestep, contact_step); contact_time goes to Result.info
         self.dt, self.contact_time = run_dt(scene, self.model, self.laws, self.pair_law, integrator)
@@ -375,6 +401,10 @@ class Driver:
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
+        #: a wall with a restitution of its own: every impulse is the driver's, each point with its pair's
+        #: restitution (:meth:`_group_impulses`)
+        self.own_restitutions = len({float(law.restitution) for law in self.laws}) > 1
+        compiled = compiled and not self.own_restitutions
         self.settings = Settings(
             self.tol, 0.0 if self.law.with_step else (-self.eps if self.crossing else -self.tol), float(self.v_min),
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
@@ -592,6 +622,7 @@ class Driver:
             impacts=self.impacts,
             geo=m.geo,
             facades=m.facades,
+            walls=m.walls,
             buildings=self.scene.buildings,
             scene=self.scene,
             energy=self.energy(),
@@ -604,7 +635,8 @@ class Driver:
             ground_motion={"name": gm.name, "source": gm.source, "pga_g": gm.pga / G, "angle": gm.angle},
             info={"located_events": self.n_located, "sustained_pairs_at_end": sorted(self.sustained),
                   # the slab pairs watched: slabs at a common level, and slabs against a facade between floors
-                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades), "slab_to_facade": len(m.facades)},
+                  "slab_pairs": {"common_level": len(m.pairs) - len(m.facades) - len(m.walls), "slab_to_facade": len(m.facades),
+                                 "slab_to_wall": len(m.walls)},
                   "pair_checks": self._pair_checks(),
                   # the shortest contact and how many steps span it (pounding.framework.engine.contact_step)
                   "contact_time": self.contact_time.report(self.dt)},
@@ -624,8 +656,11 @@ class Driver:
     def _describe_laws(self) -> dict:
         """The contact law (summary.json), with the ``[[contact]]`` laws of single pairs of buildings."""
         out = self.law.describe()
-        if len(self.laws) > 1:
+        if self.scene.contacts:
             out["between"] = [{"between": list(r.between), **law.describe()} for r, law in zip(self.scene.contacts, self.laws[1:])]
+        walls = self.scene.walls
+        if walls:
+            out["walls"] = [{"wall": w.name, **law.describe()} for w, law in zip(walls, self.laws[len(self.laws) - len(walls):])]
         return out
 
     def intra_step(self):
@@ -1080,7 +1115,7 @@ class Driver:
         rem = self.springs.g if self.springs is not None else 0.0
         acc = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * q
         r, a = W[:count] @ self.z[:, 1], -(W[:count] @ acc)  # opening speed; closing acceleration
-        k = float(self.law.restitution)
+        k = float(self.laws[self.pair_law[p]].restitution)  # (a wall's own)
         if k >= 1.0:
             return False
         close = a > 0.0
@@ -1095,22 +1130,45 @@ class Driver:
         for a law that declares ``compiled_impulses``, else the same function with the compiler
         off around the law's own ``impulses(W, b)``. Its records go to the log (drained by the
         caller). True if an impulse acted."""
-        from pounding.framework.engine.kernel import impulses_at, newton_rule
+        from pounding.framework.engine.kernel import impulses_at
 
         m, law = self.model, self.law
         fc = self.fc - self.springs.g if self.springs is not None else self.fc  # the springs' remainders load too
         settings = self.settings._replace(after_eq=law.after_impact == "equilibrium")
-        if law.compiled_impulses:
-            step, rule = impulses_at, newton_rule
+        if self.own_restitutions:  # a wall's own restitution: each point its pair's
+            step = impulses_at.py_func
+
+            def rule(D, b, _settings, pairs):
+                return np.asarray(self._group_impulses(D, b, self.pair_law[pairs]), dtype=float)
+        elif law.compiled_impulses:
+            step, rule = impulses_at, None
             settings = settings._replace(restitution=float(law.restitution))
         else:
             step = impulses_at.py_func
 
-            def rule(D, b, _settings):
+            def rule(D, b, _settings, _pairs):
                 return np.asarray(law.impulses(D, b), dtype=float)
         acted, _ = step(rule, float(t), self.ag_at(t), self.z, np.ascontiguousarray(fc, dtype=float), m.modes, settings,
                         float(self.dt), self.log, m.geo, candidates)
         return bool(acted)
+
+    def _group_impulses(self, W: np.ndarray, b: np.ndarray, which: np.ndarray) -> np.ndarray:
+        """Impulses (m,) [N s] of one group's features, given their Delassus matrix W (m, m), closing speeds
+        b (m,) and the index of each feature's law ``which`` (m,) (impulse laws that differ at most in
+        restitution: :meth:`~pounding.contact.base.ContactLaw.wall_problem`, a wall's own).
+
+        One restitution: the law's own impulses. Several (a building striking a wall and a neighbour at
+        once): Newton's problem with every approaching point's own target (1 + k_j) b_j, solved as the law
+        with the smallest k_0 on the closing speeds scaled by (1 + k_j) / (1 + k_0): its active points reach
+        their own targets exactly, and an inactive point, not closing at the scaled speed, is not closing
+        at its own (the scale is >= 1), so the answer satisfies every point's own conditions."""
+        laws = [self.laws[int(j)] for j in which]
+        k = np.array([law.restitution for law in laws], dtype=float)
+        if np.all(k == k[0]):
+            return laws[0].impulses(W, b)
+        low = laws[int(np.argmin(k))]
+        scale = np.where(b > 0.0, (1.0 + k) / (1.0 + low.restitution), 1.0)
+        return low.impulses(W, b * scale)
 
 
 def _record_arrays(gm, components: int):

@@ -182,7 +182,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
                     _record(z, k + 1, rec)  # the driver applies the impulses and records again
                     return k + 1, Status.CONTACT, hit
-                _, held = impulses_at(newton_rule, (k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
+                _, held = impulses_at(None, (k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
         _record(z, k + 1, rec)
         if held:
             return k + 1, Status.HELD, -1
@@ -238,24 +238,19 @@ def modal_load(L, i, ag):
 
 
 @njit
-def newton_rule(D, b, settings):
-    """The Newton impulse law's impulses I >= 0 [N s] (m,) of one group of features, with the
-    Delassus matrix D (m, m) [1/kg], closing speeds b (m,) [m/s] and ``settings.restitution``:
-    the ``law`` :func:`impulses_at` takes for a law that declares ``compiled_impulses``."""
-    return newton_group(D, b, settings.restitution)
-
-
-@njit
 def impulses_at(law, t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     """Impulses at time t [s] on every touching, approaching pair among ``candidates`` (P,) bool
     that is not held, solved together by the contact law: the one impulse step of every path.
 
-    ``law(D, b, settings) -> I`` gives the impulses I >= 0 [N s] (m,) of one group of features
-    from its Delassus matrix D (m, m) [1/kg] and closing speeds b (m,) [m/s]: :func:`newton_rule`
-    for a law that declares ``compiled_impulses`` (the kernel's stretches, and the driver's
-    Python step, call this function compiled), or the law's own ``impulses(W, b)`` for a law only
-    Python knows (the driver runs this same function with the compiler off for it:
-    ``impulses_at.py_func``). ag (c,) is the ground acceleration at t and fc (n,) the modal force
+    ``law`` None: the Newton rule with ``settings.restitution``
+    (:func:`~pounding.contact.base.newton_group`), for a law that declares ``compiled_impulses``;
+    the kernel's stretches and the driver's Python step call this function compiled so (numba
+    drops the other branch, and no function is an argument of a cached function). Else ``law(D, b,
+    settings, pairs) -> I``, the impulses I >= 0 [N s] (m,) of one group of features from its
+    Delassus matrix D (m, m) [1/kg], closing speeds b (m,) [m/s] and the features' pairs (m,) int:
+    a law only Python knows (its ``impulses(W, b)``) or walls with restitutions of their own (the
+    driver's rule), for which the driver runs this same function with the compiler off
+    (``impulses_at.py_func``). ag (c,) is the ground acceleration at t and fc (n,) the modal force
     acting besides the ground's (held contact, the yielding springs' remainders -g), for the
     equilibrium accelerations of ``settings.after_eq``.
 
@@ -302,7 +297,10 @@ def impulses_at(law, t, ag, z, fc, modes, settings, dt, log, geo, candidates):
         Wg = Wst[idx]
         bg = b[idx]
         D = Wg @ Wg.T
-        I = law(D, bg, settings)
+        if law is None:  # the Newton rule, compiled here (numba drops the other branch)
+            I = newton_group(D, bg, settings.restitution)
+        else:
+            I = law(D, bg, settings, pair[idx])
         after = bg - D @ I
         for r in range(idx.shape[0]):
             I_all[idx[r]] = I[r]

@@ -191,6 +191,8 @@ class Result:
     #: {pair index: :class:`~pounding.framework.model.facade.Facade`} of the pairs where a slab strikes a
     #: neighbour between its floors
     facades: dict = field(default_factory=dict)
+    #: {pair index: :class:`~pounding.framework.model.scene.Wall`} of the pairs where a slab meets a fixed wall
+    walls: dict = field(default_factory=dict)
     #: the scene's buildings (elements with their plan lines and sections), for the struck element
     buildings: tuple = ()
     #: the Scene that was run (None when unknown): :func:`pounding.io.results.write_results` writes it
@@ -276,18 +278,27 @@ class Result:
 
         return merge_chatter(self.episodes(), merge_intervals(self.systems, self.pairs))
 
+    def second_body(self, pair: int) -> tuple[str, int]:
+        """(name, 1-based storey) of pair ``pair``'s second body: a building's slab, or a fixed wall's
+        name with storey 0 (the ground it stands on)."""
+        _, _, b, fb, _ = self.pairs[pair]
+        wall = self.walls.get(pair)
+        return (wall.name, 0) if wall is not None else (self.names[b], fb + 1)
+
     def impact_storey(self, imp: Impact) -> int:
         """1-based storey of an impact (the first slab's storey)."""
         return self.pairs[imp.pair][1] + 1
 
     def striking_building(self, imp: Impact) -> str:
-        a, _, b, _, _ = self.pairs[imp.pair]
+        a, _, b, _, _ = self.pairs[imp.pair]  # (a wall pair's b is its slab's own building)
         return self.names[a if imp.striker == 0 else b]
 
     def struck_building(self, imp: Impact) -> str:
         """The building struck: the pair's other building (for a facade pair, the one whose
         columns and walls were hit, whichever polygon's vertex touched first)."""
         a, _, b, _, _ = self.pairs[imp.pair]
+        if imp.pair in self.walls:  # a fixed wall: it is struck whichever polygon's vertex touched
+            return self.walls[imp.pair].name
         if imp.pair in self.facades:
             return self.names[b]
         return self.names[b if imp.striker == 0 else a]

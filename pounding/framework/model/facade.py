@@ -184,6 +184,8 @@ SITE_COLUMNS = ["struck_building", "struck_storey", "struck_height [m]", "struck
 def impact_sites(result, peak_force: np.ndarray) -> list[list]:
     """What every impact of ``result`` struck, one row of :data:`SITE_COLUMNS` per impact.
 
+    A slab against a fixed wall: the wall's name, storey 0 (the ground it stands on), the slab's
+    elevation [m], element ``wall``, fraction 1 and nan for the rest.
     A slab against a slab at a common level: the other building, its storey (1-based), the
     slab's elevation [m], element ``slab``, fraction 1, no local stiffness and no local shear
     (nan). A slab against a facade: the struck building, the 1-based storey whose columns and
@@ -199,6 +201,10 @@ def impact_sites(result, peak_force: np.ndarray) -> list[list]:
         a, fa, b, fb, _ = result.pairs[imp.pair]
         F = result.facades.get(imp.pair)
         nan = float("nan")
+        wall = getattr(result, "walls", {}).get(imp.pair)
+        if wall is not None:
+            out.append([wall.name, 0, float(result.systems[a].slabs[fa].elevation), "wall", 1.0, nan, nan, nan])
+            continue
         if F is None:
             other, storey = (b, fb) if imp.striker == 0 else (a, fa)
             z = float(result.systems[other].slabs[storey].elevation)

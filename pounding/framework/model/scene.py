@@ -193,6 +193,29 @@ class Link:
         d = self.points[1] - self.points[0]
         return d / float(np.hypot(*d))
 
+@dataclass(frozen=True, eq=False)
+class Wall:
+    """A retaining wall fixed to the ground (a ``[[wall]]`` table): every slab at or below its top
+    can strike its face (:mod:`pounding.framework.model.walls`).
+
+    name : str
+        Its name (the struck body in impacts.csv).
+    face : ndarray (k, 2)
+        Plan polyline of the wall's face [m], k >= 2; a building stands on the side of it where it is at rest.
+    top : float
+        Height of the wall's top above the ground [m], > 0.
+    law : str, type or None
+        Its contact law (a registered name, ``"module:Class"`` or the class); None: ``[analysis] contact``.
+    params : dict
+        The law's parameters (with ``law`` None: a ``restitution`` of its own for ``[analysis] contact``).
+    """
+
+    name: str
+    face: np.ndarray
+    top: float
+    law: Any = None
+    params: dict[str, Any] = field(default_factory=dict)
+
 
 @dataclass(frozen=True, eq=False)
 class Scene:
@@ -206,6 +229,8 @@ class Scene:
     contacts: tuple[ContactRule, ...] = ()
     #: links between slabs (:class:`Link`, the ``[[link]]`` tables)
     links: tuple[Link, ...] = ()
+    #: retaining walls fixed to the ground (:class:`Wall`)
+    walls: tuple[Wall, ...] = ()
 
     def building(self, name: str) -> Building:
         for b in self.buildings:
@@ -227,6 +252,22 @@ class Scene:
         ``"module:Class"`` or a class) with ``params`` (replacing an earlier rule for that pair)."""
         keep = tuple(r for r in self.contacts if frozenset(r.between) != frozenset(between))
         return replace(self, contacts=keep + (ContactRule(tuple(between), law, dict(params)),))
+
+    def with_wall(self, name: str, face: Any, top: float, law: Any = None, **params: Any) -> "Scene":
+        """A copy with a retaining wall ``name`` (replacing one of that name): its face a plan polyline
+        (k, 2) [m], its top [m] above the ground, its contact law (None: ``[analysis] contact``, whose
+        parameters ``params`` then override, e.g. ``restitution``). Raises :class:`~pounding.errors.InputError`
+        for a wall that cannot stand here (:func:`pounding.framework.model.walls.check_wall`); its law is
+        checked when a run builds it."""
+        from pounding.framework.model.walls import check_wall
+
+        wall = Wall(name, np.asarray(face, dtype=float), float(top), law, dict(params))
+        try:
+            check_wall(wall, self.buildings)
+        except InputError as exc:
+            raise exc.located(field_prefix=f"Scene.with_wall({name!r})") from None
+        keep = tuple(w for w in self.walls if w.name != name)
+        return replace(self, walls=keep + (wall,))
 
     def with_ground_motion(self, ground_motion: Any) -> "Scene":
         """A copy shaken by ``ground_motion`` (a :class:`~pounding.io.ground_motion.GroundMotion` or a

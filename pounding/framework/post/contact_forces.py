@@ -64,7 +64,7 @@ def run_laws(result) -> tuple[list, np.ndarray]:
     if scene is None:
         raise ValueError("the result carries no scene (Result.scene): the contact laws are unknown")
     an = scene.analysis
-    return pair_laws(scene, result.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params))
+    return pair_laws(scene, result.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), getattr(result, "walls", {}))
 
 
 def _episode_history(result, pair: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:

@@ -61,9 +61,10 @@ def warn_if_contact_unresolved(result: Result) -> str | None:
     steps = ct.get("steps_per_contact")
     if steps is None or steps >= STEPS_PER_CONTACT * (1.0 - 1e-9):
         return None
-    a, fa, b, fb, _ = result.pairs[ct["pair"]]
+    a, fa, _, _, _ = result.pairs[ct["pair"]]
+    other, fb = result.second_body(ct["pair"])
     message = (f"dt = {result.dt:g} s spans the shortest {ct['law']} contact ({ct['duration'] * 1e3:.3g} ms, "
-               f"{result.names[a]} storey {fa + 1} against {result.names[b]} storey {fb + 1}) in {steps:.3g} steps; "
+               f"{result.names[a]} storey {fa + 1} against {other} {f'storey {fb}' if fb else '(a wall)'}) in {steps:.3g} steps; "
                f"the default step takes {STEPS_PER_CONTACT} per contact (peaks within 0.5 % of the converged run on the paper's "
                f"pair): dt <= {ct['resolving_dt']:.3g} s resolves it (leave [analysis] dt out for the default step)")
     warnings.warn(message, AnalysisWarning, stacklevel=3)

@@ -61,7 +61,7 @@ slab at the governing contact, rotation included):
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -168,6 +168,8 @@ class GapReport:
     facade: dict | None = None
     #: per row of ``required``: the same for slab-facade rows, None at a common level
     facades: list = field(default_factory=list)
+    #: the clearance each building needs to each retaining wall (:mod:`pounding.framework.studies.wall_gap`)
+    walls: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         out = {
@@ -195,6 +197,8 @@ class GapReport:
             out["facade"] = dict(self.facade)
         if self.check is not None:
             out["check"] = self.check.to_dict()
+        if self.walls:
+            out["walls"] = [w.to_dict() for w in self.walls]
         return out
 
     def _row(self, k: int, fa: int, fb: int, g, t) -> dict:
@@ -460,9 +464,13 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     """
     from pounding.framework.post.run import run
 
+    from pounding.framework.studies.wall_gap import wall_clearances
+
     _oriented(scene, direction)  # bad directions fail before the run
     result = run(no_contact(scene), progress=progress)
-    return gap_from_result(scene, result, direction)
+    report = gap_from_result(scene, result, direction)
+    report.walls = wall_clearances(scene, result)
+    return report
 
 
 @dataclass
@@ -479,9 +487,14 @@ class RowGaps:
 
     reports: list
     screened: list[tuple[str, str]]
+    #: the clearance each building needs to each retaining wall (:mod:`pounding.framework.studies.wall_gap`)
+    walls: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
-        return {"pairs": [r.to_dict() for r in self.reports], "screened": [list(p) for p in self.screened]}
+        out = {"pairs": [r.to_dict() for r in self.reports], "screened": [list(p) for p in self.screened]}
+        if self.walls:
+            out["walls"] = [w.to_dict() for w in self.walls]
+        return out
 
 
 def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
@@ -497,10 +510,12 @@ def minimum_gaps(scene: Scene, direction=None, *, progress=None) -> RowGaps:
     subs = [(pair_scene(scene, i, j), facing_storeys(scene, i, j)) for i, j in adjacent]
     for sub, storeys in subs:
         _oriented(sub, direction, storeys)  # bad directions fail before the run
+    from pounding.framework.studies.wall_gap import wall_clearances
+
     result = run(no_contact(scene), progress=progress)
     names = [b.name for b in scene.buildings]
     return RowGaps([gap_from_result(sub, result, direction, storeys=storeys) for sub, storeys in subs],
-                   [(names[i], names[j]) for i, j in screened])
+                   [(names[i], names[j]) for i, j in screened], wall_clearances(scene, result))
 
 
 def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapCheck:
@@ -515,6 +530,8 @@ def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapChec
 
     if scene.analysis.contact == "none":
         scene = scene.with_analysis(contact="impulse", contact_params={})
+    # the check is about the pair: impacts on walls (which do not move with the building) do not count
+    scene = replace(scene, walls=())
     law = CONTACT_LAWS.get(scene.analysis.contact)(**scene.analysis.contact_params)
     gaps, counts = [], []
     for f in factors:

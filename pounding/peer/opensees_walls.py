@@ -1,0 +1,104 @@
+"""A storey-spring building against fixed walls in OpenSees: the peer of ``[[wall]]`` with a force law.
+
+The building is :func:`pounding.peer.opensees_springs.build_spring_building`'s (rigid diaphragms on
+``twoNodeLink`` elements: ``Steel01`` for bilinear springs such as lead-rubber isolators, ``Elastic``
+otherwise; each building's Rayleigh damping on its initial stiffness). A wall is what the OpenSees
+user models: at both ends of every slab edge that faces it (a face along y, the slab beside it
+along x), a ``zeroLength`` element along x between a node fixed in every DOF (the wall) and a node
+slaved to the slab's diaphragm, carrying the contact law's OpenSees material
+(:func:`pounding.peer.opensees_contact.law_material`: ``ViscoelasticGap`` for ``kelvin`` with
+``tension = true``) with half the contact (the face rule: the two ends share it) at the point's
+effective mass, that of the slab alone (1 / m + (y - y_c)^2 / J)^-1, and the clear distance as its
+negative gap. The element's deformation is u_j - u_i: the fixed node is i for a wall on the slab's
+-x side (contact when u_slab <= -clear), j on its +x side (contact when u_slab >= clear).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: every DOF of the wall's node
+FIXED = (1, 1, 1, 1, 1, 1)
+
+
+def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int]:
+    """The zero-length wall elements of ``building`` (a scene Building, its diaphragm ``masters`` per
+    floor) against ``wall`` (a straight face along y) with contact law instance ``law``; ``tags()`` gives
+    the next free tag. Returns the element tags (two per slab at or below the wall's top)."""
+    from pounding.peer.opensees_contact import law_material
+    from pounding.peer.opensees_springs import MASTER_FIX
+
+    face = np.asarray(wall.face, float)
+    if len(face) != 2 or abs(face[0, 0] - face[1, 0]) > 1e-12:
+        raise ValueError(f"wall {wall.name!r}: the OpenSees peer models a straight face along y")
+    x_wall = float(face[0, 0])
+    material = law_material(law)
+    out, made = [], {}
+    for f, slab in enumerate(building.slabs):
+        if slab.elevation > wall.top + 1e-6:
+            continue
+        xs = np.asarray(slab.vertices, float)[:, 0]
+        west = x_wall < xs.min()
+        x_edge = float(xs.min() if west else xs.max())
+        clear = (x_edge - x_wall) if west else (x_wall - x_edge)
+        ends_y = sorted({float(v[1]) for v in slab.vertices if abs(v[0] - x_edge) < 1e-9})
+        for y in (ends_y[0], ends_y[-1]):
+            m_eff = 1.0 / (1.0 / slab.mass + (y - float(slab.centre[1])) ** 2 / slab.polar_inertia)
+            args = tuple(material(0.5, m_eff, clear))
+            if args not in made:
+                made[args] = tags()
+                ops.uniaxialMaterial(args[0], made[args], *args[1:])
+            fixed, on_slab = tags(), tags()
+            ops.node(fixed, x_wall, y, float(slab.elevation))
+            ops.fix(fixed, *FIXED)
+            ops.node(on_slab, x_edge, y, float(slab.elevation))
+            ops.fix(on_slab, *MASTER_FIX)
+            ops.rigidDiaphragm(3, masters[f], on_slab)
+            ends = (fixed, on_slab) if west else (on_slab, fixed)
+            tag = tags()
+            ops.element("zeroLength", tag, *ends, "-mat", made[args], "-dir", 1)
+            out.append(tag)
+    return out
+
+
+def run_wall_pounding(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-12, max_iter: int = 100):
+    """The scene's storey-spring buildings shaken along x against its walls (each with its own law,
+    else ``[analysis] contact``), Newmark average acceleration, Newton (``NormDispIncr`` ``tol`` [m]),
+    ``n_steps`` steps of ``dt`` [s].
+
+    Returns
+    -------
+    (disp, wall_forces, iterations) : dict name -> (n_steps + 1, storeys, 3) master-node (ux [m], uy [m],
+    rz [rad]); (n_steps + 1, elements) the wall elements' basic force [N] (negative in compression), in
+    the order of the scene's walls, buildings and slabs; the total Newton iterations.
+    """
+    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.peer.opensees import _Tags, building_rayleigh, newmark_along_x, rayleigh_damping, step_through
+    from pounding.peer.opensees_springs import build_spring_building
+
+    ops.wipe()
+    ops.model("basic", "-ndm", 3, "-ndf", 6)
+    built = {b.name: build_spring_building(ops, b, 100_000 * i) for i, b in enumerate(scene.buildings)}
+    rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
+    an = scene.analysis
+    default = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+    tags = _Tags(1_000_000)
+    elements = []
+    for wall in scene.walls:
+        law = wall_law(scene, wall, default)
+        for b in scene.buildings:
+            elements += wall_springs(ops, b, built[b.name][0], wall, law, tags)
+    newmark_along_x(ops, scene.ground_motion, "run_wall_pounding", tol, max_iter)
+    disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
+    forces = np.zeros((n_steps + 1, len(elements)))
+
+    def record(k):
+        for b in scene.buildings:
+            for f, t in enumerate(built[b.name][0]):
+                disp[b.name][k, f] = (ops.nodeDisp(t, 1), ops.nodeDisp(t, 2), ops.nodeDisp(t, 6))
+        forces[k] = [ops.eleResponse(e, "basicForce")[0] for e in elements]
+
+    iterations = step_through(ops, n_steps, dt, record)
+    ops.wipe()
+    return disp, forces, iterations
