@@ -99,28 +99,59 @@ def test_the_unlinked_pair_pounds_and_every_link_is_passive(example):
 
 def test_the_dampers_add_the_stated_damping_to_each_buildings_x_mode():
     """The coefficient of pair_viscous.toml (and pair_maxwell.toml) was chosen for about 15 % added damping
-    in the first mode of "high": zeta_j = sum_d c (t_d . phi_j)^2 / (2 w_j). The script's rows t_d (made by
-    hand from the slab's centre, :func:`link_row_x`) times the modes equal the engine's own link rows over
-    the modes (``result.links[name]["rows"]``) to rounding (a sum of 3N terms of size |t| |phi|), and the
-    ratio is 15 % +- 0.5 % for "high"'s x mode, 19 % +- 0.5 % for "low"'s (the values the scene file states)."""
+    in the first mode of "high": zeta_j = sum_d c (t_d . phi_j)^2 / (2 w_j). The script's link rows t_d
+    (made by hand from the slabs' centres, :func:`pair_matrices`: minus the first end's x, plus the
+    second's) times each building's modes equal the engine's own link rows over the modes
+    (``result.links[name]["rows"]``), sign included, to rounding (a sum of 3N terms of size |t| |phi|);
+    and the ratio is 15 % +- 0.5 % for "high"'s x mode, 19 % +- 0.5 % for "low"'s (what the scene
+    file states)."""
     from pounding import assemble, load_scene, run
 
     module = _load()
     scene = load_scene(module.SCENES["viscous"]).with_analysis(duration=0.05)
     res = run(scene)
     systems = {b.name: assemble(b) for b in scene.buildings}
-    for link in scene.links:
-        for name, storey, point in zip(link.between, link.storeys, link.points):
-            s = systems[name]
-            ours = module.link_row_x(s, storey, point) @ s.modes
-            engine = np.abs(res.links[link.name]["rows"][name])  # the sign is the link's direction at that end
-            scale = np.abs(module.link_row_x(s, storey, point)) @ np.abs(s.modes)
-            assert np.all(np.abs(np.abs(ours) - engine) <= 8 * s.modes.shape[0] * EPS * scale), (link.name, name)
+    _, _, T, _ = module.pair_matrices(scene)
+    for t, link in zip(T, scene.links):
+        at = 0
+        for name, s in systems.items():  # the scene's order: the stacked DOFs of pair_matrices
+            t_b = t[at : at + s.M.shape[0]]
+            at += s.M.shape[0]
+            scale = np.abs(t_b) @ np.abs(s.modes)
+            engine = res.links[link.name]["rows"][name]
+            assert np.all(np.abs(t_b @ s.modes - engine) <= 8 * s.modes.shape[0] * EPS * scale), (link.name, name)
+            assert np.max(np.abs(engine)) > 0.0  # not vacuous: each end moves with its building's modes
     zeta = module.added_damping(scene)
     for name, target in (("high", 0.15), ("low", 0.19)):
         j = int(np.argmax(module.x_effective_mass(systems[name])))
         assert abs(zeta[name][j] - target) <= 0.005, (name, zeta[name][j])
     assert module.added_damping(load_scene(module.SCENES["tie"])) == {n: pytest.approx(0.0) for n in systems}
+
+
+def test_the_ties_are_the_rigid_limit_at_the_files_step():
+    """pair_tie.toml's ties (k = 1e9 N/m) are stiff enough for the rigid limit: the tied pair's period of
+    most mass along x is within 0.3 % of the rigid ties' (the eigenproblem kept in the null space of the
+    ties' rows, where their stiffness vanishes), and they stiffen its highest mode no further than
+    w dt < 1 at the file's 5 ms step (Newmark's period error (w dt)^2 / 12 < 9 % there, on a mode that
+    carries almost no mass). As a check of the rigid eigenproblem, a tie 1e3 times stiffer gives the rigid
+    period to (k / k')-order: within 1e-5."""
+    from dataclasses import replace
+
+    from pounding import assemble, load_scene
+    from pounding.io.scene_links import parse_links
+
+    module = _load()
+    scene = load_scene(module.SCENES["tie"])
+    p = module.tie_periods(scene)
+    assert abs(p["first"] / p["rigid"] - 1.0) <= 0.003, p
+    assert p["highest_w"] * scene.analysis.dt < 1.0, p
+    high = assemble(scene.buildings[1])
+    own = high.periods[int(np.argmax(module.x_effective_mass(high)))]
+    assert p["rigid"] < 0.8 * own  # not vacuous: the ties stiffen the taller building's x mode (0.86 s alone)
+    tables = [{"name": link.name, "between": list(link.between), "storeys": list(link.storeys),
+               "points": link.points.tolist(), "law": {"name": "elastic", "stiffness": 1.0e12}} for link in scene.links]
+    stiffer = replace(scene, links=parse_links(tables, list(scene.buildings)))
+    assert abs(module.tie_periods(stiffer)["first"] / p["rigid"] - 1.0) <= 1e-5
 
 
 def test_the_linked_scenes_are_the_paper_pair_plus_their_links():

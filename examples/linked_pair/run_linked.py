@@ -22,8 +22,9 @@ and writes into OUT:
   ratio and per floor the peak absolute floor acceleration, every scene on one axis per building;
 * ``damper_loop.png``: force against stroke of one damper of each damped scene.
 
-It also prints the added damping ratio the dampers' coefficient gives each building's modes
-(:func:`added_damping`), the figure the coefficient was chosen from.
+It also prints the figures the scenes' parameters were chosen from: the added damping ratio the
+dampers' coefficient gives each building's x mode (:func:`added_damping`), and the tied pair's
+period against the rigid ties' (:func:`tie_periods`).
 
 ``--readme`` also writes the table into examples/linked_pair/README.md (between its markers) and the
 plots into examples/linked_pair/images/. Every figure comes from this one run.
@@ -139,6 +140,49 @@ def describe_damping(scene) -> str:
         lines.append(f"{b.name}: mode {j + 1} (T = {s.periods[j]:.3f} s, {100 * x_effective_mass(s)[j]:.0f} % of the mass "
                      f"along x): added damping {100 * zeta[b.name][j]:.1f} %")
     return "; ".join(lines)
+
+
+def pair_matrices(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The two buildings as one system over their stacked slab DOFs (n = 3 (N_low + N_high)): mass M and
+    stiffness K (n, n) with the stiffness of the scene's elastic links added (k t t^T), the links' rows
+    T (n_links, n) (the x displacement of the second end minus the first's: the links lie along +x), and
+    the x influence vector r (n,)."""
+    systems = [assemble(b) for b in scene.buildings]
+    sizes = [s.M.shape[0] for s in systems]
+    start = dict(zip((b.name for b in scene.buildings), np.cumsum([0] + sizes[:-1])))
+    by_name = {b.name: s for b, s in zip(scene.buildings, systems)}
+    n = sum(sizes)
+    M, K, r = np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
+    for name, s in by_name.items():
+        sl = slice(start[name], start[name] + s.M.shape[0])
+        M[sl, sl], K[sl, sl] = s.M, s.K
+    r[0::3] = 1.0
+    rows = []
+    for link in scene.links:
+        t = np.zeros(n)
+        for sign, name, storey, point in zip((-1.0, 1.0), link.between, link.storeys, link.points):
+            s = by_name[name]
+            t[start[name] : start[name] + s.M.shape[0]] += sign * link_row_x(s, storey, point)
+        rows.append(t)
+        law = link.law.describe()
+        if law.get("name") == "elastic":
+            K += law["stiffness"] * np.outer(t, t)
+    return M, K, np.array(rows), r
+
+
+def tie_periods(scene) -> dict[str, float]:
+    """Of the pair joined by the scene's elastic links: ``first`` the period [s] of the mode that moves the
+    most mass along x, ``rigid`` the same with the links rigid (the motion kept in the null space of
+    their rows), and ``highest_w`` the highest circular frequency [rad/s] with the links."""
+    import scipy.linalg
+
+    M, K, T, r = pair_matrices(scene)
+    w2, phi = scipy.linalg.eigh(K, M)
+    first = 2.0 * np.pi / np.sqrt(w2[np.argmax((phi.T @ M @ r) ** 2)])
+    N = scipy.linalg.null_space(T)  # (n, n - n_links): the motions the rigid links allow
+    w2r, psi = scipy.linalg.eigh(N.T @ K @ N, N.T @ M @ N)  # K's link terms vanish on N
+    rigid = 2.0 * np.pi / np.sqrt(w2r[np.argmax((psi.T @ N.T @ M @ r) ** 2)])
+    return {"first": float(first), "rigid": float(rigid), "highest_w": float(np.sqrt(w2[-1]))}
 
 
 def link_figures(result) -> dict:
@@ -283,6 +327,10 @@ def update_readme(md: str, plots: list[Path]) -> None:
 def main(out: Path, duration: float | None = None, readme: bool = False) -> list[SceneRun]:
     out.mkdir(parents=True, exist_ok=True)
     print("dampers of pair_viscous.toml:", describe_damping(load_scene(SCENES["viscous"])), flush=True)
+    tie = load_scene(SCENES["tie"])
+    periods = tie_periods(tie)
+    print(f"ties of pair_tie.toml: first period along x {periods['first']:.4f} s (rigid ties: {periods['rigid']:.4f} s), "
+          f"highest w dt = {periods['highest_w'] * tie.analysis.dt:.2f}", flush=True)
     runs = []
     for key in SCENES:
         runs.append(run_scene(key, duration))
