@@ -2,10 +2,11 @@
 
 Usage::
 
-    python examples/linked_pair/run_linked.py OUT [--duration SECONDS] [--readme]
+    python examples/linked_pair/run_linked.py OUT [--duration SECONDS] [--dt SECONDS] [--readme]
 
 Runs four scenes, each with the paper file's [analysis] (``hht`` alpha = -0.05, dt = 5 ms, the impulse
-contact law with e = 0.5) and the whole El Centro record unless ``--duration`` cuts it:
+contact law with e = 0.5; ``--dt`` replaces the step, to see how far the table moves with it) and the
+whole El Centro record unless ``--duration`` cuts it:
 
 * ``unlinked``: ``examples/paper/pair_gap_0.03.toml`` as it is;
 * ``viscous``: ``pair_viscous.toml``, two linear viscous dampers from the roof of "low" (storey 3) to
@@ -87,10 +88,11 @@ class SceneRun:
     row: dict
 
 
-def scene_for(key: str, duration: float | None):
-    """The scene ``key`` of :data:`SCENES`, cut to ``duration`` [s] when given."""
+def scene_for(key: str, duration: float | None, dt: float | None = None):
+    """The scene ``key`` of :data:`SCENES`, cut to ``duration`` [s] and stepped at ``dt`` [s] when given."""
     scene = load_scene(SCENES[key])
-    return scene.with_analysis(duration=duration) if duration else scene
+    scene = scene.with_analysis(duration=duration) if duration else scene
+    return scene.with_analysis(dt=dt) if dt else scene
 
 
 def link_row_x(building, storey: int, point) -> np.ndarray:
@@ -194,9 +196,9 @@ def link_figures(result) -> dict:
             "energy": sum(float(r["energy_dissipated"]) for r in links)}
 
 
-def run_scene(key: str, duration: float | None) -> SceneRun:
+def run_scene(key: str, duration: float | None, dt: float | None = None) -> SceneRun:
     """Run one scene and collect its row of the table."""
-    result = run(scene_for(key, duration))
+    result = run(scene_for(key, duration, dt))
     summ = summary(result)
     links = link_figures(result)
     row = {"scene": key, "runtime": result.runtime_s, "impacts": int(result.n_impacts), "episodes": int(summ["n_contact_episodes"]),
@@ -324,7 +326,7 @@ def update_readme(md: str, plots: list[Path]) -> None:
         shutil.copy(p, HERE / "images" / p.name)
 
 
-def main(out: Path, duration: float | None = None, readme: bool = False) -> list[SceneRun]:
+def main(out: Path, duration: float | None = None, readme: bool = False, dt: float | None = None) -> list[SceneRun]:
     out.mkdir(parents=True, exist_ok=True)
     print("dampers of pair_viscous.toml:", describe_damping(load_scene(SCENES["viscous"])), flush=True)
     tie = load_scene(SCENES["tie"])
@@ -333,7 +335,7 @@ def main(out: Path, duration: float | None = None, readme: bool = False) -> list
           f"highest w dt = {periods['highest_w'] * tie.analysis.dt:.2f}", flush=True)
     runs = []
     for key in SCENES:
-        runs.append(run_scene(key, duration))
+        runs.append(run_scene(key, duration, dt))
         print(f"{key}: solved in {runs[-1].row['runtime']:.2f} s", flush=True)
     md = write_table([r.row for r in runs], out)
     print(md)
@@ -347,6 +349,7 @@ if __name__ == "__main__":
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("out", type=Path)
     p.add_argument("--duration", type=float, default=None, help="seconds of the record to run (default: all of it)")
+    p.add_argument("--dt", type=float, default=None, help="time step [s] (default: the scene files', 0.005)")
     p.add_argument("--readme", action="store_true", help="write the table and plots into this example's README")
     a = p.parse_args()
-    main(a.out, a.duration, a.readme)
+    main(a.out, a.duration, a.readme, a.dt)
