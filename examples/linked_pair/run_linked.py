@@ -1,0 +1,355 @@
+"""The paper's pair at 0.03 m, unlinked and linked at the lower building's roof: dampers and a rigid tie.
+
+Usage::
+
+    python examples/linked_pair/run_linked.py OUT [--duration SECONDS] [--dt SECONDS] [--readme]
+
+Runs four scenes, each with the paper file's [analysis] (``hht`` alpha = -0.05, dt = 5 ms, the impulse
+contact law with e = 0.5; ``--dt`` replaces the step, to see how far the table moves with it) and the
+whole El Centro record unless ``--duration`` cuts it:
+
+* ``unlinked``: ``examples/paper/pair_gap_0.03.toml`` as it is;
+* ``viscous``: ``pair_viscous.toml``, two linear viscous dampers from the roof of "low" (storey 3) to
+  the slab of "high" at the same level;
+* ``maxwell``: ``pair_maxwell.toml``, the same dampers each in series with a steel brace;
+* ``tie``: ``pair_tie.toml``, two stiff elastic ties in their place (the rigid limit).
+
+and writes into OUT:
+
+* ``table.md`` and ``table.csv``: per scene the columns of :data:`COLUMNS`;
+* ``top_displacement.png``: the top floor's x displacement of each building, each linked scene over
+  the unlinked one;
+* ``drift_profile.png`` and ``acceleration_profile.png``: per storey the peak inter-storey drift
+  ratio and per floor the peak absolute floor acceleration, every scene on one axis per building;
+* ``damper_loop.png``: force against stroke of one damper of each damped scene.
+
+It also prints the figures the scenes' parameters were chosen from: the added damping ratio the
+dampers' coefficient gives each building's x mode (:func:`added_damping`), and the tied pair's
+period against the rigid ties' (:func:`tie_periods`).
+
+``--readme`` also writes the table into examples/linked_pair/README.md (between its markers) and the
+plots into examples/linked_pair/images/. Every figure comes from this one run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import re
+import shutil
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pounding import assemble, load_scene, run
+from pounding.io.results import summary
+
+HERE = Path(__file__).resolve().parent
+#: scene key -> scene file
+SCENES = {
+    "unlinked": HERE.parent / "paper" / "pair_gap_0.03.toml",
+    "viscous": HERE / "pair_viscous.toml",
+    "maxwell": HERE / "pair_maxwell.toml",
+    "tie": HERE / "pair_tie.toml",
+}
+BUILDINGS = ("low", "high")
+#: (header, key of a row) of the table; units in the headers
+COLUMNS = (
+    ("scene", "scene"),
+    ("top u low [mm]", "top_low"),
+    ("top u high [mm]", "top_high"),
+    ("drift low [%]", "drift_low"),
+    ("drift high [%]", "drift_high"),
+    ("impacts", "impacts"),
+    ("episodes", "episodes"),
+    ("floor acc. low [m/s2]", "acc_low"),
+    ("floor acc. high [m/s2]", "acc_high"),
+    ("impact spike [m/s2]", "spike"),
+    ("link peak force [kN]", "link_force"),
+    ("link peak stroke [mm]", "link_stroke"),
+    ("link energy [kJ]", "link_energy"),
+    ("solve time [s]", "runtime"),
+)
+FORMATS = {"top_low": "{:.1f}", "top_high": "{:.1f}", "drift_low": "{:.3f}", "drift_high": "{:.3f}", "impacts": "{:d}",
+           "episodes": "{:d}", "acc_low": "{:.2f}", "acc_high": "{:.2f}", "spike": "{:.1f}", "link_force": "{:.0f}",
+           "link_stroke": "{:.2f}", "link_energy": "{:.0f}", "runtime": "{:.2f}"}
+README_START, README_END = "<!-- table: run_linked.py --readme writes it -->", "<!-- end of table -->"
+COLOURS = {"unlinked": "0.55", "viscous": "C0", "maxwell": "C2", "tie": "C3"}
+
+
+@dataclass
+class SceneRun:
+    """One scene's run and what the table and plots read from it."""
+
+    key: str
+    result: object
+    summary: dict
+    row: dict
+
+
+def scene_for(key: str, duration: float | None, dt: float | None = None):
+    """The scene ``key`` of :data:`SCENES`, cut to ``duration`` [s] and stepped at ``dt`` [s] when given."""
+    scene = load_scene(SCENES[key])
+    scene = scene.with_analysis(duration=duration) if duration else scene
+    return scene.with_analysis(dt=dt) if dt else scene
+
+
+def link_row_x(building, storey: int, point) -> np.ndarray:
+    """Row (3N,) of a slab point's x displacement over a building's slab DOFs (u, v, phi per floor,
+    phi about the slab's centre of mass): x = u - (y_p - y_c) phi."""
+    centre = np.asarray(building.slabs[storey - 1].centre, dtype=float)
+    row = np.zeros(3 * building.n_storeys)
+    row[3 * (storey - 1)] = 1.0
+    row[3 * (storey - 1) + 2] = -(float(point[1]) - centre[1])
+    return row
+
+
+def added_damping(scene) -> dict[str, np.ndarray]:
+    """Per building, the damping ratio (n_modes,) [-] its linear dampers add to each of its own modes
+    with the other building held still (FEMA 356's estimate): zeta_j = sum_d c_d (t_d . phi_j)^2 / (2 w_j),
+    phi_j mass-normalised, t_d the row of damper d's end on that building (:func:`link_row_x`; the links
+    here lie along x). Links of other laws (or with an exponent other than 1) are left out."""
+    systems = {b.name: assemble(b) for b in scene.buildings}
+    out = {name: np.zeros(len(s.periods)) for name, s in systems.items()}
+    for link in scene.links:
+        law = link.law.describe()
+        if law.get("name") not in ("viscous", "maxwell") or law.get("exponent", 1.0) != 1.0:
+            continue
+        for name, storey, point in zip(link.between, link.storeys, link.points):
+            s = systems[name]
+            t_phi = link_row_x(s, storey, point) @ s.modes
+            out[name] += law["coefficient"] * t_phi**2 / (2.0 * 2.0 * np.pi / s.periods)
+    return out
+
+
+def x_effective_mass(building_system) -> np.ndarray:
+    """Share (n_modes,) [-] of a building's mass each mode moves along x (sums to 1)."""
+    s = building_system
+    r = np.zeros(3 * s.n_storeys)
+    r[0::3] = 1.0
+    gamma = s.modes.T @ s.M @ r
+    return gamma**2 / (r @ s.M @ r)
+
+
+def describe_damping(scene) -> str:
+    """One line per building: the x-dominant mode's period, its share of mass along x, the added damping ratio."""
+    zeta = added_damping(scene)
+    lines = []
+    for b in scene.buildings:
+        s = assemble(b)
+        j = int(np.argmax(x_effective_mass(s)))
+        lines.append(f"{b.name}: mode {j + 1} (T = {s.periods[j]:.3f} s, {100 * x_effective_mass(s)[j]:.0f} % of the mass "
+                     f"along x): added damping {100 * zeta[b.name][j]:.1f} %")
+    return "; ".join(lines)
+
+
+def pair_matrices(scene) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The two buildings as one system over their stacked slab DOFs (n = 3 (N_low + N_high)): mass M and
+    stiffness K (n, n) with the stiffness of the scene's elastic links added (k t t^T), the links' rows
+    T (n_links, n) (the x displacement of the second end minus the first's: the links lie along +x), and
+    the x influence vector r (n,)."""
+    systems = [assemble(b) for b in scene.buildings]
+    sizes = [s.M.shape[0] for s in systems]
+    start = dict(zip((b.name for b in scene.buildings), np.cumsum([0] + sizes[:-1])))
+    by_name = {b.name: s for b, s in zip(scene.buildings, systems)}
+    n = sum(sizes)
+    M, K, r = np.zeros((n, n)), np.zeros((n, n)), np.zeros(n)
+    for name, s in by_name.items():
+        sl = slice(start[name], start[name] + s.M.shape[0])
+        M[sl, sl], K[sl, sl] = s.M, s.K
+    r[0::3] = 1.0
+    rows = []
+    for link in scene.links:
+        t = np.zeros(n)
+        for sign, name, storey, point in zip((-1.0, 1.0), link.between, link.storeys, link.points):
+            s = by_name[name]
+            t[start[name] : start[name] + s.M.shape[0]] += sign * link_row_x(s, storey, point)
+        rows.append(t)
+        law = link.law.describe()
+        if law.get("name") == "elastic":
+            K += law["stiffness"] * np.outer(t, t)
+    return M, K, np.array(rows), r
+
+
+def tie_periods(scene) -> dict[str, float]:
+    """Of the pair joined by the scene's elastic links: ``first`` the period [s] of the mode that moves the
+    most mass along x, ``rigid`` the same with the links rigid (the motion kept in the null space of
+    their rows), and ``highest_w`` the highest circular frequency [rad/s] with the links."""
+    import scipy.linalg
+
+    M, K, T, r = pair_matrices(scene)
+    w2, phi = scipy.linalg.eigh(K, M)
+    first = 2.0 * np.pi / np.sqrt(w2[np.argmax((phi.T @ M @ r) ** 2)])
+    N = scipy.linalg.null_space(T)  # (n, n - n_links): the motions the rigid links allow
+    w2r, psi = scipy.linalg.eigh(N.T @ K @ N, N.T @ M @ N)  # K's link terms vanish on N
+    rigid = 2.0 * np.pi / np.sqrt(w2r[np.argmax((psi.T @ N.T @ M @ r) ** 2)])
+    return {"first": float(first), "rigid": float(rigid), "highest_w": float(np.sqrt(w2[-1]))}
+
+
+def link_figures(result) -> dict:
+    """Over the run's links: the largest peak |force| [N] and peak |stroke| [m] of one link, the energy
+    all of them dissipated [J] (0 for a scene without links)."""
+    links = result.links.values()
+    return {"force": max((float(np.max(np.abs(r["force"]))) for r in links), default=0.0),
+            "stroke": max((float(r["peak"]) for r in links), default=0.0),
+            "energy": sum(float(r["energy_dissipated"]) for r in links)}
+
+
+def run_scene(key: str, duration: float | None, dt: float | None = None) -> SceneRun:
+    """Run one scene and collect its row of the table."""
+    result = run(scene_for(key, duration, dt))
+    summ = summary(result)
+    links = link_figures(result)
+    row = {"scene": key, "runtime": result.runtime_s, "impacts": int(result.n_impacts), "episodes": int(summ["n_contact_episodes"]),
+           "link_force": links["force"] / 1e3, "link_stroke": links["stroke"] * 1e3, "link_energy": links["energy"] / 1e3}
+    spikes = []
+    for name in BUILDINGS:
+        b = summ["buildings"][name]
+        row[f"top_{name}"] = 1e3 * b["peak_u"][-1]
+        row[f"drift_{name}"] = 100.0 * max(b["peak_drift_ratio_corner"])
+        row[f"acc_{name}"] = max(b["peak_floor_acceleration"])
+        spikes.append(max(b["peak_floor_acceleration_impact"], default=0.0))
+    row["spike"] = float(max(spikes))
+    return SceneRun(key, result, summ, row)
+
+
+def table_markdown(rows: list[dict]) -> str:
+    """The table as Markdown, one row per scene."""
+    lines = ["| " + " | ".join(h for h, _ in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
+    for row in rows:
+        lines.append("| " + " | ".join(FORMATS.get(k, "{}").format(row[k]) for _, k in COLUMNS) + " |")
+    return "\n".join(lines)
+
+
+def write_table(rows: list[dict], out: Path) -> str:
+    """Write table.md and table.csv (full precision) into ``out``; return the Markdown."""
+    md = table_markdown(rows)
+    (out / "table.md").write_text(md + "\n")
+    with open(out / "table.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow([h for h, _ in COLUMNS])
+        for row in rows:
+            w.writerow([row[k] for _, k in COLUMNS])
+    return md
+
+
+def plot_top_displacement(runs: list[SceneRun], plt, path: Path) -> None:
+    """Top floor x displacement [mm] of each building: one row per linked scene, the unlinked run behind."""
+    base = next(r for r in runs if r.key == "unlinked")
+    linked = [r for r in runs if r.key != "unlinked"]
+    fig, axes = plt.subplots(len(linked), 2, sharex=True, sharey="col", figsize=(9, 1.7 * len(linked) + 0.4), squeeze=False)
+    for row_axes, r in zip(axes, linked):
+        for ax, name in zip(row_axes, BUILDINGS):
+            ax.plot(base.result.t, 1e3 * base.result.cm(name)[:, -1, 0], color=COLOURS["unlinked"], lw=0.6, label="unlinked")
+            ax.plot(r.result.t, 1e3 * r.result.cm(name)[:, -1, 0], color=COLOURS[r.key], lw=0.6, label=r.key)
+            ax.set_title(f"{name}, top floor: {r.key}", fontsize=8, loc="left")
+            ax.tick_params(labelsize=7)
+            ax.legend(fontsize=6, loc="upper right")
+        row_axes[0].set_ylabel("u [mm]", fontsize=8)
+    for ax in axes[-1]:
+        ax.set_xlabel("t [s]", fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def plot_profiles(runs: list[SceneRun], plt, path: Path, quantity: str) -> None:
+    """Peak drift ratio [%] per storey (``quantity = "drift"``) or peak absolute floor acceleration
+    [m/s2] per floor (``"acceleration"``, the impacts' half-sine spikes as crosses), per building."""
+    fig, axes = plt.subplots(1, 2, figsize=(7, 3.2), sharey=False)
+    for ax, name in zip(axes, BUILDINGS):
+        for r in runs:
+            b = r.summary["buildings"][name]
+            if quantity == "drift":
+                values = 100.0 * np.asarray(b["peak_drift_ratio_corner"])
+            else:
+                values = np.asarray(b["peak_floor_acceleration"])
+            levels = np.arange(1, len(values) + 1)
+            ax.plot(values, levels, "o-", color=COLOURS[r.key], ms=3, lw=1, label=r.key)
+            spikes = np.asarray(b["peak_floor_acceleration_impact"])
+            # floors not struck report the rounding of a velocity jump (~1e-15 m/s2): not marked
+            hit = spikes > 1e-9 * np.max(spikes, initial=0.0)
+            if quantity == "acceleration" and np.any(hit):
+                ax.plot(spikes[hit], levels[hit], "x", color=COLOURS[r.key], ms=6, label=f"{r.key}: impact spike")
+        ax.set_yticks(levels)
+        ax.set_ylabel("storey" if quantity == "drift" else "floor", fontsize=8)
+        ax.set_xlabel("peak drift ratio [%]" if quantity == "drift" else "peak floor acceleration [m/s2]", fontsize=8)
+        ax.set_title(name, fontsize=9)
+        ax.set_xlim(left=0.0)
+        ax.tick_params(labelsize=7)
+    axes[-1].legend(fontsize=6, loc="lower right")
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def plot_damper_loops(runs: list[SceneRun], plt, path: Path) -> None:
+    """Force [kN] against stroke [mm] of the first link of each damped scene (not the tie)."""
+    damped = [r for r in runs if r.result.links and r.row["link_energy"] > 0.0]
+    fig, axes = plt.subplots(1, max(len(damped), 1), figsize=(3.4 * max(len(damped), 1), 3.0), squeeze=False)
+    for ax, r in zip(axes[0], damped):
+        name, rec = next(iter(r.result.links.items()))
+        ax.plot(1e3 * rec["deformation"], rec["force"] / 1e3, color=COLOURS[r.key], lw=0.5)
+        ax.set_xlabel("stroke [mm] (+: the points move apart)", fontsize=8)
+        ax.set_ylabel("force [kN] (+: tension)", fontsize=8)
+        ax.set_title(f"{r.key}: {name}", fontsize=9)
+        ax.tick_params(labelsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def plot_all(runs: list[SceneRun], out: Path) -> list[Path]:
+    """The figures of the module docstring; returns their paths."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    paths = [out / n for n in ("top_displacement.png", "drift_profile.png", "acceleration_profile.png", "damper_loop.png")]
+    plot_top_displacement(runs, plt, paths[0])
+    plot_profiles(runs, plt, paths[1], "drift")
+    plot_profiles(runs, plt, paths[2], "acceleration")
+    plot_damper_loops(runs, plt, paths[3])
+    return paths
+
+
+def update_readme(md: str, plots: list[Path]) -> None:
+    """Put the table between the README's markers and the plots into images/."""
+    readme = HERE / "README.md"
+    text = readme.read_text()
+    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.DOTALL)
+    readme.write_text(pattern.sub(lambda _: f"{README_START}\n{md}\n{README_END}", text))
+    (HERE / "images").mkdir(exist_ok=True)
+    for p in plots:
+        shutil.copy(p, HERE / "images" / p.name)
+
+
+def main(out: Path, duration: float | None = None, readme: bool = False, dt: float | None = None) -> list[SceneRun]:
+    out.mkdir(parents=True, exist_ok=True)
+    print("dampers of pair_viscous.toml:", describe_damping(load_scene(SCENES["viscous"])), flush=True)
+    tie = load_scene(SCENES["tie"])
+    periods = tie_periods(tie)
+    print(f"ties of pair_tie.toml: first period along x {periods['first']:.4f} s (rigid ties: {periods['rigid']:.4f} s), "
+          f"highest w dt = {periods['highest_w'] * tie.analysis.dt:.2f}", flush=True)
+    runs = []
+    for key in SCENES:
+        runs.append(run_scene(key, duration, dt))
+        print(f"{key}: solved in {runs[-1].row['runtime']:.2f} s", flush=True)
+    md = write_table([r.row for r in runs], out)
+    print(md)
+    plots = plot_all(runs, out)
+    if readme:
+        update_readme(md, plots)
+    return runs
+
+
+if __name__ == "__main__":
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("out", type=Path)
+    p.add_argument("--duration", type=float, default=None, help="seconds of the record to run (default: all of it)")
+    p.add_argument("--dt", type=float, default=None, help="time step [s] (default: the scene files', 0.005)")
+    p.add_argument("--readme", action="store_true", help="write the table and plots into this example's README")
+    a = p.parse_args()
+    main(a.out, a.duration, a.readme, a.dt)
