@@ -226,27 +226,32 @@ class Result:
         return (self.modal(name, velocity) @ s.modes.T).reshape(len(self.t), s.n_storeys, 3)
 
     def vertices(self, name: str, velocity: bool = False) -> np.ndarray:
-        """x, y displacement (or velocity) of every slab vertex, shape (nt, storeys, kmax, 2); NaN pads
-        shorter polygons. The slab's rigid motion as the contact geometry takes it
-        (:func:`pounding.contact.geometry.displaced`: the turn exact)."""
-        from pounding.contact.geometry import turned
+        """x, y displacement of every slab vertex, shape (nt, storeys, kmax, 2); NaN pads shorter polygons.
 
+        The structural model's small-rotation motion, (u - phi r_y, v + phi r_x) with r the vertex's
+        offset from the slab's centre, as the drifts and the VTK files take it (the contact geometry
+        turns slabs exactly: :func:`contact_offsets`, differing by phi^2 |r| / 2)."""
         s = self.systems[self._index(name)]
-        x = self.cm(name)
-        rate = self.cm(name, True) if velocity else None
+        x = self.cm(name, velocity)
         kmax = max(len(sl.vertices) for sl in s.slabs)
         out = np.full((len(self.t), s.n_storeys, kmax, 2), np.nan)
         for f, slab in enumerate(s.slabs):
             r = slab.vertices - slab.centre  # (k, 2)
-            moved = turned(r, x[:, f, 2:3])  # (nt, k, 2)
-            if rate is None:
-                out[:, f, : len(r)] = x[:, f, None, 0:2] + moved
-            else:  # (u', v') + phi' k x R(phi) r
-                arm = r + moved
-                w = rate[:, f, 2:3]
-                out[:, f, : len(r), 0] = rate[:, f, 0:1] - w * arm[..., 1]
-                out[:, f, : len(r), 1] = rate[:, f, 1:2] + w * arm[..., 0]
+            u, v, phi = x[:, f, 0:1], x[:, f, 1:2], x[:, f, 2:3]
+            out[:, f, : len(r), 0] = u - phi * r[:, 1]
+            out[:, f, : len(r), 1] = v + phi * r[:, 0]
         return out
+
+    def contact_offsets(self, name: str, storey: int) -> np.ndarray:
+        """Displacements (nt, k, 2) [m] of the vertices of slab ``storey`` (0-based) of building ``name``
+        as the contact geometry moves them (:func:`pounding.contact.geometry.displaced`: the turn
+        exact), for the studies that must find what the engine's contact finds (the gap studies)."""
+        from pounding.contact.geometry import turned
+
+        s = self.systems[self._index(name)]
+        slab = s.slabs[storey]
+        x = self.cm(name)[:, storey]
+        return x[:, None, 0:2] + turned(np.asarray(slab.vertices, float) - slab.centre, x[:, 2:3])
 
     def peaks(self, name: str) -> np.ndarray:
         """Peak |u|, |v|, |phi| per storey over the continuous trajectory (inside the steps too), shape (storeys, 3)."""

@@ -243,10 +243,10 @@ class _Side:
         return self.vertices + np.array([u, v]) + turned(self.vertices - self.centre, np.array([phi]))
 
 
-def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
-    """The two sides of ``site`` (:func:`~pounding.framework.model.placement.pair_sites`) in ``result``: the slabs' motion, or the facade
-    the driver uses (:func:`pounding.framework.model.facade.facade`, from the run's assembled system);
-    ``vertices``: {building name: ``result.vertices(name)``}."""
+def _sides(result, a, b, site) -> tuple[_Side, _Side]:
+    """The two sides of ``site`` (:func:`~pounding.framework.model.placement.pair_sites`) in ``result``: the slabs' motion
+    as the contact geometry takes it (``Result.contact_offsets``), or the facade the driver uses
+    (:func:`pounding.framework.model.facade.facade`, from the run's assembled system)."""
     from pounding.contact.geometry import turned
     from pounding.framework.model.facade import facade
 
@@ -256,9 +256,8 @@ def _sides(result, a, b, site, vertices: dict) -> tuple[_Side, _Side]:
         i = result.names.index(building.name)
         system = result.systems[i]
         if not struck:
-            k = len(building.slabs[f].vertices)
             out.append(_Side(building.name, building.slabs[f].vertices, system.slabs[f].centre,
-                             np.asarray(system.modes, dtype=float)[3 * f: 3 * f + 3], vertices[building.name][:, f, :k], False))
+                             np.asarray(system.modes, dtype=float)[3 * f: 3 * f + 3], result.contact_offsets(building.name, f), False))
             continue
         F = facade(system, i, z)
         uvp = result.modal(building.name) @ F.rows.T  # (nt, 3) about the facade's centre
@@ -282,11 +281,10 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
     a, b, common = _pair_of(scene, storeys)
     d, g0 = _oriented(scene, direction, storeys)
     cm_a, cm_b = result.cm(a.name), result.cm(b.name)
-    va, vb = result.vertices(a.name), result.vertices(b.name)
     nt = len(result.t)
     D = np.full((nt, len(common)), -np.inf)
     infos = []
-    sides = [_sides(result, a, b, site, {a.name: va, b.name: vb}) for site in common]
+    sides = [_sides(result, a, b, site) for site in common]
     for c, site in enumerate(common):
         side_a, side_b = sides[c]
         A = side_a.vertices + side_a.offsets

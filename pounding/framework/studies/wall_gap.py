@@ -65,7 +65,6 @@ def wall_clearances(scene, result) -> list[WallClearance]:
 
 
 def _clearance(building, wall, result) -> WallClearance | None:
-    verts = result.vertices(building.name)  # (nt, storeys, kmax, 2) displacements
     best = None
     for f, slab in enumerate(building.slabs):
         if slab.elevation > wall.top + LEVEL_TOL:
@@ -83,7 +82,7 @@ def _clearance(building, wall, result) -> WallClearance | None:
             if not np.any(facing):
                 continue
             dist = (rest - p0) @ n
-            d = verts[:, f, : len(rest)][:, facing]  # (nt, m, 2)
+            d = result.contact_offsets(building.name, f)[:, facing]  # (nt, m, 2), as the contact geometry moves them
             toward = -(d @ n) - (dist[facing] - dist[facing].min())[None, :]  # (nt, m)
             t_i, v_i = np.unravel_index(int(np.argmax(toward)), toward.shape)
             need = max(float(toward[t_i, v_i]), 0.0)
