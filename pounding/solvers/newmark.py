@@ -148,7 +148,10 @@ def alpha_family_transition(integrator, owner, omega, zeta, dt, *, beta, gamma, 
         # its own step; or without numba, where the probes through numpy are faster (same numbers)
         return Integrator.transition(integrator, omega, zeta, dt)
     omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
-    zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
+    if not (type(zeta) is np.ndarray and zeta.shape == omega.shape and zeta.dtype == np.float64 and zeta.flags.c_contiguous):
+        # (per mode already, as the driver's transition cache holds it: a contact event's trial steps
+        # build a transition each, and broadcast_to cost twice the compiled transition)
+        zeta = np.ascontiguousarray(np.broadcast_to(np.asarray(zeta, dtype=float), omega.shape))
     integrator.check_dt(omega, zeta, dt)
     A, B = alpha_transition(omega, zeta, float(dt), float(beta), float(gamma), float(alpha_m), float(alpha_f))
     return Transition(A=A, B=B, dt=float(dt))

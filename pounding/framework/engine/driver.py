@@ -390,6 +390,12 @@ class Driver:
         self.events_in_step = 0
         self.n_located = 0
         self._quad: dict = {}
+        # the energy rule's parts a transition does without (read only by the compiled core): built
+        # once, not at each of an event's trial steps
+        n = self.model.n
+        self._no_maps = (np.zeros((0, 4)), np.zeros((0, 4)), np.zeros((0, 4, 4)))
+        self._no_nodes = (np.zeros((0, n, 3, 3)), np.zeros((0, n, 3, 2)), np.zeros(0), np.zeros(0))
+        self._closed_form_work = bool(np.all(self.model.omega > 0))
         self._ag_memo: dict[float, np.ndarray] = {}
         self._load_memo: dict[float, np.ndarray] = {}
         # the bundles the compiled core takes (see pounding.framework.engine.bundles)
@@ -522,23 +528,26 @@ class Driver:
         out = self._quad.get(key)
         if out is None:
             n = self.model.n
-            work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
-            maps = work(self.cache.omega, self.cache.zeta, h) if np.all(self.model.omega > 0) else None
+            maps = None
+            if self._closed_form_work:
+                work = self.integrator.partial_work_maps if self.crossing and key != self.dt else self.integrator.work_maps
+                maps = work(self.cache.omega, self.cache.zeta, h)
             if maps is not None:
-                WA1, WA2, WM = maps
-                trs, gc, gw = [], np.zeros(0), np.zeros(0)
+                WA1, WA2, WM = (np.ascontiguousarray(x, dtype=float) for x in maps)
+                GA, GB, gc, gw = self._no_nodes
             else:
-                WA1, WA2, WM = np.zeros((0, 4)), np.zeros((0, 4)), np.zeros((0, 4, 4))
+                WA1, WA2, WM = self._no_maps
                 trs, gc, gw = self.quadrature(h)
-            GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
-            GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+                if trs:
+                    GA = np.array([t.A for t in trs]).reshape(len(trs), n, 3, 3)
+                    GB = np.array([t.B for t in trs]).reshape(len(trs), n, 3, 2)
+                    gc, gw = np.asarray(gc, dtype=float), np.asarray(gw, dtype=float)
+                else:
+                    GA, GB, gc, gw = self._no_nodes
             if len(self._quad) > 256:
                 self._quad.clear()
             tr = self.cache(h)
-            out = self._quad[key] = Transition(
-                np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), GA, GB, np.asarray(gc, dtype=float), np.asarray(gw, dtype=float),
-                np.ascontiguousarray(WA1, dtype=float), np.ascontiguousarray(WA2, dtype=float), np.ascontiguousarray(WM, dtype=float),
-            )
+            out = self._quad[key] = Transition(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), GA, GB, gc, gw, WA1, WA2, WM)
         return out
 
     def gaps(self, q: np.ndarray, pairs=None, cutoff: float | None = None) -> np.ndarray:
