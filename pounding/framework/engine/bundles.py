@@ -247,6 +247,8 @@ class NewtonWork(NamedTuple):
     J: np.ndarray  #: (m, m) the active links' Jacobian
     x: np.ndarray  #: (2 m,) residuals, then the active rows' right-hand side
     act: np.ndarray  #: (m,) int64, the active links (off their initial branch)
+    d0: np.ndarray  #: (ns,) the last accepted iterate [m] (the backtracking's start)
+    dd: np.ndarray  #: (ns,) the Newton step from it [m]
 
 
 class LinkStepping(NamedTuple):

@@ -55,17 +55,22 @@ def solve_group(laws, j, links, h, S, now, out, ws):
 
     The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the links off their
     initial branch (the active set a): (I + S_aa D_a) x_a = res_a is solved, and every row follows
-    as res - S[:, a] D_a x_a.
+    as res - S[:, a] D_a x_a. A step that does not lower the squared residual is halved back
+    (a line search along it, to 2^-30 of it): the Newton step is a descent direction of the
+    squared residual, and a dashpot whose force grows as |v|^alpha with alpha < 1 (an infinite
+    slope at rest) makes plain Newton overshoot, and cycle for alpha <= 1/2.
 
-    Returns the Newton iterations taken, or -1 when it did not converge in MAX_ITER.
+    Returns the iterations taken (halvings included), or -1 when it did not converge in 4 MAX_ITER.
     """
     lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
     law, params, k0 = links.law, links.params, links.k0
     f, state, trial, f1 = now.f, now.state, out.state, out.f
-    dl, sf, d, kt, J, x, act = ws.dl, ws.sf, ws.d, ws.kt, ws.J, ws.x, ws.act
+    dl, sf, d, kt, J, x, act, d0, dd = ws.dl, ws.sf, ws.d, ws.kt, ws.J, ws.x, ws.act, ws.d0, ws.dd
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
-    for it in range(MAX_ITER + 1):
+    merit0 = np.inf  # the accepted iterate's squared residual
+    lam = 1.0  # the share of the Newton step taken from it
+    for it in range(4 * MAX_ITER + 1):  # (a halving of the step counts as an iteration)
         same = True
         for a in range(lo, hi):
             r, k = law_update(laws, law[a], d[a], h, state, params, trial, a)
@@ -76,14 +81,29 @@ def solve_group(laws, j, links, h, S, now, out, ws):
         if it == 0 and same:
             return 0  # nothing changed: the predictor solves the step
         worst = 0.0
+        merit = 0.0
         for a in range(lo, hi):
             acc = d[a] - dl[a]
             for b in range(lo, hi):
                 acc += S[a, b] * f1[b]
             x[a - lo] = acc
             worst = max(worst, abs(acc))
+            merit += acc * acc
         if worst <= tol:
             return it
+        if merit >= merit0 and lam > MIN_STEP:
+            # the full step did not lower the residual: back along it (a dashpot whose force grows as
+            # |v|^alpha, alpha < 1, has an infinite slope at rest, where plain Newton overshoots and,
+            # for alpha <= 1/2, cycles; the Newton step is a descent direction of the squared
+            # residual, so a short enough part of it lowers it)
+            lam *= 0.5
+            for a in range(lo, hi):
+                d[a] = d0[a] - lam * dd[a]
+            continue
+        merit0 = merit
+        lam = 1.0
+        for a in range(lo, hi):
+            d0[a] = d[a]
         na = 0
         for a in range(lo, hi):
             if kt[a] != k0[a]:
@@ -91,7 +111,8 @@ def solve_group(laws, j, links, h, S, now, out, ws):
                 na += 1
         if na == 0:
             for a in range(lo, hi):
-                d[a] -= x[a - lo]
+                dd[a] = x[a - lo]
+                d[a] -= dd[a]
             continue
         for i in range(na):
             for c in range(na):
@@ -107,8 +128,13 @@ def solve_group(laws, j, links, h, S, now, out, ws):
             acc = x[a - lo]
             for i in range(na):
                 acc -= S[a, act[i]] * y[i]
+            dd[a] = acc
             d[a] -= acc
     return -1
+
+
+#: the smallest share of a Newton step the links' line search takes (2^-30) before it takes the step anyway
+MIN_STEP = 2.0**-30
 
 
 @njit
@@ -186,7 +212,7 @@ def newton_work(bounds):
     ns = bounds[-1]
     m = _largest_group(bounds)
     return NewtonWork(np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m),
-                      np.empty(m, dtype=np.int64))
+                      np.empty(m, dtype=np.int64), np.empty(ns), np.empty(ns))
 
 
 @njit
