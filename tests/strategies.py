@@ -490,7 +490,6 @@ def step_end_gaps(result, model, pairs=None, tol=0.0):
     affine in the point, so its largest magnitude over the polygon is at a vertex).
     """
     out = {}
-    V = {name: result.vertices(name) for name in result.names}
     facades = getattr(model, "facades", {})
     for p, (a, fa, b, fb, rest) in enumerate(result.pairs):
         if pairs is not None and p not in pairs:
@@ -500,8 +499,9 @@ def step_end_gaps(result, model, pairs=None, tol=0.0):
             out[p] = (idx, np.array([model.pair_gap(result.q[k], p) for k in idx]))
             continue
         sa, sb = result.systems[a].slabs[fa], result.systems[b].slabs[fb]
-        da = V[result.names[a]][:, fa, : len(sa.vertices)]
-        db = V[result.names[b]][:, fb, : len(sb.vertices)]
+        # the slabs' motion as the contact geometry takes it (the turn exact)
+        da = result.contact_offsets(result.names[a], fa)
+        db = result.contact_offsets(result.names[b], fb)
         bound = rest - np.max(np.hypot(da[..., 0], da[..., 1]), axis=1) - np.max(np.hypot(db[..., 0], db[..., 1]), axis=1)
         idx = np.flatnonzero(bound <= tol)
         gaps = np.array([signed_gap(sa.vertices + da[k], sb.vertices + db[k]) for k in idx])
