@@ -278,6 +278,14 @@ class ContactLaw(ABC):
         :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
 
+    def point_law(self, m_eff: np.ndarray):
+        """The law point by point, for a law built on this one (a bumper's layer and slabs,
+        :class:`pounding.contact.bumper.BumperLaw`): ``(law_force, params)``, the compiled kernel
+        ``(delta, rate, approach_rate, params[i]) -> (force, d force / d delta, d force / d rate)``
+        and its parameters (m, p) at m points of effective masses ``m_eff`` (m,) [kg]; or None (the
+        default) for a law that is only given as :meth:`forces` of a whole contact state."""
+        return None
+
     def contact_duration(self, m_eff: float, approach_speed: float) -> float:
         """How long one contact of this law lasts [s]: two free bodies of effective mass ``m_eff``
         [kg] meeting at ``approach_speed`` [m/s] stay in contact this long.
