@@ -302,3 +302,36 @@ def test_a_bumper_round_trips_through_the_scene_writer(tmp_path):
     again = load_scene(write_scene(sc, tmp_path / "again.toml"))
     assert again.contacts[0].bumper == sc.contacts[0].bumper
     assert scene_differences(sc, again) == []
+
+
+# --------------------------------------------------------------------------- the gap study
+def test_the_gap_study_gives_the_gap_that_keeps_the_layer_untouched():
+    """``pounding gap`` measures the bare slabs (its min_gap ignores the layer) and adds, per bumper
+    storey, the bare gap that keeps the layer untouched: the storey's required gap plus T. A run
+    with contact at 1.01 times it sees no contact; at 0.99 times it the other slab strikes the layer
+    (the 1 % margin is 2e-4 m here, above the law's 1e-4 m contact tolerance)."""
+    from pounding.framework.post.run import run
+    from pounding.framework.studies.gap import minimum_gap
+
+    data = pair_data({"name": "rubber", "stiffness": 1e8}, duration=2.0)
+    data["building"][0] = box_building("left", 0.0, 10.0, 10.0, 1, 0.3, 0.3)
+    data["building"][1] = box_building("right", 10.0 + G, 10.0, 10.0, 1, 0.5, 0.5)
+    data["ground_motion"] = {"record": "elcentro", "pga": 0.3, "angle": 0.0}
+    data["analysis"]["dt"] = 0.0005  # resolves the grazing contact at 0.99 (its energy is then <= 0 to rounding)
+    sc = scene(data)
+    report = minimum_gap(sc, "x")
+    assert [(b["on"], b["storey"]) for b in report.bumpers] == [("right", 1)]
+    need = report.bumpers[0]["gap"]
+    assert report.required[0][2] > 0.0  # the slabs approach: the layer decides the gap, not the rest position
+    assert need == pytest.approx(report.required[0][2] + T, abs=1e-15)
+    runs = [run(sc.with_gap(f * need, report.direction)) for f in (0.99, 1.01)]
+    assert len(runs[0].contacts) > 0 and len(runs[1].contacts) == 0
+    assert sum(x["contact_forces"] for x in runs[0].energy.values()) <= 0.0
+
+
+def test_a_layer_moved_into_its_neighbour_is_refused():
+    """A scene moved in Python (with_gap) so that the layer no longer fits in the gap: the run refuses it
+    (the layer would start compressed, its stored energy outside the account), naming the bumper."""
+    sc = scene(pair_data({"name": "rubber", "stiffness": 1e8})).with_gap(0.5 * T, "x")
+    with pytest.raises(ValueError, match="does not fit in the rest gap"):
+        Model(sc)

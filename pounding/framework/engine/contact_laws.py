@@ -81,6 +81,10 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     names = [b.name for b in scene.buildings]
     laws, by_pair, by_bumper = [default], {}, {}
     for rule in getattr(scene, "contacts", ()):
+        if not default.watches():  # contact off (a gap study's free run): nothing is watched, as for the walls below
+            laws.append(default)
+            by_pair[frozenset(rule.between)] = len(laws) - 1
+            continue
         cls = CONTACT_LAWS.get(rule.law)
         problem = cls.override_problem(type(default))
         if problem is not None:

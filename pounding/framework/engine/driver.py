@@ -189,6 +189,9 @@ class Model:
             A, B = (poly, self.verts[self.slab_index(b, fb), : self.nvert[self.slab_index(b, fb)]]) if side == 0 else \
                 (self.verts[self.slab_index(a, fa), : self.nvert[self.slab_index(a, fa)]], poly)
             rest = geo.rest_gap(A, B)
+            if not rest > 0.0:  # (the scene loader refuses it; a scene moved in Python, e.g. with_gap, may not)
+                raise ValueError(f"a bumper layer of {rule.bumper.thickness:g} m on {rule.bumper.on!r} does not fit in the rest gap of "
+                                 f"{self.pairs[p][4]:.6g} m at storey {(fa, fb)[side] + 1}: the layer would start compressed")
             self.pairs[p] = (a, fa, b, fb, rest)
             (pa if side == 0 else pb)[p] = [(a, b)[side], s - int(self.slab_off[(a, b)[side]])]
             axes[p] = pg.rest_axis(np.asarray(A, float), np.asarray(B, float), rest)
