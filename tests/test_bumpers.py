@@ -335,3 +335,15 @@ def test_a_layer_moved_into_its_neighbour_is_refused():
     sc = scene(pair_data({"name": "rubber", "stiffness": 1e8})).with_gap(0.5 * T, "x")
     with pytest.raises(ValueError, match="does not fit in the rest gap"):
         Model(sc)
+
+
+def test_contacts_csv_names_the_bumper_as_the_pairs_law():
+    """The law column of contacts.csv names a bumper's pair's law "bumper" (its layer and the slabs' law:
+    summary.json's contact.between[...].bumper), not the slabs' law alone."""
+    from pounding.io.results import contact_rows, pair_law_names
+
+    d = free_slabs({"name": "rubber", "stiffness": K_LAYER}, 1.0)
+    r = d.run()
+    assert pair_law_names(r) == ["bumper"]
+    assert [row[2] for row in contact_rows(r)] == ["bumper"]
+    assert r.contact["between"][0]["bumper"]["layer"]["name"] == "rubber"
