@@ -347,3 +347,12 @@ def test_contacts_csv_names_the_bumper_as_the_pairs_law():
     assert pair_law_names(r) == ["bumper"]
     assert [row[2] for row in contact_rows(r)] == ["bumper"]
     assert r.contact["between"][0]["bumper"]["layer"]["name"] == "rubber"
+
+
+def test_pounding_check_describes_the_bumper(tmp_path):
+    """``pounding check`` prints the bumper under its [[contact]] line: building, storey, thickness, fraction, layer law."""
+    path = _write(tmp_path, bumper_scene())
+    proc = subprocess.run([sys.executable, "-m", "pounding", "check", str(path)], capture_output=True, text=True)
+    assert proc.returncode == 0, proc.stderr
+    line = next(x for x in proc.stdout.splitlines() if x.strip().startswith("bumper on"))
+    assert "'B' storey 1" in line and "0.02 m thick" in line and "80 %" in line and "layer rubber" in line

@@ -59,7 +59,11 @@ a default and its meaning:
 6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
    and approach speed (force laws; the default, inf, suits impulse laws). The default time step
    resolves it.
-7. Register the class under the entry-point group ``pounding.contact``, or pass the
+7. Force laws given point by point (:class:`pounding.contact.pointwise.PointwiseLaw`) say so with
+   :meth:`ContactLaw.point_law` (the default, None: a law given only as :meth:`~ContactLaw.forces`);
+   a law built on others (a bumper's layer and slabs, :mod:`pounding.contact.bumper`) sums them
+   point by point when both do.
+8. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
    buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
