@@ -76,6 +76,9 @@ def cmd_gap(args: argparse.Namespace) -> int:
     else:
         print(format_report(report))
         _print_walls(report.walls)
+        for b in report.bumpers:  # the study measures the bare slabs (gap.bumper_gaps)
+            print(f"bumper on {b['on']} storey {b['storey']}: the gaps above are between the bare slabs; "
+                  f"the {b['thickness']:g} m layer stays untouched at a gap of {b['gap']:.4f} m")
     if report.check is not None and not report.check.ok:
         print("pounding: warning: the check runs disagree with the minimum gap (see 'check')", file=sys.stderr)
         return 1

@@ -153,6 +153,11 @@ def describe(scene, path: Path | None = None) -> str:
                  + (f"; silenced: {', '.join(an.silence)}" if an.silence else ""))
     for rule in scene.contacts:  # [[contact]]: a pair of buildings with a law of its own
         lines.append(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {rule.law}{params(CONTACT_LAWS, rule.law, rule.params)}")
+        if rule.bumper is not None:  # a rubber layer in the gap: its own law, then the slabs' law beyond its fraction
+            b = rule.bumper
+            lines.append(f"  bumper on {b.on!r} storey{'s' if len(b.storeys) > 1 else ''} {', '.join(map(str, b.storeys))}: "
+                         f"{b.thickness:g} m thick, the slabs' law beyond {100 * b.compressible:g} % of it; "
+                         f"layer {b.law}{params(CONTACT_LAWS, b.law, b.params)}")
     lines += [_link_line(k) for k in scene.links]  # [[link]]: a law between two slabs
     for w in scene.walls:  # [[wall]]: fixed to the ground, struck by the slabs at or below its top
         law, given = (an.contact, {**an.contact_params, **w.params}) if w.law is None else (w.law, w.params)

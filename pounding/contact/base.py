@@ -59,7 +59,11 @@ a default and its meaning:
 6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
    and approach speed (force laws; the default, inf, suits impulse laws). The default time step
    resolves it.
-7. Register the class under the entry-point group ``pounding.contact``, or pass the
+7. Force laws given point by point (:class:`pounding.contact.pointwise.PointwiseLaw`) say so with
+   :meth:`ContactLaw.point_law` (the default, None: a law given only as :meth:`~ContactLaw.forces`);
+   a law built on others (a bumper's layer and slabs, :mod:`pounding.contact.bumper`) sums them
+   point by point when both do.
+8. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
    buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
@@ -277,6 +281,14 @@ class ContactLaw(ABC):
         the gaps at the step's end are ``contact.gap + contact.S_q @ lambda`` (see
         :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
+
+    def point_law(self, m_eff: np.ndarray):
+        """The law point by point, for a law built on this one (a bumper's layer and slabs,
+        :class:`pounding.contact.bumper.BumperLaw`): ``(law_force, params)``, the compiled kernel
+        ``(delta, rate, approach_rate, params[i]) -> (force, d force / d delta, d force / d rate)``
+        and its parameters (m, p) at m points of effective masses ``m_eff`` (m,) [kg]; or None (the
+        default) for a law that is only given as :meth:`forces` of a whole contact state."""
+        return None
 
     def contact_duration(self, m_eff: float, approach_speed: float) -> float:
         """How long one contact of this law lasts [s]: two free bodies of effective mass ``m_eff``

@@ -131,6 +131,10 @@ class PointwiseLaw(ContactLaw):
         """Parameters (m, p) [float64] of the law at m points of effective masses ``m_eff`` (m,) [kg]."""
         raise NotImplementedError
 
+    def point_law(self, m_eff: np.ndarray):
+        """(``law_force``, :meth:`params` at ``m_eff`` (m,) [kg]): this law point by point."""
+        return self.law_force, self.params(np.asarray(m_eff, dtype=float))
+
     def point_force(self, delta: float, rate: float, approach_rate: float, m_eff: float) -> tuple[float, float, float]:
         """(force [N], d force / d delta [N/m], d force / d rate [N s/m]) of one whole contact of
         effective mass ``m_eff`` [kg] at penetration ``delta`` [m], rate ``rate`` [m/s], begun at

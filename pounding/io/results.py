@@ -73,8 +73,16 @@ def pair_law_names(result: Result) -> list[str]:
     by = {frozenset(r["between"]): r.get("name", "") for r in result.contact.get("between", [])}
     walls = {w["wall"]: w.get("name", "") for w in result.contact.get("walls", [])}
     on_wall = getattr(result, "walls", {})
-    return [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
-            for p, (a, _, b, _, _) in enumerate(result.pairs)]
+    names = [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
+             for p, (a, _, b, _, _) in enumerate(result.pairs)]
+    scene = getattr(result, "scene", None)
+    if scene is not None and scene.analysis.contact != "none":  # a bumper's pairs take its layer and the slabs' law
+        from pounding.framework.model.bumpers import rule_pairs
+
+        for rule in scene.contacts:
+            for p in rule_pairs(scene.buildings, result.pairs, rule):
+                names[p] = "bumper"
+    return names
 
 
 def contact_rows(result: Result) -> list[list]:

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import inspect
 import tomllib
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, Mapping
 
@@ -25,7 +26,7 @@ import numpy as np
 
 from pounding.errors import InputError
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, same_level
-from pounding.framework.model.scene import Analysis, Building, ContactRule, Damping, Scene, Slab, Wall
+from pounding.framework.model.scene import Analysis, Building, Bumper, ContactRule, Damping, Scene, Slab, Wall
 from pounding.framework.model.walls import check_wall
 from pounding.io.scene_structure import _path, framework_element_keys, scene_problems
 
@@ -301,10 +302,11 @@ def _analysis(table: Mapping, search: tuple = ()) -> Analysis:
     )
 
 
-def _contact_rules(tables: list, names: list[str], analysis: Analysis, search: tuple) -> tuple[ContactRule, ...]:
-    """The ``[[contact]]`` tables: the law of the slab pairs between two named buildings."""
+def _contact_rules(tables: list, buildings: list[Building], analysis: Analysis, search: tuple) -> tuple[ContactRule, ...]:
+    """The ``[[contact]]`` tables: the law of the slab pairs between two named buildings, and their bumpers."""
     from pounding.framework.model.registry import CONTACT_LAWS
 
+    names = [b.name for b in buildings]
     default = CONTACT_LAWS.get(analysis.contact, search=search)
     out, seen = [], {}
     for i, table in enumerate(tables):
@@ -321,12 +323,41 @@ def _contact_rules(tables: list, names: list[str], analysis: Analysis, search: t
             raise InputError(f"the pair {between[0]!r} - {between[1]!r} already has its law in contact[{seen[key]}]",
                              field=f"{where}.between")
         seen[key] = i
-        law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
-        problem = CONTACT_LAWS.get(law, search=search).override_problem(default)
-        if problem is not None:
-            raise InputError(problem, field=f"{where}.law")
-        out.append(ContactRule((between[0], between[1]), law, params))
+        if "law" not in table and "bumper" not in table:
+            raise InputError("expected a law, a bumper or both", field=where)
+        if "law" in table:
+            law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
+            problem = CONTACT_LAWS.get(law, search=search).override_problem(default)
+            if problem is not None:
+                raise InputError(problem, field=f"{where}.law")
+        else:  # the slabs' law under a bumper: [analysis] contact's
+            law, params = analysis.contact, dict(analysis.contact_params)
+        rule = ContactRule((between[0], between[1]), law, params)
+        if "bumper" in table:
+            rule = replace(rule, bumper=_bumper(table["bumper"], rule, buildings, default, search, f"{where}.bumper"))
+        out.append(rule)
     return tuple(out)
+
+
+def _bumper(table: Mapping, rule: ContactRule, buildings: list[Building], default: type, search: tuple, where: str) -> Bumper:
+    """A ``[[contact]]`` table's ``bumper`` (:mod:`pounding.framework.model.bumpers`), checked: its
+    building, storeys, thickness and fraction, and that the layer's and the slabs' laws act by forces."""
+    from pounding.contact.geometry import rest_gap
+    from pounding.framework.model.bumpers import check_bumper
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    if not default.with_step:
+        raise InputError(f"a bumper needs a force law (a layer compresses), and [analysis] contact {default.name!r} acts by "
+                         "impulses: give [analysis] contact a force law (kelvin, hertzdamp, penalty...)", field=where)
+    law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
+    if not CONTACT_LAWS.get(law, search=search).with_step:
+        raise InputError(f"a bumper needs a force law (a layer compresses); {law!r} acts by impulses", field=f"{where}.law")
+    bumper = Bumper(str(table["on"]), tuple(table["storeys"]), table["thickness"], table.get("compressible", 1.0), law, params)
+    try:
+        check_bumper(replace(rule, bumper=bumper), buildings, rest_gap)
+    except InputError as exc:
+        raise exc.located(field_prefix=where) from None
+    return replace(bumper, thickness=float(bumper.thickness), compressible=float(bumper.compressible))
 
 
 def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: tuple) -> tuple[Wall, ...]:
@@ -393,7 +424,7 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
     analysis = _analysis(data.get("analysis", {}), search)
     if analysis.dt is not None and analysis.duration is not None and analysis.dt > analysis.duration:
         raise InputError(f"dt ({analysis.dt} s) is longer than the duration ({analysis.duration} s)", field="analysis.dt")
-    contacts = _contact_rules(data.get("contact", []), names, analysis, search)
+    contacts = _contact_rules(data.get("contact", []), buildings, analysis, search)
     from pounding.io.scene_links import parse_links
 
     links = parse_links(data.get("link", []), buildings)

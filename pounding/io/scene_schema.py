@@ -338,9 +338,10 @@ def ground_motion_schema() -> dict:
 CONTACT = {
     "type": "object",
     "additionalProperties": False,
-    "required": ["between", "law"],
+    "required": ["between"],
     "description": "The contact law of the slab pairs between two buildings (`[[contact]]`, repeated: one table per "
-    "pair of buildings), instead of `[analysis] contact`: a retaining wall and a slab, a stiff and a soft facade. "
+    "pair of buildings), instead of `[analysis] contact`: a retaining wall and a slab, a stiff and a soft facade; "
+    "and a rubber bumper between them (`bumper`). It gives `law`, `bumper` or both. "
     "Laws that act by forces solved with the step (`penalty`, `facade_penalty`, and plugins of that kind) may differ "
     "from pair to pair, when `[analysis] contact` acts by forces too; one impulse law serves every pair of a run.",
     "properties": {
@@ -353,6 +354,32 @@ CONTACT = {
             "description": "Their contact law, as `[analysis] contact`: a name or `\"module:Class\"`, or a table "
             "`{ name = ..., parameter = ... }`.",
             "examples": [{"name": "penalty", "stiffness": 5e8}],
+        },
+        "bumper": {
+            "type": "object",
+            "additionalProperties": False,
+            "required": ["on", "storeys", "thickness", "law"],
+            "description": "A rubber layer on one building's facing faces at some storeys (docs/modelling.md): the gap "
+            "shrinks by its thickness t; the layer follows its own law on its compression delta until delta reaches "
+            "`compressible` t, beyond which the slabs' law (`law`, else `[analysis] contact`) acts on delta - "
+            "`compressible` t as well, in parallel with the layer. Both laws must act by forces (a layer compresses).",
+            "properties": {
+                "on": {"type": "string", "description": "The building that carries the layer (one of `between`).",
+                       "examples": ["low"]},
+                "storeys": {"type": "array", "items": {"type": "integer", "minimum": 1}, "minItems": 1, "units": "-",
+                            "description": "The storeys (1-based) of `on` whose slab carries the layer; each has a slab "
+                            "of the other building at its level.", "examples": [[3]]},
+                "thickness": positive("The layer's thickness t, less than the rest gap.", "m", example=0.02),
+                "compressible": number("The fraction of t the layer compresses before the slabs' law acts too, in (0, 1] "
+                                       "(from the rubber's strain limit).", "-", example=0.8, default=1.0,
+                                       exclusiveMinimum=0, maximum=1),
+                "law": {
+                    **NAMED_PLUGIN,
+                    "description": "The layer's own contact law: `rubber` (Hertz-type with Hunt-Crossley damping; "
+                    "`stiffness` required) or any law that acts by forces.",
+                    "examples": [{"name": "rubber", "stiffness": 5.0e7, "exponent": 1.5, "restitution": 0.5}],
+                },
+            },
         },
     },
 }

@@ -47,7 +47,7 @@ def scene_table(scene, record_stem: str) -> tuple[dict[str, Any], dict[str, np.n
 
         table["link"] = [link_table(k) for k in scene.links]
     if scene.contacts:
-        table["contact"] = [{"between": list(r.between), "law": {"name": _law_name(r.law), **r.params}} for r in scene.contacts]
+        table["contact"] = [_contact(r) for r in scene.contacts]
     if scene.walls:
         table["wall"] = [_wall(w) for w in scene.walls]
     return table, records
@@ -56,6 +56,16 @@ def scene_table(scene, record_stem: str) -> tuple[dict[str, Any], dict[str, np.n
 def _law_name(law) -> str:
     """A contact law as the scene names it: its registered name, ``module:Class`` for a class."""
     return law if isinstance(law, str) else getattr(law, "name", "") or f"{law.__module__}:{law.__qualname__}"
+
+
+def _contact(r) -> dict[str, Any]:
+    """A ``[[contact]]`` table: the pair, its law and its bumper (when it has one)."""
+    out: dict[str, Any] = {"between": list(r.between), "law": {"name": _law_name(r.law), **r.params}}
+    b = getattr(r, "bumper", None)
+    if b is not None:
+        out["bumper"] = {"on": b.on, "storeys": list(b.storeys), "thickness": float(b.thickness),
+                         "compressible": float(b.compressible), "law": {"name": _law_name(b.law), **b.params}}
+    return out
 
 
 def _wall(w) -> dict[str, Any]:

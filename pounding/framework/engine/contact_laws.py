@@ -10,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.contact.base import ContactLaw, ContactState
+from pounding.framework.model.bumpers import rule_pairs
 from pounding.framework.model.registry import CONTACT_LAWS
 
 #: block Gauss-Seidel between the laws of pairs that share a building: relative change at which it stops
@@ -39,6 +40,20 @@ def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
     return law
 
 
+def bumper_law(rule, slabs: ContactLaw) -> ContactLaw:
+    """The law of the pairs a rule's bumper stands in (:class:`~pounding.contact.bumper.BumperLaw`):
+    the layer's law (``rule.bumper.law`` with its parameters) and ``slabs``, the rule's own law.
+    Raises ValueError when either acts by impulses (a bumper needs a force law: a layer compresses)."""
+    from pounding.contact.bumper import BumperLaw
+
+    b = rule.bumper
+    layer = CONTACT_LAWS.get(b.law)(**b.params)
+    try:
+        return BumperLaw(layer=layer, slabs=slabs, thickness=b.thickness, compressible=b.compressible)
+    except ValueError as exc:
+        raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {exc}") from None
+
+
 def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
     """The laws of a run and the index of each pair's law.
 
@@ -57,20 +72,32 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     Returns
     -------
     laws : list of ContactLaw
-        ``default`` first, then one per rule, then one per wall of the scene.
+        ``default`` first, then one per rule, then one per rule with a bumper (:func:`bumper_law`,
+        for the pairs :func:`~pounding.framework.model.bumpers.rule_pairs` finds), then one per
+        wall of the scene.
     which : ndarray (P,) int64
         Index into ``laws`` of every pair's law.
     """
     names = [b.name for b in scene.buildings]
-    laws, by_pair = [default], {}
+    laws, by_pair, by_bumper = [default], {}, {}
     for rule in getattr(scene, "contacts", ()):
+        if not default.watches():  # contact off (a gap study's free run): nothing is watched, as for the walls below
+            laws.append(default)
+            by_pair[frozenset(rule.between)] = len(laws) - 1
+            continue
         cls = CONTACT_LAWS.get(rule.law)
         problem = cls.override_problem(type(default))
         if problem is not None:
             raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {problem}")
         laws.append(cls(**rule.params))
         by_pair[frozenset(rule.between)] = len(laws) - 1
+    for r, rule in enumerate(getattr(scene, "contacts", ())):
+        if getattr(rule, "bumper", None) is not None and default.watches():
+            laws.append(bumper_law(rule, laws[1 + r]))
+            by_bumper.update({p: len(laws) - 1 for p in rule_pairs(scene.buildings, pairs, rule)})
     which = np.array([by_pair.get(frozenset((names[a], names[b])), 0) for a, _, b, _, _ in pairs], dtype=np.int64)
+    for p, law in by_bumper.items():
+        which[p] = law
     by_wall = {}
     for wall in getattr(scene, "walls", ()):
         # with contact off (a gap study's free run) nothing is watched: the walls take that law too

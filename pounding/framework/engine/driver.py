@@ -134,7 +134,10 @@ class Model:
         # faces, with zero rows (infinite mass); a pair's "b" is the striking building itself, so
         # every mode range it addresses is that building's and the wall side adds nothing
         walls = self._wall_sites()
-        V = len(facades) + len(walls)
+        # then the bumper slabs (pounding.framework.model.bumpers): a slab's own rows with its faces
+        # towards the neighbour moved out by the layer's thickness, in place of the bare slab
+        bumpers = self._bumper_sites(axes)
+        V = len(facades) + len(walls) + len(bumpers)
         grows = np.zeros((S + V, 3, nmax))
         grows[:S] = self.rows
         gverts = np.zeros((S + V, kmax, 2))
@@ -173,6 +176,26 @@ class Model:
             pa.append([a, fa])
             pb.append([a, s - int(self.slab_off[a])])
             axes.append(pg.rest_axis(A, ws.vertices, rest))
+        #: {pair index: the :class:`~pounding.framework.model.scene.ContactRule` whose bumper stands in it}
+        self.bumpers = {}
+        for v, (p, side, poly, rule) in enumerate(bumpers, start=len(facades) + len(walls)):
+            s, (a, fa, b, fb, _) = S + v, self.pairs[p]
+            real = self.slab_index(*((a, fa) if side == 0 else (b, fb)))
+            grows[s] = self.rows[real]
+            gverts[s, : len(poly)] = poly
+            gnvert[s], gcentres[s] = len(poly), self.centres[real]
+            gradii[s] = float(np.max(np.hypot(*(poly - self.centres[real]).T)))
+            floors[s, 0], weights[s, 0] = real, 1.0  # the real slab's rigid motion (the layer has no mass)
+            A, B = (poly, self.verts[self.slab_index(b, fb), : self.nvert[self.slab_index(b, fb)]]) if side == 0 else \
+                (self.verts[self.slab_index(a, fa), : self.nvert[self.slab_index(a, fa)]], poly)
+            rest = geo.rest_gap(A, B)
+            if not rest > 0.0:  # (the scene loader refuses it; a scene moved in Python, e.g. with_gap, may not)
+                raise ValueError(f"a bumper layer of {rule.bumper.thickness:g} m on {rule.bumper.on!r} does not fit in the rest gap of "
+                                 f"{self.pairs[p][4]:.6g} m at storey {(fa, fb)[side] + 1}: the layer would start compressed")
+            self.pairs[p] = (a, fa, b, fb, rest)
+            (pa if side == 0 else pb)[p] = [(a, b)[side], s - int(self.slab_off[(a, b)[side]])]
+            axes[p] = pg.rest_axis(np.asarray(A, float), np.asarray(B, float), rest)
+            self.bumpers[p] = rule
         self.geo = PairArrays(
             np.array(pa, dtype=np.int64).reshape(-1, 2),
             np.array(pb, dtype=np.int64).reshape(-1, 2),
@@ -222,6 +245,24 @@ class Model:
         if self.scene.analysis.contact == "none" or not getattr(self.scene, "walls", ()):
             return []
         return wall_sites(self.systems, self.scene.walls)
+
+    def _bumper_sites(self, axes: list) -> list:
+        """(pair, side (0: the bumper is on slab a, 1: on b), offset polygon (k, 2) [m], rule) of every
+        common-level pair a ``[[contact]]`` bumper stands in (:mod:`pounding.framework.model.bumpers`);
+        ``axes`` the pairs' rest axes (a to b)."""
+        from pounding.framework.model.bumpers import bumper_pairs, offset_facing
+
+        if self.scene.analysis.contact == "none" or not any(getattr(r, "bumper", None) for r in self.scene.contacts):
+            return []
+        names = [s.name for s in self.systems]
+        out = []
+        for p, rule in sorted(bumper_pairs(self.systems, self.pairs, self.scene.contacts).items()):
+            a, fa, b, fb, _ = self.pairs[p]
+            side = 0 if names[a] == rule.bumper.on else 1
+            on = self.slab_index(*((a, fa) if side == 0 else (b, fb)))
+            toward = axes[p] if side == 0 else -np.asarray(axes[p])
+            out.append((p, side, offset_facing(self.verts[on, : self.nvert[on]], toward, rule.bumper.thickness), rule))
+        return out
 
     def _rest_axis(self, p: int) -> np.ndarray:
         a, fa, b, fb, rest = self.pairs[p]
@@ -667,6 +708,10 @@ class Driver:
         out = self.law.describe()
         if self.scene.contacts:
             out["between"] = [{"between": list(r.between), **law.describe()} for r, law in zip(self.scene.contacts, self.laws[1:])]
+            bumpers = iter(self.laws[1 + len(self.scene.contacts):])  # (pair_laws: one per rule with a bumper, in order)
+            for entry, rule in zip(out["between"], self.scene.contacts):
+                if getattr(rule, "bumper", None) is not None and self.law.watches():
+                    entry["bumper"] = {"on": rule.bumper.on, "storeys": list(rule.bumper.storeys), **next(bumpers).describe()}
         walls = self.scene.walls
         if walls:
             out["walls"] = [{"wall": w.name, **law.describe()} for w, law in zip(walls, self.laws[len(self.laws) - len(walls):])]

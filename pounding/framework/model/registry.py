@@ -240,6 +240,7 @@ CONTACT_LAWS: Registry = Registry(
         "hertz": "pounding.contact.hertz:Hertz",
         "hertzdamp": "pounding.contact.hertzdamp:HertzDamp",
         "jankowski": "pounding.contact.jankowski:Jankowski",
+        "rubber": "pounding.contact.rubber:Rubber",
         "none": "pounding.contact.none:NoContact",
     },
     "contact law",

@@ -143,6 +143,34 @@ class Analysis:
 
 
 @dataclass(frozen=True)
+class Bumper:
+    """A rubber layer on one building's face at chosen storeys (``bumper`` of a ``[[contact]]`` table):
+    :mod:`pounding.framework.model.bumpers`.
+
+    on : str
+        The building whose slabs carry the layer (one of the rule's two).
+    storeys : tuple of int
+        The storeys (1-based) of ``on`` whose slab carries it; each has a slab of the other building
+        at its level.
+    thickness : float
+        The layer's thickness t [m], less than every rest gap it stands in.
+    compressible : float
+        The fraction of t the layer compresses before the slabs' law acts too, in (0, 1] [-].
+    law : str or type
+        The layer's own contact law (a force law: ``rubber`` or any other).
+    params : dict
+        Its parameters.
+    """
+
+    on: str
+    storeys: tuple[int, ...]
+    thickness: float
+    compressible: float
+    law: Any
+    params: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
 class ContactRule:
     """The contact law of the slab pairs between two buildings (a ``[[contact]]`` table), instead
     of ``[analysis] contact``.
@@ -153,11 +181,15 @@ class ContactRule:
         A registered contact law's name, ``"module:Class"``, or the class itself.
     params : dict
         The law's parameters.
+    bumper : Bumper or None
+        A rubber layer at some storeys of one of the two (:class:`Bumper`); ``law`` then acts once
+        the layer is compressed to its ``compressible`` fraction.
     """
 
     between: tuple[str, str]
     law: Any
     params: dict[str, Any] = field(default_factory=dict)
+    bumper: Bumper | None = None
 
 
 @dataclass(frozen=True, eq=False)

@@ -170,6 +170,9 @@ class GapReport:
     facades: list = field(default_factory=list)
     #: the clearance each building needs to each retaining wall (:mod:`pounding.framework.studies.wall_gap`)
     walls: list = field(default_factory=list)
+    #: the gaps above are between the bare slabs; per storey that carries a bumper (:func:`bumper_gaps`):
+    #: {"on", "storey", "thickness", "gap"} with ``gap`` the bare gap that keeps the layer untouched
+    bumpers: list = field(default_factory=list)
 
     def to_dict(self) -> dict:
         out = {
@@ -199,6 +202,8 @@ class GapReport:
             out["check"] = self.check.to_dict()
         if self.walls:
             out["walls"] = [w.to_dict() for w in self.walls]
+        if self.bumpers:
+            out["bumpers"] = [dict(b) for b in self.bumpers]
         return out
 
     def _row(self, k: int, fa: int, fb: int, g, t) -> dict:
@@ -437,6 +442,25 @@ def _refine_inside_steps(result, a, b, sides, d, D, top: int = 3):
     return out
 
 
+def bumper_gaps(scene: Scene, report: GapReport) -> list[dict]:
+    """The bare gap [m] that keeps each bumper's layer untouched: at every storey of the pair that
+    carries one (a ``[[contact]]`` bumper of thickness t), the storey's required gap between the
+    bare slabs (``report.required``, common levels only) plus t. The study itself measures the bare
+    slabs (its ``min_gap`` and its check runs ignore the layers): a layer only shrinks the gap."""
+    out = []
+    names = list(report.buildings)
+    for rule in scene.contacts:
+        b = getattr(rule, "bumper", None)
+        if b is None or set(rule.between) != set(names):
+            continue
+        first = names[0] == b.on  # the rows give the first building's storey first
+        for k, (fa, fb, g, _) in enumerate(report.required):
+            facade = k < len(report.facades) and report.facades[k] is not None
+            if (fa if first else fb) in b.storeys and not facade and g is not None:
+                out.append({"on": b.on, "storey": int(fa if first else fb), "thickness": b.thickness, "gap": g + b.thickness})
+    return out
+
+
 def no_contact(scene: Scene) -> Scene:
     """The scene without contact, recording every step."""
     return scene.with_analysis(contact="none", contact_params={}, output_every=1)
@@ -468,6 +492,7 @@ def minimum_gap(scene: Scene, direction=None, *, progress=None) -> GapReport:
     result = run(no_contact(scene), progress=progress)
     report = gap_from_result(scene, result, direction)
     report.walls = wall_clearances(scene, result)
+    report.bumpers = bumper_gaps(scene, report)
     return report
 
 
@@ -528,8 +553,9 @@ def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapChec
 
     if scene.analysis.contact == "none":
         scene = scene.with_analysis(contact="impulse", contact_params={})
-    # the check is about the pair: impacts on walls (which do not move with the building) do not count
-    scene = replace(scene, walls=())
+    # the check is about the pair: impacts on walls (which do not move with the building) do not count,
+    # and the minimum gap is between the bare slabs: a bumper's layer does not count either
+    scene = replace(scene, walls=(), contacts=tuple(replace(r, bumper=None) for r in scene.contacts))
     law = CONTACT_LAWS.get(scene.analysis.contact)(**scene.analysis.contact_params)
     gaps, counts = [], []
     for f in factors:
