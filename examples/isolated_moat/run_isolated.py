@@ -94,11 +94,11 @@ class SceneRun:
 
 def scene_for(key: str, duration: float | None, dt: float | None = None, stiffness: float | None = None):
     """The scene ``key`` of :data:`SCENES`, cut to ``duration`` [s], stepped at ``dt`` [s] and with the
-    contact law's ``stiffness`` [N/m] (every pair's, walls included) when given."""
+    contact law's ``stiffness`` [N/m] (every pair's, walls included) when given and the scene has one."""
     scene = load_scene(SCENES[key])
     scene = scene.with_analysis(duration=duration) if duration else scene
     scene = scene.with_analysis(dt=dt) if dt else scene
-    if stiffness:
+    if stiffness and "stiffness" in scene.analysis.contact_params:  # (the fixed-base scene has nothing to strike)
         scene = scene.with_analysis(contact_params={**scene.analysis.contact_params, "stiffness": stiffness})
     return scene
 
