@@ -168,11 +168,15 @@ def run_scene(key: str, duration: float | None, dt: float | None = None, stiffne
            "wall_contacts": wall["contacts"], "wall_episodes": wall["episodes"], "wall_force": wall["force"] / 1e6,
            "nb_contacts": nb["contacts"], "nb_episodes": nb["episodes"], "nb_force": nb["force"] / 1e6,
            "iso_energy": iso["energy"] / 1e3, "contact_energy": (wall["energy"] + nb["energy"]) / 1e3, "runtime": result.runtime_s}
-    durations = {"wall": wall["durations"], "neighbour": nb["durations"]}
     if wall["durations"] or nb["durations"]:
-        print(f"{key}: contact durations " + ", ".join(f"{what} {1e3 * min(d):.1f}-{1e3 * max(d):.1f} ms" for what, d in durations.items() if d)
-              + f" (dt = {1e3 * result.dt:.3f} ms)", flush=True)
+        print(f"{key}: contact durations {describe_durations(wall['durations'], nb['durations'])} (dt = {1e3 * result.dt:.3f} ms)",
+              flush=True)
     return SceneRun(key, result, summ, acc, row)
+
+
+def describe_durations(wall: list[float], neighbour: list[float]) -> str:
+    """The shortest and longest contact [ms] on the wall and on the neighbour, as one phrase."""
+    return ", ".join(f"{what} {1e3 * min(d):.1f}-{1e3 * max(d):.1f} ms" for what, d in (("wall", wall), ("neighbour", neighbour)) if d)
 
 
 def table_markdown(rows: list[dict]) -> str:
