@@ -96,18 +96,21 @@ class HertzDamp(PointwiseLaw):
 
     name: ClassVar[str] = "hertzdamp"
     law_force = staticmethod(hertzdamp_force)
+    #: the calibrations of xi from e this law takes, by name
+    damping_rules: ClassVar[dict] = DAMPING_RULES
 
     def __init__(self, *, stiffness: float = CONCRETE_HERTZ_STIFFNESS, exponent: float = 1.5, restitution: float = 0.5,
                  damping: str = "ye", tolerance: float = 1e-4):
         super().__init__(restitution=restitution, tolerance=tolerance)
         self.stiffness = check_stiffness(stiffness, "N/m^n")
         self.exponent = check_exponent(exponent)
-        if damping not in DAMPING_RULES:
-            raise InputError(f"expected one of {', '.join(repr(x) for x in DAMPING_RULES)}, got {damping!r}", field="damping")
+        rules = self.damping_rules
+        if damping not in rules:
+            raise InputError(f"expected one of {', '.join(repr(x) for x in rules)}, got {damping!r}", field="damping")
         if damping == "ye":
             check_positive_restitution(self.restitution)
         self.damping = damping
-        self.damping_ratio = DAMPING_RULES[damping](self.restitution)
+        self.damping_ratio = rules[damping](self.restitution)
 
     def contact_duration(self, m_eff: float, approach_speed: float) -> float:
         """The elastic Hertz contact's duration [s] with the same spring, for effective mass ``m_eff``

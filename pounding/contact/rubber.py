@@ -37,10 +37,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-import numpy as np
-
-from pounding.contact.hertzdamp import hertzdamp_force, ye_damping
-from pounding.contact.pointwise import PointwiseLaw, check_exponent, check_positive_restitution, check_stiffness
+from pounding.contact.hertzdamp import HertzDamp, ye_damping
 from pounding.errors import InputError
 
 
@@ -53,7 +50,7 @@ def hunt_crossley_damping(e: float) -> float:
 DAMPING_RULES = {"hunt_crossley": hunt_crossley_damping, "ye": ye_damping}
 
 
-class Rubber(PointwiseLaw):
+class Rubber(HertzDamp):
     """A rubber layer: Hertz-type spring with Hunt-Crossley damping (see the module docstring).
 
     Parameters
@@ -72,33 +69,12 @@ class Rubber(PointwiseLaw):
     """
 
     name: ClassVar[str] = "rubber"
-    law_force = staticmethod(hertzdamp_force)
+    damping_rules: ClassVar[dict] = DAMPING_RULES
 
     def __init__(self, *, stiffness: float | None = None, exponent: float = 1.5, restitution: float = 0.5,
                  damping: str = "hunt_crossley", tolerance: float = 1e-4):
-        super().__init__(restitution=restitution, tolerance=tolerance)
         if stiffness is None:
             raise InputError("a rubber layer needs its stiffness k_r [N/m^n] (E A / t for a pad pressed flat, n = 1)",
                              field="stiffness")
-        self.stiffness = check_stiffness(stiffness, "N/m^n")
-        self.exponent = check_exponent(exponent)
-        if damping not in DAMPING_RULES:
-            raise InputError(f"expected one of {', '.join(repr(x) for x in DAMPING_RULES)}, got {damping!r}", field="damping")
-        if damping == "ye":
-            check_positive_restitution(self.restitution)
-        self.damping = damping
-        self.damping_ratio = DAMPING_RULES[damping](self.restitution)
-
-    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
-        """The elastic Hertz-type contact's duration [s] with the same spring (a lower bound of this
-        law's, as :meth:`pounding.contact.hertzdamp.HertzDamp.contact_duration` shows for the same
-        kernel: the damping makes the compression shallower and the rebound slower)."""
-        from pounding.contact.hertz import hertz_contact_duration
-
-        return hertz_contact_duration(self.stiffness, self.exponent, m_eff, approach_speed)
-
-    def params(self, m_eff: np.ndarray) -> np.ndarray:
-        """(k_r, n, xi) at each of m points (m, 3): the law does not depend on the mass."""
-        out = np.empty((np.asarray(m_eff).shape[0], 3))
-        out[:, 0], out[:, 1], out[:, 2] = self.stiffness, self.exponent, self.damping_ratio
-        return out
+        # hertzdamp's spring, damping kernel, contact duration and parameters, with the rubber's calibrations
+        super().__init__(stiffness=stiffness, exponent=exponent, restitution=restitution, damping=damping, tolerance=tolerance)
