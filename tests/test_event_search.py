@@ -1,8 +1,9 @@
-"""The impact search compiled whole for ``exact`` is the same function run with the compiler off.
+"""The impact search compiled whole is the same function run with the compiler off.
 
-``crossing_search`` (pounding.framework.engine.event_search) runs compiled on ``exact``'s solution
-where nothing but the ground acts in a step, and interpreted on the driver's Python callable
-otherwise; the two gap functions step ``exact`` with the same arithmetic, so everything here is
+``crossing_search`` (pounding.framework.engine.event_search) runs compiled on the integrator's own
+solution (its compiled maps: ``exact``, HHT, Newmark, generalized-alpha) where nothing but the
+ground acts in a step, and interpreted on the driver's Python callable otherwise; the two gap
+functions step the integrator with the same arithmetic, so everything here is
 asserted bit for bit: numpy's ``interp`` of the record, the modal load at any instant, and the
 impact instants (with everything that follows from them) of whole runs with pounding.
 """
@@ -77,12 +78,19 @@ def _digest(d: Driver) -> str:
     return h.hexdigest()
 
 
-@pytest.mark.parametrize("path, duration, dt", [(PAPER, 8.0, None), (PAPER, 4.0, 0.001), (LSHAPE, 8.0, None)])
-def test_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(path, duration, dt):
-    """Every located impact of the paper pair (the default step and 0.001 s) and the L-shape scene:
-    the recorded states, the energy account and every impulse are the same bits with the compiled
-    search as with the driver's own."""
-    sc = _exact(path, duration=duration) if dt is None else _exact(path, duration=duration).with_analysis(dt=dt)
+def _as_given(path, **analysis):
+    """The scene's own integrator and step (the paper pair's file: HHT, alpha = -0.05, dt = 5 ms)."""
+    return load_scene(path).with_analysis(**analysis)
+
+
+@pytest.mark.parametrize("path, duration, dt, make", [(PAPER, 8.0, None, _exact), (PAPER, 4.0, 0.001, _exact), (LSHAPE, 8.0, None, _exact),
+                                                      (PAPER, 8.0, None, _as_given), (LSHAPE, 6.0, None, _as_given)])
+def test_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(path, duration, dt, make):
+    """Every located impact of the paper pair (exact at the default step and 0.001 s; HHT as its file
+    gives it) and the L-shape scene (exact; HHT): the recorded states, the energy account and every
+    impulse are the same bits with the compiled search, on the integrator's compiled maps
+    (``Integrator.search_maps``), as with the driver's own, on its transitions."""
+    sc = make(path, duration=duration) if dt is None else make(path, duration=duration).with_analysis(dt=dt)
     runs = []
     for compiled in (True, False):
         d = Driver(sc)

@@ -153,6 +153,15 @@ class Integrator(ABC):
         default is :meth:`work_maps` itself; an override must equal it to rounding."""
         return self.work_maps(omega, zeta, dt)
 
+    def search_maps(self):
+        """The compiled maps of a one-off step length, for the impact search compiled whole
+        (:func:`pounding.framework.engine.event_search.locate`): ``(maps, params)`` with ``maps`` a
+        compiled function ``(omega (n,), zeta (n,), dt, params) -> (A (n, 3, 3), B (n, 3, 2))``
+        giving :meth:`partial_transition`'s numbers (the same function it calls, so the same bits)
+        and ``params`` its float64 parameters; or None (the default), where the search runs
+        interpreted on :meth:`partial_transition`."""
+        return None
+
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""
         params = {k: v for k, v in vars(self).items() if not k.startswith("_")}

@@ -163,6 +163,14 @@ class Exact(Integrator):
         A, B = exact_transition(omega, zeta, float(dt))
         return Transition(A=A, B=B, dt=float(dt))
 
+    def search_maps(self):
+        """(:func:`pounding.solvers.exact_partial.exact_maps`, no parameters): the compiled
+        :meth:`partial_transition`; None without the compiler."""
+        from pounding.compiler import Kernel
+        from pounding.solvers.exact_partial import exact_maps
+
+        return (exact_maps, np.zeros(0)) if isinstance(exact_maps, Kernel) else None
+
     def partial_work_maps(self, omega, zeta, dt):
         """:meth:`work_maps` compiled mode by mode in its regime (A) (:func:`pounding.solvers.exact_partial.work_maps_small`;
         equal to rounding), the other modes by :meth:`work_maps`."""

@@ -303,3 +303,10 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
         for r in range(4):
             for c in range(4):
                 Mq[i, r, c] = 0.5 * (t2[r, c] / T + t2[c, r] / T)
+
+
+@njit
+def exact_maps(omega, zeta, dt, params):
+    """:func:`exact_transition` in the form the compiled impact search takes an integrator's maps,
+    ``(omega, zeta, dt, params) -> (A, B)`` (``params`` unused: :meth:`pounding.solvers.exact.Exact.search_maps`)."""
+    return exact_transition(omega, zeta, dt)

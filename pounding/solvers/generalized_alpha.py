@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pounding.errors import InputError
 from pounding.solvers.base import Integrator
-from pounding.solvers.newmark import alpha_family_transition, alpha_step, real_param
+from pounding.solvers.newmark import alpha_family_maps, alpha_family_transition, alpha_step, real_param
 
 
 class GeneralizedAlpha(Integrator):
@@ -73,3 +73,6 @@ class GeneralizedAlpha(Integrator):
     def transition(self, omega, zeta, dt):
         return alpha_family_transition(self, GeneralizedAlpha, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m,
                                        alpha_f=self.alpha_f)
+
+    def search_maps(self):
+        return alpha_family_maps(self, GeneralizedAlpha, beta=self.beta, gamma=self.gamma, alpha_m=self.alpha_m, alpha_f=self.alpha_f)

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from pounding.errors import InputError
 from pounding.solvers.base import Integrator
-from pounding.solvers.newmark import alpha_family_transition, alpha_step, real_param
+from pounding.solvers.newmark import alpha_family_maps, alpha_family_transition, alpha_step, real_param
 
 
 class HHT(Integrator):
@@ -77,3 +77,6 @@ class HHT(Integrator):
 
     def transition(self, omega, zeta, dt):
         return alpha_family_transition(self, HHT, omega, zeta, dt, beta=self.beta, gamma=self.gamma, alpha_m=0.0, alpha_f=-self.alpha)
+
+    def search_maps(self):
+        return alpha_family_maps(self, HHT, beta=self.beta, gamma=self.gamma, alpha_m=0.0, alpha_f=-self.alpha)

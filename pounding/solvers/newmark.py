@@ -140,6 +140,23 @@ def alpha_transition(omega, zeta, dt, beta, gamma, alpha_m, alpha_f):
     return A, B
 
 
+@njit
+def alpha_maps(omega, zeta, dt, params):
+    """:func:`alpha_transition` in the form the compiled impact search takes an integrator's maps,
+    ``(omega, zeta, dt, params) -> (A, B)``, params = (beta, gamma, alpha_m, alpha_f)."""
+    return alpha_transition(omega, zeta, dt, params[0], params[1], params[2], params[3])
+
+
+def alpha_family_maps(integrator, owner, *, beta, gamma, alpha_m=0.0, alpha_f=0.0):
+    """:meth:`Integrator.search_maps` of a scheme whose step is :func:`alpha_step` with these
+    parameters (the class ``owner``'s ``step``): (:func:`alpha_maps`, its parameters), the same
+    function :func:`alpha_family_transition` builds its transitions with; None for a subclass with
+    a step of its own, or without the compiler."""
+    if type(integrator).step is not owner.step or not isinstance(alpha_maps, Kernel):
+        return None
+    return alpha_maps, np.array([beta, gamma, alpha_m, alpha_f], dtype=float)
+
+
 def alpha_family_transition(integrator, owner, omega, zeta, dt, *, beta, gamma, alpha_m=0.0, alpha_f=0.0) -> Transition:
     """:meth:`Integrator.transition` of a scheme whose step is :func:`alpha_step` with these parameters
     (the class ``owner``'s ``step``), by :func:`alpha_transition` (compiled, the probes' numbers to the
@@ -235,3 +252,6 @@ class Newmark(Integrator):
 
     def transition(self, omega, zeta, dt):
         return alpha_family_transition(self, Newmark, omega, zeta, dt, beta=self.beta, gamma=self.gamma)
+
+    def search_maps(self):
+        return alpha_family_maps(self, Newmark, beta=self.beta, gamma=self.gamma)

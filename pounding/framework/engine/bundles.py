@@ -115,12 +115,12 @@ class Transition(NamedTuple):
     WM: np.ndarray  #: (n, 4, 4)
 
 
-class ExactSearch(NamedTuple):
-    """What the impact search needs to step ``exact`` to any instant inside a grid step
-    (:func:`pounding.framework.engine.event_search.locate_exact`)."""
+class StepSearch(NamedTuple):
+    """What the compiled impact search needs to step the integrator to any instant inside a grid
+    step, besides the integrator's maps (:func:`pounding.framework.engine.event_search.locate`)."""
 
     dt: float  #: grid step [s]
-    A: np.ndarray  #: (n, 3, 3) exact's transition over the grid step
+    A: np.ndarray  #: (n, 3, 3) the integrator's transition over the grid step
     B: np.ndarray  #: (n, 3, 2)
     omega: np.ndarray  #: (n,) modal circular frequencies [rad/s]
     zeta: np.ndarray  #: (n,) modal damping ratios

@@ -408,7 +408,8 @@ class Driver:
         self.record = _record_arrays(gm, self.ag.shape[1])
         #: the record for the compiled impact search of ``exact``, or None where the driver's own search runs
         self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
-        self._exact_search = None  # its bundle (exact_search())
+        self._search_maps = self.integrator.search_maps() if self.search_record is not None else None
+        self._step_search = None  # its bundle (step_search())
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -473,12 +474,9 @@ class Driver:
 
     # ---------------------------------------------------------------- stepping
     def _compiled_search(self) -> bool:
-        """Whether the whole impact search can run compiled: an integrator exact within the step
-        (the search builds exact's one-off maps itself), with the compiler on."""
-        from pounding.compiler import Kernel
-        from pounding.solvers.exact_partial import exact_transition
-
-        return bool(self.integrator.exact_within_step) and isinstance(exact_transition, Kernel)
+        """Whether the impact search can run compiled whole: the integrator has compiled maps to any
+        step length (:meth:`pounding.solvers.base.Integrator.search_maps`; None without the compiler)."""
+        return self.integrator.search_maps() is not None
 
     def step(self, z: np.ndarray, t: float, h: float, f0: np.ndarray, f1: np.ndarray | None = None):
         """One integrator step of size h from (z, t); f0, f1 extra modal loads at its ends. Returns z1."""
@@ -1062,10 +1060,11 @@ class Driver:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
             if self.search_record is not None and z0 is self.z and not self.sustained and self.springs is None:
                 # nothing but the ground acts in the step: the same search, compiled whole
-                from pounding.framework.engine.event_search import locate_exact
+                from pounding.framework.engine.event_search import locate as locate_compiled
 
-                found, hs = locate_exact(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
-                                         p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.exact_search())
+                maps, params = self._search_maps
+                found, hs = locate_compiled(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
+                                            p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params)
                 return float(hs) if found else None
             memo: dict[float, float] = {}
 
@@ -1114,15 +1113,15 @@ class Driver:
                                             plist, self.model.geo)
         return float(hs) if found else None
 
-    def exact_search(self):
-        """The :class:`~pounding.framework.engine.bundles.ExactSearch` bundle of this run (built once)."""
-        if self._exact_search is None:
-            from pounding.framework.engine.bundles import ExactSearch
+    def step_search(self):
+        """The :class:`~pounding.framework.engine.bundles.StepSearch` bundle of this run (built once)."""
+        if self._step_search is None:
+            from pounding.framework.engine.bundles import StepSearch
 
             tr, (rec_t, rec_acc) = self.cache(self.dt), self.search_record
-            self._exact_search = ExactSearch(float(self.dt), np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega,
-                                             self.cache.zeta, self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
-        return self._exact_search
+            self._step_search = StepSearch(float(self.dt), np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.cache.omega,
+                                           self.cache.zeta, self.ag, rec_t, rec_acc, self.model.L, self.model.geo)
+        return self._step_search
 
     # ---------------------------------------------------------------- impacts
     def contact_at(self, t: float, pairs=None) -> bool:

@@ -7,9 +7,11 @@ step's start reaches), with the step's cubic Hermite interpolant as a cheap guid
 slope, then regula falsi with the Illinois rule.
 
 The search is one compiled function; where the gap comes from is its first argument. When the
-integrator is ``exact`` and nothing acts in the step but the ground (no held pair, an impulse
-law, no yielding springs), it runs compiled whole with :func:`stepped_gap` (exact's maps to any
-instant and the record interpolated there: :func:`locate_exact`, one call per located event).
+integrator has compiled maps to any step length (:meth:`pounding.solvers.base.Integrator.search_maps`:
+``exact``, Newmark, HHT, generalized-alpha) and nothing acts in the step but the ground (no held
+pair, an impulse law, no yielding springs), it runs compiled whole with :func:`stepped_gap` (the
+integrator's maps to any instant and the record interpolated there: :func:`locate`, one call per
+located event).
 Otherwise the driver runs the very same function with the compiler off for its own body
 (``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step
 (any integrator, held pairs, yielding springs); the arithmetic it calls (the interpolant's
@@ -29,7 +31,7 @@ from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
-from pounding.solvers.exact_partial import exact_transition
+from pounding.solvers.exact_partial import exact_maps, exact_transition
 
 #: hermite_zero's ``checked`` as typed bools, not literals: the driver calls it from Python with a
 #: bool, and one specialization serves both
@@ -98,10 +100,13 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 
 @njit
 def stepped_gap(hh, sol):
-    """The smallest gap [m] of the pairs after ``exact``'s step of hh [s]; at hh <= 0, at the start
-    state itself. ``sol`` = (t, z, p0, plist, search): the step's start time [s], state (n, 3) and
-    load (n,), the pairs (k,), and the :class:`~pounding.framework.engine.bundles.ExactSearch` bundle."""
-    t, z, p0, plist, ex = sol
+    """The smallest gap [m] of the pairs after the integrator's step of hh [s]; at hh <= 0, at the
+    start state itself. ``sol`` = (t, z, p0, plist, search, maps, params): the step's start time
+    [s], state (n, 3) and load (n,), the pairs (k,), the
+    :class:`~pounding.framework.engine.bundles.StepSearch` bundle, and the integrator's compiled
+    maps ``maps(omega, zeta, hh, params) -> (A, B)`` for a step of hh with its parameters
+    (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
+    t, z, p0, plist, ex, maps, params = sol
     if hh <= 0.0:
         g = np.inf
         q = z[:, 0].copy()
@@ -114,17 +119,46 @@ def stepped_gap(hh, sol):
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
     if hh == ex.dt:
         return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
-    A, B = exact_transition(ex.omega, ex.zeta, hh)
+    A, B = step_maps(maps, ex.omega, ex.zeta, hh, params)
     return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
 
 
 @njit
-def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search):
-    """:func:`crossing_search` on ``exact``'s step of h [s] from state z (n, 3) at t [s], start load
-    p0 (n,), ending at displacements q1 and velocities v1 (n,), for the pairs plist (k,): (found, hs)
-    (see there). ``search``: :class:`~pounding.framework.engine.bundles.ExactSearch`."""
+def step_maps(maps, omega, zeta, hh, params):
+    """``maps(omega, zeta, hh, params)``, or with ``maps`` None ``exact``'s maps called directly
+    (numba drops the branch not taken for a None argument: :func:`locate_exact` then holds no
+    function value and is cached)."""
+    if maps is None:
+        return exact_transition(omega, zeta, hh)
+    return maps(omega, zeta, hh, params)
+
+
+@njit
+def locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
+    """:func:`crossing_search` on the integrator's step of h [s] from state z (n, 3) at t [s], start
+    load p0 (n,), ending at displacements q1 and velocities v1 (n,), for the pairs plist (k,):
+    (found, hs) (see there). ``search``: :class:`~pounding.framework.engine.bundles.StepSearch`;
+    ``maps``, ``params``: the integrator's compiled maps to any step length and their parameters
+    (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
     herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)  # the step's cubic Hermite interpolant
-    return crossing_search(None, (t, z, p0, plist, search), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, maps, params), herm, eps, xtol, plist, search.geo)
+
+
+@njit
+def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search):
+    """:func:`locate_with` on ``exact``'s maps (:func:`~pounding.solvers.exact_partial.exact_maps`,
+    called directly): an entry without a function argument, which the extension module built at
+    install holds (it takes arrays, numbers and bundles only), and numba caches (a function held as
+    a value from the module's globals it would not)."""
+    return locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, None, search.omega[:0])
+
+
+def locate(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
+    """The compiled search (:func:`locate_with`): ``exact``'s maps through :func:`locate_exact`, the
+    entry built ahead of time; any other integrator's through numba's cache."""
+    if maps is exact_maps:
+        return locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search)
+    return locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params)
 
 
 @njit
@@ -136,7 +170,7 @@ def crossing_search(py_gap, sol, herm, eps, xtol, plist, geo):
     The gap at hh [s] is the smallest gap [m] of the pairs ``plist`` (k,) after the integrator's own
     step of hh (at hh = 0, of the start state): ``py_gap(hh)``, a Python callable (this function
     then runs interpreted: ``crossing_search.py_func``), or with ``py_gap`` None, compiled,
-    ``stepped_gap(hh, sol)`` (``exact``; numba drops the other branch, so the compiled search holds
+    ``stepped_gap(hh, sol)`` (numba drops the other branch, so the compiled search holds
     no Python object and is cached); ``herm`` = (q0, v0, q1, v1 (n,), h) the step's
     cubic Hermite interpolant, whose gap (``geo``) guides the search; ``xtol`` [s] ends the
     bracketing where the gap is not smooth.
