@@ -89,9 +89,8 @@ class Integrator(ABC):
     energy_nodes: ClassVar[int] = 0
     #: True when the scheme's transition over any part of a step is the exact solution of the modal
     #: equations under the linear load (:class:`pounding.solvers.exact.Exact`): its intra-step
-    #: trajectory then gives the true peaks, and the impact search may run on that solution
-    #: compiled whole (:func:`pounding.framework.engine.event_search.locate_exact`, which builds
-    #: exact's maps itself). A subclass that changes :meth:`partial_transition` declares False.
+    #: trajectory then gives the true peaks. A subclass that changes :meth:`partial_transition`
+    #: declares False.
     exact_within_step: ClassVar[bool] = False
 
     def work_maps(self, omega: np.ndarray, zeta: np.ndarray, dt: float):

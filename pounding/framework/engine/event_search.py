@@ -31,7 +31,8 @@ from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
-from pounding.solvers.exact_partial import exact_maps, exact_transition
+from pounding.solvers.exact_partial import exact_maps
+from pounding.solvers.newmark import alpha_maps
 
 #: hermite_zero's ``checked`` as typed bools, not literals: the driver calls it from Python with a
 #: bool, and one specialization serves both
@@ -106,7 +107,7 @@ def stepped_gap(hh, sol):
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, and the integrator's compiled
     maps ``maps(omega, zeta, hh, params) -> (A, B)`` for a step of hh with its parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
-    t, z, p0, plist, ex, maps, params = sol
+    t, z, p0, plist, ex, maps, builtin, params = sol
     if hh <= 0.0:
         g = np.inf
         q = z[:, 0].copy()
@@ -119,17 +120,21 @@ def stepped_gap(hh, sol):
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
     if hh == ex.dt:
         return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
-    A, B = step_maps(maps, ex.omega, ex.zeta, hh, params)
+    A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
     return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
 
 
 @njit
-def step_maps(maps, omega, zeta, hh, params):
-    """``maps(omega, zeta, hh, params)``, or with ``maps`` None ``exact``'s maps called directly
-    (numba drops the branch not taken for a None argument: :func:`locate_exact` then holds no
-    function value and is cached)."""
+def step_maps(maps, builtin, omega, zeta, hh, params):
+    """The integrator's maps (A (n, 3, 3), B (n, 3, 2)) for a step of hh [s]: ``maps(omega, zeta,
+    hh, params)``, or with ``maps`` None the built-in maps number ``builtin`` called directly
+    (:data:`BUILTIN_MAPS`: 0 ``exact``'s, 1 the alpha family's). numba drops the branch not taken
+    for a None argument, so :func:`locate_builtin` holds no function value: the extension module
+    built at install holds it and numba caches it."""
     if maps is None:
-        return exact_transition(omega, zeta, hh)
+        if builtin == 0:
+            return exact_maps(omega, zeta, hh, params)
+        return alpha_maps(omega, zeta, hh, params)
     return maps(omega, zeta, hh, params)
 
 
@@ -141,23 +146,29 @@ def locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
     ``maps``, ``params``: the integrator's compiled maps to any step length and their parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
     herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)  # the step's cubic Hermite interpolant
-    return crossing_search(None, (t, z, p0, plist, search, maps, params), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params), herm, eps, xtol, plist, search.geo)
 
 
 @njit
-def locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search):
-    """:func:`locate_with` on ``exact``'s maps (:func:`~pounding.solvers.exact_partial.exact_maps`,
-    called directly): an entry without a function argument, which the extension module built at
-    install holds (it takes arrays, numbers and bundles only), and numba caches (a function held as
-    a value from the module's globals it would not)."""
-    return locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, None, search.omega[:0])
+def locate_builtin(t, h, z, q1, v1, p0, plist, eps, xtol, search, builtin, params):
+    """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
+    directly: an entry without a function argument (the extension module takes arrays, numbers
+    and bundles only, and numba does not cache a function that holds a function value)."""
+    herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)
+    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params), herm, eps, xtol, plist, search.geo)
+
+
+#: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third
+#: party's maps run through :func:`locate_with`, compiled by numba for them)
+BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
 def locate(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
-    """The compiled search (:func:`locate_with`): ``exact``'s maps through :func:`locate_exact`, the
-    entry built ahead of time; any other integrator's through numba's cache."""
-    if maps is exact_maps:
-        return locate_exact(t, h, z, q1, v1, p0, plist, eps, xtol, search)
+    """The compiled search on the integrator's maps and parameters
+    (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`."""
+    for j, known in enumerate(BUILTIN_MAPS):
+        if maps is known:
+            return locate_builtin(t, h, z, q1, v1, p0, plist, eps, xtol, search, j, params)
     return locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params)
 
 
