@@ -158,7 +158,7 @@ def _walls(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
 
     if not scene.walls:
         return []
-    ops.comment("walls fixed to the ground: a fixed node and a zeroLength gap element at each end of every slab edge facing one")
+    ops.comment("walls fixed to the ground: a fixed node and a zero-length gap element at each end of every slab edge facing one")
     _, left_out, differs = scene_walls(ops, scene, masters, tags)
     for note in left_out + differs:
         ops.comment(note)
@@ -173,7 +173,7 @@ def _links(ops: ScriptOps, scene, masters: dict, tags) -> None:
 
     if not scene.links:
         return
-    ops.comment("links between slabs: zeroLength elements along each link's line, with its law's material")
+    ops.comment("links between slabs: zero-length elements along each link's line, with its law's material")
     scene_links(ops, scene, masters, tags)
 
 
@@ -269,7 +269,7 @@ def _render(scene, ops: ScriptOps, analysis: ScriptOps, masters: dict, dt: float
 Units: m, N, kg, s. Every floor is a rigid diaphragm (a master node at the slab's centre of mass
 carrying its mass and polar inertia; ux, uy, rz free); frames are planar frames of elastic
 beam-columns, walls Timoshenko beams, storey springs twoNodeLink elements; retaining walls are
-fixed nodes with zeroLength gap elements to the slabs' edges, links between slabs zeroLength
+fixed nodes with zero-length gap elements to the slabs' edges, links between slabs zero-length
 elements along their lines; each building has its own Rayleigh damping; the ground motion is a
 UniformExcitation; the analysis is
 integrator{integrator!r}, dt = {dt!r} s, {steps} steps.
