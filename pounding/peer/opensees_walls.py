@@ -47,6 +47,9 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
         x_edge = float(xs.min() if west else xs.max())
         clear = (x_edge - x_wall) if west else (x_wall - x_edge)
         ends_y = sorted({float(v[1]) for v in slab.vertices if abs(v[0] - x_edge) < 1e-9})
+        if len(ends_y) < 2:
+            raise ValueError(f"wall {wall.name!r}: building {building.name!r}'s slab {f + 1} meets it at a corner "
+                             "(the OpenSees peer models an edge along y facing the wall)")
         if ends_y[-1] < span[0] or ends_y[0] > span[1]:
             continue  # the slab's edge passes beside the face: it never strikes it
         if ends_y[0] < span[0] or ends_y[-1] > span[1]:
