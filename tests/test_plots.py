@@ -183,3 +183,35 @@ def test_render_unavailable_names_the_missing_library(monkeypatch, tmp_path, run
     assert "\n" not in msg
     assert "libEGL.so.1" in msg and "libegl1" in msg and "libosmesa6" in msg and "xvfb" in msg
     assert not any(tmp_path.iterdir())
+
+
+def test_render_draws_walls_standing_still_and_links_moving_with_their_slabs(tmp_path):
+    """With a scene of walls and links (tests/test_vtk.py's walled linked pair), the 3-D scene the renders draw
+    holds the wall's face at z = 0 and z = top, exactly, at every frame, and the link's ends at their slabs'
+    magnified rigid motion at the frame shown, (u - phi (y - y_c), v + phi (x - x_c)) from the run's own
+    history (8 eps of the coordinates); the pictures are written."""
+    import pyvista as pv
+
+    from pounding.framework.post.run import run
+    from pounding.io.render import _Scene3D
+    from pounding.io.scene import parse_scene
+    from pounding.io.vtk import Drawing, Motion
+    from test_vtk import _walled_linked_pair
+
+    scene = parse_scene(_walled_linked_pair())
+    result = run(scene)
+    motion = Motion.from_result(result, scene)
+    sc = _Scene3D(pv, Drawing.build(scene, motion.names), motion, 50.0, scene)
+    wall, link = scene.walls[0], scene.links[0]
+    k = len(result.t) // 2
+    sc.update(k)
+    assert {tuple(p) for p in np.asarray(sc.walls.points)} == {(x, y, z) for z in (0.0, wall.top) for x, y in wall.face}
+    for end, ((x, y), name, s) in enumerate(zip(link.points, link.between, link.storeys)):
+        slab = scene.building(name).slabs[s - 1]
+        u, v, phi = result.cm(name)[k, s - 1]
+        moved = (x + 50.0 * (u - phi * (y - slab.centre[1])), y + 50.0 * (v + phi * (x - slab.centre[0])), slab.elevation)
+        np.testing.assert_allclose(sc.links.points[end], moved, rtol=0, atol=8 * np.finfo(float).eps * 20.05)
+    paths = _render_or_skip(result, tmp_path / "r", scene=scene, window_size=(400, 300), gif_size=(240, 180), max_frames=3)
+    assert [p.name for p in paths] == ["render_plan.png", "render_3d.png", "render_pounding.gif"]
+    for p in paths[:2]:
+        assert_png(p, min_bytes=3000, min_size=(400, 300))

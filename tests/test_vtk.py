@@ -11,6 +11,7 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
+EPS = np.finfo(float).eps
 EXAMPLES = ROOT / "examples"
 
 pytest.importorskip("vtkmodules")
@@ -302,3 +303,92 @@ def test_no_heavy_imports_at_module_import():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT, env={"PYTHONPATH": str(ROOT), "PATH": "/usr/bin:/bin"})
     assert out.returncode == 0, out.stderr
     assert out.stdout.strip() == ""
+
+
+# --------------------------------------------------------------------------- walls and links
+def _walled_linked_pair():
+    """tests/test_links_between.py's pair (buildings "a" on [0, 10] and "b" on [10.05, 20.05], one storey each)
+    joined by a linear dashpot at storey 1, with a wall of two face segments 1 mm west of "a" (top 3.2 m, the
+    slabs' level; rigid impulses, e = 0.5): El Centro at 0.5 g for 1.5 s, dt = 0.01 s; "a" strikes the wall at
+    0.61 s, between output steps."""
+    from test_links_between import linked_pair
+
+    data = linked_pair({"name": "viscous", "coefficient": 4.0e6, "exponent": 1.0}, duration=1.5, dt=0.01, pga=0.5)
+    data["analysis"]["contact"] = {"name": "impulse", "restitution": 0.5}
+    data["wall"] = [{"name": "moat", "face": [[-0.001, -1.0], [-0.001, 5.0], [-0.5, 11.0]], "top": 3.2}]
+    return data
+
+
+@pytest.fixture(scope="module")
+def walled(tmp_path_factory):
+    from pounding.framework.post.run import run
+    from pounding.io.scene import parse_scene
+    from pounding.io.vtk import write_vtk_series
+
+    scene = parse_scene(_walled_linked_pair())
+    result = run(scene)
+    pvd = write_vtk_series(scene, result, tmp_path_factory.mktemp("walled"), every=10, scale=50.0)
+    return scene, result, pvd
+
+
+def test_a_wall_is_its_face_extruded_from_the_ground_to_its_top_at_every_instant(walled):
+    """The wall's surface (part 1 of the collection, at every instant): its points are the face's vertices at
+    z = 0 and at z = top, exactly (coordinates are copied, not computed), one quad per face segment."""
+    from pounding.io.vtk import read_pvd
+
+    scene, _, pvd = walled
+    wall = scene.walls[0]
+    buildings, walls = read_pvd(pvd), read_pvd(pvd, part=1)
+    assert [t for t, _ in walls] == [t for t, _ in buildings] and len({f for _, f in walls}) == 1
+    pts, cells, _, cd, _ = read_vtu(walls[0][1])
+    expected = {(x, y, z) for z in (0.0, wall.top) for x, y in np.asarray(wall.face, float)}
+    assert {tuple(p) for p in pts} == expected and len(pts) == len(expected)
+    assert len(cells) == len(wall.face) - 1 and all(len(c) == 4 for c in cells)
+    assert list(cd["wall"]) == [0, 0]
+    for c in cells:  # each quad spans one segment, foot and top
+        assert sorted(pts[c, 2]) == [0.0, 0.0, wall.top, wall.top]
+    import pyvista as pv  # ParaView's view: one multiblock per instant, buildings, walls, links
+
+    reader = pv.get_reader(str(pvd))
+    reader.set_active_time_value(reader.time_values[3])
+    blocks = reader.read()
+    assert len(blocks) == 3 and [block.n_cells for block in blocks][1:] == [len(wall.face) - 1, len(scene.links)]
+
+
+def test_a_link_is_a_line_between_its_slabs_displaced_attachment_points_with_the_runs_force(walled):
+    """The link (part 2, one file per instant) at every output step written: its ends are the attachment points
+    moved with their slabs' rigid motion from the run's own centre-of-mass history, (u - phi (y - y_c),
+    v + phi (x - x_c)), magnified 50 times; its force is the run's recorded one, its deformation the run's too:
+    the second end's displacement minus the first's along the line, computed from the slabs' motion, which
+    the run computes from its modal rows, so the two differ by rounding: a few dot products of terms below
+    the peak motion (64 eps of the peak displacement). Between output steps (the wall impact) the run keeps no
+    link state: the force is NaN, the line still drawn from the state at the instant."""
+    from pounding.io.vtk import read_pvd
+
+    scene, result, pvd = walled
+    link, rec = scene.links[0], result.links["l1"]
+    links = read_pvd(pvd, part=2)
+    assert len(links) == len(read_pvd(pvd)) and any(abs(result.t - t).min() > 1e-9 for t, _ in links)
+    peak = max(np.abs(result.cm(n)).max() * 20.0 for n in result.names)  # u + phi x (lever <= 20 m) bounds a point's motion
+    checked = 0
+    for t, f in links:
+        pts, cells, pd, cd, _ = read_vtu(f)
+        assert cells == [[0, 1]]
+        k = int(np.argmin(np.abs(result.t - t)))
+        if abs(result.t[k] - t) > 1e-12:
+            assert np.isnan(cd["force"][0])
+            continue
+        ends = []
+        for (x, y), name, s in zip(link.points, link.between, link.storeys):
+            slab = scene.building(name).slabs[s - 1]
+            u, v, phi = result.cm(name)[k, s - 1]
+            ends.append((u - phi * (y - slab.centre[1]), v + phi * (x - slab.centre[0])))
+        ends = np.array(ends)
+        rest = np.column_stack([link.points, [3.2, 3.2]])
+        np.testing.assert_allclose(pts[:, :2], rest[:, :2] + 50.0 * ends, rtol=0, atol=8 * EPS * 20.05)
+        np.testing.assert_array_equal(pts[:, 2], rest[:, 2])
+        np.testing.assert_allclose(pd["displacement"][:, :2], ends, rtol=0, atol=4 * EPS * peak)
+        assert cd["force"][0] == rec["force"][k]
+        assert abs(cd["deformation"][0] - rec["deformation"][k]) <= 64 * EPS * peak
+        checked += 1
+    assert checked == len(result.t[::10]) and np.abs(rec["force"]).max() > 0.0

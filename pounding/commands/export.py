@@ -16,7 +16,9 @@ def add_parser(sub) -> None:
             "Write the scene's model in another program's terms. 'opensees' writes an OpenSeesPy script of the same "
             "model (rigid diaphragms, frames and walls as planar structures, storey springs as links with Steel01 or "
             "BoucWen, each building's Rayleigh damping, the ground motion as UniformExcitation, contact as zeroLength "
-            "elements with the material of the force law: ViscoelasticGap, Hertzdamp, JankowskiImpact, ElasticPPGap); running it prints the periods and writes the floors' displacement histories. "
+            "elements with the material of the force law: ViscoelasticGap, Hertzdamp, JankowskiImpact, ElasticPPGap; "
+            "retaining walls as fixed nodes with such elements to the slabs' edges; links between slabs as zeroLength "
+            "elements with their law's material); running it prints the periods and writes the floors' displacement histories. "
             "What OpenSees cannot represent is printed as warnings and written at the top of the script. "
             "See docs/opensees-export.md."
         ),

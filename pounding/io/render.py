@@ -15,7 +15,10 @@ impulse (from the impact log of a Result); without a log, the step where a
 pair is closest. Contacts are found from the log, else from the geometry
 (signed gap <= max(contact tolerance, 1 mm) at an output step). Displacements
 are magnified ``magnify`` times; the rest gap is not, so slabs that touch
-appear to overlap. Slabs of a pair in contact are drawn red.
+appear to overlap. Slabs of a pair in contact are drawn red. With the scene,
+retaining walls are drawn as their faces standing from the ground to their top
+(grey, fixed) and links between slabs as lines between their attachment points,
+moving with the slabs (the ParaView series' parts, :mod:`pounding.io.vtk`).
 
 Headless machines: rendering needs an OpenGL context without a display. VTK's
 wheels pick one at run time: X (needs $DISPLAY), EGL (Debian packages
@@ -38,7 +41,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from pounding.io.vtk import LINE, PANEL, SLAB, Drawing, Motion
+from pounding.io.vtk import LINE, PANEL, SLAB, Drawing, LinkDrawing, Motion, wall_grid
 
 WINDOWS = {
     "vtkXOpenGLRenderWindow": "X",
@@ -62,6 +65,9 @@ _failure: str | None = None
 
 BUILDING_RGB = [(70, 130, 200), (240, 150, 60), (90, 170, 90), (150, 110, 190)]
 CONTACT_RGB = (220, 30, 30)
+#: fixed retaining walls, and links between slabs
+WALL_RGB = "#8c8c8c"
+LINK_RGB = "#202020"
 NEAR_CONTACT = 1e-3  # [m] without an impact log, slabs closer than this at an output step are drawn in contact
 
 
@@ -222,8 +228,16 @@ def pounding_window(motion: Motion, *, margin: float = 0.5, gaps: np.ndarray | N
 class _Scene3D:
     """The pyvista meshes of a drawing, updated in place frame by frame."""
 
-    def __init__(self, pv, drawing: Drawing, motion: Motion, magnify: float):
+    def __init__(self, pv, drawing: Drawing, motion: Motion, magnify: float, scene=None):
         self.pv, self.d, self.m, self.magnify = pv, drawing, motion, magnify
+        walls, links = getattr(scene, "walls", ()), getattr(scene, "links", ())
+        self.walls = pv.wrap(wall_grid(walls)) if walls else None  # fixed: drawn once
+        self.link_drawing = LinkDrawing.build(scene, motion.names, {}) if links else None
+        self.links = None
+        if self.link_drawing is not None:
+            n = len(self.link_drawing.ends)
+            self.links = pv.PolyData(self.link_drawing.points.reshape(-1, 3).copy(),
+                                     lines=np.array([x for i in range(n) for x in (2, 2 * i, 2 * i + 1)], dtype=np.int64))
         cells = drawing.cells
         kind = drawing.cell_kind
 
@@ -268,6 +282,9 @@ class _Scene3D:
         for mesh in (self.slabs, self.lines, self.panels):
             if mesh is not None:
                 mesh.points = pts.copy()
+        if self.links is not None:
+            ld = self.link_drawing
+            self.links.points = (ld.points + self.magnify * ld.displacement(self.m.slabs, cm)).reshape(-1, 3)
         flag = self._touching(k, cm)
         rgb = self.base_rgb.copy()
         rgb[flag[self.slab_ids] == 1] = CONTACT_RGB
@@ -275,6 +292,11 @@ class _Scene3D:
 
     def add_to(self, plotter, plan: bool = False) -> None:
         plotter.add_mesh(self.rest, style="wireframe", color="grey", line_width=1, opacity=0.5)
+        if self.walls is not None:  # from above a wall is its face line: drawn as lines there
+            style = dict(style="wireframe", line_width=3) if plan else dict(opacity=0.45, show_edges=True, edge_color="black")
+            plotter.add_mesh(self.walls, color=WALL_RGB, **style)
+        if self.links is not None:
+            plotter.add_mesh(self.links, color=LINK_RGB, line_width=4)
         if plan:  # outlines of every storey; the slabs in contact filled (the top slabs would hide them)
             plotter.add_mesh(self.slabs, scalars="rgb", rgb=True, style="wireframe", line_width=2)
             hit = np.flatnonzero(np.all(self.slabs.cell_data["rgb"] == CONTACT_RGB, axis=1))
@@ -298,7 +320,8 @@ def _plotter(pv, size, view: str, sc: _Scene3D):
     labels = [[n, tuple(c / 255 for c in BUILDING_RGB[i % len(BUILDING_RGB)])] for i, n in enumerate(sc.m.names)]
     labels.append(["in contact", tuple(c / 255 for c in CONTACT_RGB)])
     p.add_legend(labels=labels, bcolor="white", border=True, face="rectangle", loc="upper right", size=(0.14, 0.035 * len(labels)))
-    lo, hi = sc.d.points.min(axis=0), sc.d.points.max(axis=0)
+    every = sc.d.points if sc.walls is None else np.vstack([sc.d.points, np.asarray(sc.walls.points)])
+    lo, hi = every.min(axis=0), every.max(axis=0)
     c = 0.5 * (lo + hi)
     if view == "plan":
         p.view_xy()
@@ -361,7 +384,7 @@ def render(run_dir_or_result, out_dir, *, magnify: float = 50.0, scene=None, fps
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     first, last, key = pounding_window(motion, margin=margin)
-    sc = _Scene3D(pv, drawing, motion, magnify)
+    sc = _Scene3D(pv, drawing, motion, magnify, scene)
     written = []
 
     sc.update(key)

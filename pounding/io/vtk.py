@@ -24,6 +24,20 @@ draw no yielding spring (colour by them to see where the buildings yield), and
 ``element`` (the cell's element index in its building, 0-based; -1 slabs). Field data: ``time`` and
 ``impact_instant`` (1 when the frame is an impact instant).
 
+Walls and links, when the scene has them, are further parts of the same collection (ParaView
+shows the time series as one multiblock):
+
+* part 1, ``<name>_walls.vtu``, written once and listed at every instant: each ``[[wall]]`` as a fixed
+  surface, its face polyline extruded from the ground (z = 0) to its top, one quad per face
+  segment. Cell data ``wall`` (index in scene order) and ``top`` [m]. Walls never move.
+* part 2, ``<name>_links_NNNNNN.vtu``, one per instant: each ``[[link]]`` as a line between its two
+  attachment points, each at its slab's elevation and moving with that slab's rigid motion (the
+  same rule as every drawn point). Point data ``displacement`` (true, never scaled); cell data
+  ``link`` (index in scene order), ``deformation`` [m] (the second point's displacement minus the
+  first's along the link's line at rest, computed from the slabs' motion at that instant) and
+  ``force`` [N] (the run's recorded force at an output step; NaN at an impact instant between
+  output steps, where the run keeps no link state).
+
 Instants written: every ``every``-th output step, plus every impact instant at
 its *exact* time, with the driver's own state at that instant (kept in the
 Result: ``event_t``, ``event_q``, ``event_qd``); the velocity written at an
@@ -602,6 +616,8 @@ def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1
 
     rest = drawing.points
     entries = []
+    walls = _write_grid(wall_grid(scene.walls), out_dir / f"{name}_walls.vtu") if scene.walls else None
+    links = LinkDrawing.build(scene, motion.names, getattr(result, "links", None) or {}) if scene.links else None
     for j, (t, k, is_impact) in enumerate(plan):
         if k is not None:
             cm = [c[k] for c in motion.cm]
@@ -641,26 +657,158 @@ def write_vtk_series(scene, result, out_dir, *, every: int = 1, scale: float = 1
         writer.SetFileName(str(out_dir / fname))
         if writer.Write() != 1:
             raise OSError(f"could not write {out_dir / fname}")
-        entries.append((t, fname))
+        entries.append((t, fname, 0))
+        if walls is not None:
+            entries.append((t, walls.name, 1))
+        if links is not None:
+            lname = f"{name}_links_{j:06d}.vtu"
+            _write_grid(links.grid(motion.slabs, cm, k, scale), out_dir / lname)
+            entries.append((t, lname, 2))
 
     return write_pvd(out_dir / f"{name}.pvd", entries)
 
 
-def write_pvd(path, entries: Sequence[tuple[float, str]]) -> Path:
-    """A ParaView collection file listing (time, relative file name) entries."""
+def wall_grid(walls):
+    """A vtkUnstructuredGrid of fixed walls: each face polyline (k, 2) extruded from z = 0 to its top,
+    one quad per segment; cell data ``wall`` (index) and ``top`` [m]."""
+    from vtkmodules.vtkCommonDataModel import VTK_QUAD
+
+    pts, cells, index, tops = [], [], [], []
+    for w, wall in enumerate(walls):
+        face = np.asarray(wall.face, dtype=float)
+        first = len(pts)
+        for z in (0.0, float(wall.top)):  # the foot row, then the top row
+            pts.extend((float(x), float(y), z) for x, y in face)
+        n = len(face)
+        for i in range(n - 1):
+            cells.append((first + i, first + i + 1, first + n + i + 1, first + n + i))
+            index.append(w)
+            tops.append(float(wall.top))
+    return _grid(np.array(pts, dtype=float).reshape(-1, 3), cells, VTK_QUAD,
+                 {"wall": np.array(index, np.int32), "top": np.array(tops)})
+
+
+@dataclass
+class LinkDrawing:
+    """The ``[[link]]`` tables as lines between their attachment points, moving with their slabs.
+
+    Attributes
+    ----------
+    ends : list of ((building, storey 0-based), (building, storey 0-based))
+        The slab of each end (building index in the writer's order).
+    points : ndarray (n_links, 2, 3)
+        Rest coordinates of the two ends [m] (z = the slab's elevation).
+    direction : ndarray (n_links, 2)
+        Unit vector of each link's line at rest (first point to second).
+    force : list of ndarray (nt,) or None
+        The run's force history of each link [N] (None when the result has none).
+    """
+
+    ends: list
+    points: np.ndarray
+    direction: np.ndarray
+    force: list
+
+    @classmethod
+    def build(cls, scene, names: Sequence[str], records: dict) -> "LinkDrawing":
+        ends, points = [], []
+        for link in scene.links:
+            ab = tuple((list(names).index(b), s - 1) for b, s in zip(link.between, link.storeys))
+            ends.append(ab)
+            points.append([(float(x), float(y), float(scene.building(b).slabs[s - 1].elevation))
+                           for (x, y), b, s in zip(link.points, link.between, link.storeys)])
+        return cls(ends, np.array(points, dtype=float).reshape(-1, 2, 3),
+                   np.array([link.direction for link in scene.links], dtype=float).reshape(-1, 2),
+                   [np.asarray(records[link.name]["force"], float) if link.name in records else None for link in scene.links])
+
+    def displacement(self, slabs: Sequence, cm: Sequence[np.ndarray]) -> np.ndarray:
+        """Displacement (n_links, 2, 3) of both ends for slab motions ``cm[b]`` (storeys, 3): each end moves
+        with its slab, (u - phi (y - y_c), v + phi (x - x_c), 0)."""
+        out = np.zeros_like(self.points)
+        for i, pair in enumerate(self.ends):
+            for e, (b, f) in enumerate(pair):
+                x, y = self.points[i, e, :2]
+                centre = np.asarray(slabs[b][f].centre, dtype=float)
+                u, v, phi = cm[b][f]
+                out[i, e, :2] = (u - phi * (y - centre[1]), v + phi * (x - centre[0]))
+        return out
+
+    def grid(self, slabs: Sequence, cm: Sequence[np.ndarray], row: int | None, scale: float):
+        """The links' vtkUnstructuredGrid at one instant (slab motions ``cm``; ``row`` the output row, None
+        between output steps): coordinates rest + ``scale`` x displacement, data as the module docstring says."""
+        from vtkmodules.vtkCommonDataModel import VTK_LINE
+
+        disp = self.displacement(slabs, cm)
+        stretch = np.einsum("ij,ij->i", disp[:, 1, :2] - disp[:, 0, :2], self.direction)
+        force = np.array([np.nan if f is None or row is None else float(f[row]) for f in self.force])
+        cells = [(2 * i, 2 * i + 1) for i in range(len(self.ends))]
+        grid = _grid((self.points + scale * disp).reshape(-1, 3), cells, VTK_LINE,
+                     {"link": np.arange(len(self.ends), dtype=np.int32), "deformation": stretch, "force": force})
+        _add(grid.GetPointData(), "displacement", disp.reshape(-1, 3))
+        return grid
+
+
+def _grid(points: np.ndarray, cells: Sequence[tuple], cell_type: int, cell_data: dict):
+    """A vtkUnstructuredGrid of ``points`` (np, 3) and cells of one type, with the given cell arrays."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+    from vtkmodules.vtkCommonCore import vtkIdList, vtkPoints
+    from vtkmodules.vtkCommonDataModel import vtkUnstructuredGrid
+
+    grid = vtkUnstructuredGrid()
+    pts = vtkPoints()
+    pts.SetData(numpy_to_vtk(np.ascontiguousarray(points, dtype=float), deep=True))
+    grid.SetPoints(pts)
+    for c in cells:
+        ids = vtkIdList()
+        for j in c:
+            ids.InsertNextId(int(j))
+        grid.InsertNextCell(cell_type, ids)
+    for nm, arr in cell_data.items():
+        _add(grid.GetCellData(), nm, arr)
+    return grid
+
+
+def _add(data, name: str, arr: np.ndarray) -> None:
+    """Add ``arr`` as the named array of a vtk point, cell or field data."""
+    from vtkmodules.util.numpy_support import numpy_to_vtk
+
+    a = numpy_to_vtk(np.ascontiguousarray(arr), deep=True)
+    a.SetName(name)
+    data.AddArray(a)
+
+
+def _write_grid(grid, path: Path) -> Path:
+    """Write ``grid`` to ``path`` (VTK XML, appended raw, zlib), raising OSError when it cannot."""
+    from vtkmodules.vtkIOXML import vtkXMLUnstructuredGridWriter
+
+    writer = vtkXMLUnstructuredGridWriter()
+    writer.SetInputData(grid)
+    writer.SetDataModeToAppended()
+    writer.EncodeAppendedDataOff()
+    writer.SetCompressorTypeToZLib()
+    writer.SetFileName(str(path))
+    if writer.Write() != 1:
+        raise OSError(f"could not write {path}")
+    return path
+
+
+def write_pvd(path, entries: Sequence[tuple]) -> Path:
+    """A ParaView collection file listing (time, relative file name[, part]) entries (part 0 by default)."""
     path = Path(path)
     root = ET.Element("VTKFile", type="Collection", version="0.1", byte_order="LittleEndian")
     coll = ET.SubElement(root, "Collection")
-    for t, fname in entries:
-        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part="0", file=str(fname))
+    for t, fname, *part in entries:
+        ET.SubElement(coll, "DataSet", timestep=repr(float(t)), group="", part=str(part[0] if part else 0), file=str(fname))
     tree = ET.ElementTree(root)
     ET.indent(tree, space=" ")
     tree.write(path, encoding="utf-8", xml_declaration=True)
     return path
 
 
-def read_pvd(path) -> list[tuple[float, Path]]:
-    """(time, file) entries of a ``.pvd`` collection, files resolved next to it."""
+def read_pvd(path, part: int = 0) -> list[tuple[float, Path]]:
+    """(time, file) entries of one part of a ``.pvd`` collection (0: the buildings, 1: the walls, 2: the
+    links), files resolved next to it."""
     path = Path(path)
     root = ET.parse(path).getroot()
-    return [(float(d.get("timestep")), path.parent / d.get("file")) for d in root.iter("DataSet")]
+    return [(float(d.get("timestep")), path.parent / d.get("file")) for d in root.iter("DataSet")
+            if int(d.get("part", 0)) == part]

@@ -12,6 +12,12 @@ commands. It holds
 * each building's Rayleigh damping C = a0 M + a1 K_initial
   (:func:`~pounding.peer.opensees.rayleigh_damping`);
 * the ground motion as ``UniformExcitation`` (:func:`~pounding.peer.opensees.uniform_excitation`);
+* walls fixed to the ground as :func:`pounding.peer.opensees_walls.scene_walls` builds them: a fixed
+  node and a ``zeroLength`` element with the wall's contact material at each end of every slab edge
+  facing a straight face along y (a wall the peer cannot model is left out and the script says why);
+* links between slabs (``[[link]]``) as :func:`pounding.peer.opensees_links.scene_links` builds them:
+  a ``zeroLength`` element along the link's line with its law's material (``Elastic``, ``Viscous``,
+  ``ViscousDamper``, ``Parallel``, ``Steel01``, ``BoucWen``) between a node on each slab's diaphragm;
 * contact as ``zeroLength`` elements between two buildings with collinear facing facades along x
   (:func:`~pounding.peer.opensees.face_springs`), with the OpenSees material of the pair's force
   law (:mod:`pounding.peer.opensees_contact`: ``ViscoelasticGap`` for kelvin, ``Hertzdamp`` for
@@ -65,7 +71,7 @@ def opensees_script(scene, *, out_of_plane: float = OUT_OF_PLANE) -> tuple[str, 
     Raises
     ------
     InputError
-        For an element type or damping kind the peer model does not have.
+        For an element type, damping kind or link law the peer model does not have.
     """
     from pounding.errors import InputError
 
@@ -76,9 +82,6 @@ def opensees_script(scene, *, out_of_plane: float = OUT_OF_PLANE) -> tuple[str, 
         raise InputError(f"cannot export to OpenSees: {exc}") from None
     integrator, note = _integrator(scene)
     notes += [note] if note else []
-    if scene.links:  # (the peer model of the tests has them: pounding.peer.opensees_springs.run_linked_transient)
-        notes.append(f"the scene's {len(scene.links)} [[link]] table(s) are not in the script: add each as a zeroLength "
-                     "element between nodes of the two slabs' diaphragms")
     analysis = ScriptOps()
     from pounding.peer.opensees import transient_analysis
 
@@ -104,11 +107,8 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
     masters = {name: parts[0] for name, parts in built.items()}
     ops.comment("contact")
     notes = _contact(ops, scene, masters, tags)
-    if scene.walls:  # (pounding.peer.opensees_walls models them for the tests, not in this script)
-        note = (f"the scene's walls ({', '.join(repr(w.name) for w in scene.walls)}) are not written: the script's slabs "
-                "strike nothing fixed to the ground")
-        ops.comment(note)
-        notes.append(note)
+    notes += _walls(ops, scene, masters, tags)
+    _links(ops, scene, masters, tags)
     ops.comment("the ground motion (accelerations [m/s2])")
     uniform_excitation(ops, scene.ground_motion)
     return masters, notes
@@ -122,6 +122,9 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
 
     if scene.analysis.contact == "none" and not scene.contacts:
         ops.comment("none: the scene's contact law is 'none'")
+        return []
+    if len(scene.buildings) == 1:
+        ops.comment("one building: no pair of buildings to pound")
         return []
     if len(scene.buildings) != 2:
         note = "contact elements are written for a pair of buildings only: the script has no contact"
@@ -145,6 +148,33 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
     for note in notes:
         ops.comment(note)
     return notes
+
+
+def _walls(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
+    """The walls as the tests' peer model builds them (:func:`pounding.peer.opensees_walls.scene_walls`: a
+    fixed node and a zeroLength element with the wall's law's material at each end of every slab edge
+    facing it); notes on the walls left out and on materials that differ from their law."""
+    from pounding.peer.opensees_walls import scene_walls
+
+    if not scene.walls:
+        return []
+    ops.comment("walls fixed to the ground: a fixed node and a zero-length gap element at each end of every slab edge facing one")
+    _, left_out, differs = scene_walls(ops, scene, masters, tags)
+    for note in left_out + differs:
+        ops.comment(note)
+    return left_out + differs
+
+
+def _links(ops: ScriptOps, scene, masters: dict, tags) -> None:
+    """The ``[[link]]`` tables as the tests' peer model builds them (:func:`pounding.peer.opensees_links.scene_links`:
+    a zeroLength element with the law's material between a node on each slab, slaves of their diaphragms).
+    A law with no OpenSees material raises NotImplementedError (the export's one message)."""
+    from pounding.peer.opensees_links import scene_links
+
+    if not scene.links:
+        return
+    ops.comment("links between slabs: zero-length elements along each link's line, with its law's material")
+    scene_links(ops, scene, masters, tags)
 
 
 def _integrator(scene) -> tuple[tuple, str | None]:
@@ -238,8 +268,10 @@ def _render(scene, ops: ScriptOps, analysis: ScriptOps, masters: dict, dt: float
 
 Units: m, N, kg, s. Every floor is a rigid diaphragm (a master node at the slab's centre of mass
 carrying its mass and polar inertia; ux, uy, rz free); frames are planar frames of elastic
-beam-columns, walls Timoshenko beams, storey springs twoNodeLink elements; each building has
-its own Rayleigh damping; the ground motion is a UniformExcitation; the analysis is
+beam-columns, walls Timoshenko beams, storey springs twoNodeLink elements; retaining walls are
+fixed nodes with zero-length gap elements to the slabs' edges, links between slabs zero-length
+elements along their lines; each building has its own Rayleigh damping; the ground motion is a
+UniformExcitation; the analysis is
 integrator{integrator!r}, dt = {dt!r} s, {steps} steps.
 {left_out}
 Run: python {{this file}} [--history FILE] [--modes N] [--steps N]

@@ -88,6 +88,27 @@ def between_slabs(ops, link, ends: list[tuple[int, float]], tags, boucwen_tol: f
     return tag, nodes
 
 
+def scene_links(ops, scene, masters: dict, tags, boucwen_tol: float = 1e-13) -> list[int]:
+    """Every ``[[link]]`` of ``scene`` as :func:`between_slabs` builds it, each end node made a slave of its
+    slab's diaphragm (one ``rigidDiaphragm 3`` per node, after the buildings' own).
+
+    ``masters`` maps a building's name to its diaphragm master tags per floor (bottom first); ``tags()``
+    gives the next free tag. Shared by the peer run of the tests
+    (:func:`pounding.peer.opensees_springs.run_linked_transient`) and ``pounding export opensees``.
+    Returns the links' element tags, in scene order. Raises NotImplementedError for a law with no
+    OpenSees material (:func:`law_material`).
+    """
+    slabs = {b.name: b.slabs for b in scene.buildings}
+    out = []
+    for link in scene.links:
+        ends = [(masters[name][s - 1], float(slabs[name][s - 1].elevation)) for name, s in zip(link.between, link.storeys)]
+        tag, nodes = between_slabs(ops, link, ends, tags, boucwen_tol)
+        for (master, _), node in zip(ends, nodes):
+            ops.rigidDiaphragm(3, master, node)
+        out.append(tag)
+    return out
+
+
 def storey_links(ops, element, tags, slaves: list[list[int]], nodes: list[int], boucwen_tol: float = 1e-13, *,
                  heights) -> list[int]:
     """The ``twoNodeLink`` of every storey of one storey-springs element (module docstring); returns their tags.

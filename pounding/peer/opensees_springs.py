@@ -177,8 +177,8 @@ def run_springs_gap_pounding(ops, scene, stiffness: float, dt: float, n_steps: i
 def run_linked_transient(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-13, max_iter: int = 100):
     """Storey-spring buildings joined by the scene's ``[[link]]`` s, in OpenSees: the buildings of
     :func:`build_spring_building`, each link a ``zeroLength`` element with its law's material between
-    nodes on the two slabs (:func:`pounding.peer.opensees_links.between_slabs`), slaves of their
-    floors' diaphragms; each building's Rayleigh damping on its initial stiffness; Newmark average
+    nodes on the two slabs, slaves of their floors' diaphragms (:func:`pounding.peer.opensees_links.scene_links`,
+    which the export calls too); each building's Rayleigh damping on its initial stiffness; Newmark average
     acceleration, Newton (``NormDispIncr`` ``tol`` [m]), the ground motion along x.
 
     Returns
@@ -187,28 +187,13 @@ def run_linked_transient(ops, scene, dt: float, n_steps: int, *, tol: float = 1e
     (n_steps + 1, n_links) the links' basic forces [N] (scene order).
     """
     from pounding.peer.opensees import _Tags, building_rayleigh, newmark_along_x, rayleigh_damping
-    from pounding.peer.opensees_links import between_slabs
+    from pounding.peer.opensees_links import scene_links
 
     ops.wipe()
     ops.model("basic", "-ndm", 3, "-ndf", 6)
-    names = [b.name for b in scene.buildings]
-    link_tags = _Tags(5_000_000)
-    # the links' nodes first (their masters' tags are known: a building's floors are its first tags)
-    masters = {b.name: [100_000 * i + 1 + f for f in range(b.n_storeys)] for i, b in enumerate(scene.buildings)}
-    ends_of = {b.name: [[] for _ in b.slabs] for b in scene.buildings}
-    links = []
-    for link in scene.links:
-        ends = [(masters[nm][s - 1], scene.buildings[names.index(nm)].slabs[s - 1].elevation)
-                for nm, s in zip(link.between, link.storeys)]
-        tag, nodes = between_slabs(ops, link, ends, link_tags)
-        links.append(tag)
-        for nm, s, node in zip(link.between, link.storeys, nodes):
-            ends_of[nm][s - 1].append(node)
-    built = {}
-    for i, b in enumerate(scene.buildings):
-        built[b.name] = build_spring_building(ops, b, 100_000 * i, extra_slaves=lambda m, b=b: ends_of[b.name])
-        assert built[b.name][0] == masters[b.name]
+    built = {b.name: build_spring_building(ops, b, 100_000 * i) for i, b in enumerate(scene.buildings)}
     rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
+    links = scene_links(ops, scene, {name: parts[0] for name, parts in built.items()}, _Tags(5_000_000))
     newmark_along_x(ops, scene.ground_motion, "run_linked_transient", tol, max_iter)
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
     forces = np.zeros((n_steps + 1, len(links)))

@@ -11,6 +11,10 @@ slaved to the slab's diaphragm, carrying the contact law's OpenSees material
 effective mass, that of the slab alone (1 / m + (y - y_c)^2 / J)^-1, and the clear distance as its
 negative gap. The element's deformation is u_j - u_i: the fixed node is i for a wall on the slab's
 -x side (contact when u_slab <= -clear), j on its +x side (contact when u_slab >= clear).
+
+:func:`scene_walls` places every wall of a scene against every building; the peer run of the
+tests (:func:`run_wall_pounding`) and ``pounding export opensees`` (:mod:`pounding.peer.export`)
+both call it, so a wall is built one way.
 """
 
 from __future__ import annotations
@@ -32,6 +36,7 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
     if len(face) != 2 or abs(face[0, 0] - face[1, 0]) > 1e-12:
         raise ValueError(f"wall {wall.name!r}: the OpenSees peer models a straight face along y")
     x_wall = float(face[0, 0])
+    span = (float(face[:, 1].min()), float(face[:, 1].max()))
     material = law_material(law)
     out, made = [], {}
     for f, slab in enumerate(building.slabs):
@@ -42,6 +47,14 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
         x_edge = float(xs.min() if west else xs.max())
         clear = (x_edge - x_wall) if west else (x_wall - x_edge)
         ends_y = sorted({float(v[1]) for v in slab.vertices if abs(v[0] - x_edge) < 1e-9})
+        if len(ends_y) < 2:
+            raise ValueError(f"wall {wall.name!r}: building {building.name!r}'s slab {f + 1} meets it at a corner "
+                             "(the OpenSees peer models an edge along y facing the wall)")
+        if ends_y[-1] < span[0] or ends_y[0] > span[1]:
+            continue  # the slab's edge passes beside the face: it never strikes it
+        if ends_y[0] < span[0] or ends_y[-1] > span[1]:
+            raise ValueError(f"wall {wall.name!r}: building {building.name!r}'s slab {f + 1} faces it over part of its "
+                             "edge only (the OpenSees peer puts the contact at the edge's two ends)")
         for y in (ends_y[0], ends_y[-1]):
             m_eff = 1.0 / (1.0 / slab.mass + (y - float(slab.centre[1])) ** 2 / slab.polar_inertia)
             args = tuple(material(0.5, m_eff, clear))
@@ -61,6 +74,53 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
     return out
 
 
+def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], list[str]]:
+    """The zero-length elements of every wall of ``scene`` against every building (:func:`wall_springs`),
+    each wall with its own law (else ``[analysis] contact``: :func:`pounding.framework.engine.contact_laws.wall_law`).
+
+    ``masters`` maps a building's name to its diaphragm master tags per floor; ``tags()`` gives the next
+    free tag. A wall the peer cannot model (a law with no OpenSees material, a face not straight along
+    y, a slab beside part of it) is left out whole, with one sentence saying why.
+
+    Returns
+    -------
+    (elements, left_out, differs) : the element tags (scene order of walls, then buildings and slabs);
+    one sentence per wall left out; one per wall whose material computes differently from its law
+    (:func:`pounding.peer.opensees_contact.material_notes`).
+    """
+    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.peer.opensees_contact import has_material, material_notes
+
+    an = scene.analysis
+    default = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+    elements, left_out, differs = [], [], []
+    for wall in scene.walls:
+        law = wall_law(scene, wall, default)
+        if not has_material(law):
+            left_out.append(f"wall {wall.name!r}: its contact law {law.name!r} has no OpenSees material (OpenSees has "
+                            "no rigid impulse at events), so the model's slabs strike nothing there; give the wall a "
+                            "force law (kelvin, hertz, hertzdamp, jankowski or penalty) to export it")
+            continue
+        try:  # the whole wall or none of it: a dry run against every building before writing a command
+            for b in scene.buildings:
+                wall_springs(_Silent(), b, masters[b.name], wall, law, tags)
+        except ValueError as exc:
+            left_out.append(f"{exc}: the model leaves this wall out")
+            continue
+        for b in scene.buildings:
+            elements += wall_springs(ops, b, masters[b.name], wall, law, tags)
+        differs += [f"wall {wall.name!r}: {n}" for n in material_notes(law)]
+    return elements, left_out, differs
+
+
+class _Silent:
+    """An ``ops`` that does nothing: a dry run of a builder, for its checks."""
+
+    def __getattr__(self, command: str):
+        return lambda *args: None
+
+
 def run_wall_pounding(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-12, max_iter: int = 100):
     """The scene's storey-spring buildings shaken along x against its walls (each with its own law,
     else ``[analysis] contact``), Newmark average acceleration, Newton (``NormDispIncr`` ``tol`` [m]),
@@ -72,8 +132,6 @@ def run_wall_pounding(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-12
     rz [rad]); (n_steps + 1, elements) the wall elements' basic force [N] (negative in compression), in
     the order of the scene's walls, buildings and slabs; the total Newton iterations.
     """
-    from pounding.framework.engine.contact_laws import wall_law
-    from pounding.framework.model.registry import CONTACT_LAWS
     from pounding.peer.opensees import _Tags, building_rayleigh, newmark_along_x, rayleigh_damping, step_through
     from pounding.peer.opensees_springs import build_spring_building
 
@@ -81,14 +139,9 @@ def run_wall_pounding(ops, scene, dt: float, n_steps: int, *, tol: float = 1e-12
     ops.model("basic", "-ndm", 3, "-ndf", 6)
     built = {b.name: build_spring_building(ops, b, 100_000 * i) for i, b in enumerate(scene.buildings)}
     rayleigh_damping(ops, [built[b.name][1:3] for b in scene.buildings], building_rayleigh(scene.buildings))
-    an = scene.analysis
-    default = CONTACT_LAWS.get(an.contact)(**an.contact_params)
-    tags = _Tags(1_000_000)
-    elements = []
-    for wall in scene.walls:
-        law = wall_law(scene, wall, default)
-        for b in scene.buildings:
-            elements += wall_springs(ops, b, built[b.name][0], wall, law, tags)
+    elements, left_out, _ = scene_walls(ops, scene, {name: parts[0] for name, parts in built.items()}, _Tags(1_000_000))
+    if left_out:
+        raise ValueError("; ".join(left_out))
     newmark_along_x(ops, scene.ground_motion, "run_wall_pounding", tol, max_iter)
     disp = {b.name: np.zeros((n_steps + 1, b.n_storeys, 3)) for b in scene.buildings}
     forces = np.zeros((n_steps + 1, len(elements)))
