@@ -100,11 +100,14 @@ class Penalty(ContactLaw):
             idx = np.flatnonzero(active)
             if idx.size == 0:
                 break
-            ki = ks[idx]
-            ix = np.ix_(idx, idx)
-            C = self.point_dashpots(c.W[ix], ki)
-            K = np.eye(idx.size) + ki[:, None] * c.S_q[ix] + C @ c.S_v[ix]
-            sol = np.linalg.solve(K, -ki * c.gap[idx] - C @ c.rate[idx])
+            if idx.size == m:  # every point (the first pass, mostly the last): no copies to gather
+                ki, W, S_q, S_v, gap, rate = ks, c.W, c.S_q, c.S_v, c.gap, c.rate
+            else:
+                ki, gap, rate = ks[idx], c.gap[idx], c.rate[idx]
+                W, S_q, S_v = (a[idx][:, idx] for a in (c.W, c.S_q, c.S_v))
+            C = self.point_dashpots(W, ki)
+            K = np.eye(idx.size) + ki[:, None] * S_q + C @ S_v
+            sol = np.linalg.solve(K, -ki * gap - C @ rate)
             lam[:] = 0.0
             lam[idx] = sol
             if np.all(sol >= 0):
