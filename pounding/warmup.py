@@ -17,7 +17,7 @@ from pounding.compiler import PACKAGE_ROOT, cache_dir, enabled
 #: process each), so that the largest compiled entry points (the stretch with the crossing locator,
 #: the held stretch, the free stretch, the force laws' stretch and the yielding springs' stepping)
 #: compile two at a time. ``--jobs 1`` runs them all in order.
-WARM_GROUPS = (("kernel", "force"), ("shared", "free", "yielding"))
+WARM_GROUPS = (("kernel", "force", "links"), ("shared", "free", "yielding"))
 WARM_TASKS = tuple(t for g in WARM_GROUPS for t in g)
 
 
@@ -39,6 +39,22 @@ def _yielding_scene():
     return load_scene(str(files("pounding.io") / "data" / "inelastic" / "pair_yielding_gap_0.03.toml"))
 
 
+def _linked_scene():
+    """The packaged paper pair with two linear viscous dampers between the roof of ``low`` and the
+    slab of ``high`` at its level (examples/linked_pair/pair_viscous.toml's links)."""
+    import tomllib
+    from importlib.resources import files
+
+    from pounding.io.scene import parse_scene
+
+    path = files("pounding.io") / "data" / "paper" / "pair_gap_0.03.toml"
+    data = tomllib.loads(path.read_text())
+    law = {"name": "viscous", "coefficient": 7.5e5, "exponent": 1.0}
+    data["link"] = [{"name": f"damper-{i}", "between": ["low", "high"], "storeys": [3, 3], "points": [[14.9, y], [15.13, y]], "law": law}
+                    for i, y in enumerate((2.0, 8.0))]
+    return parse_scene(data, source=Path(str(path)))
+
+
 def _warm_task(name: str) -> None:
     """Compile (or load) what one warm-up task needs, in this process.
 
@@ -56,7 +72,9 @@ def _warm_task(name: str) -> None:
     contact-free stretch (the same scene with contact ``none``). ``force``: the same scene with a
     force law (``kelvin``), whose stretches stop at the contact tolerance rather than at a crossing,
     and the law's compiled force. ``yielding``: the paper pair with yielding storey springs, with
-    pounding and without (the springs' compiled stepping, with the bilinear law). Measured in
+    pounding and without (the springs' compiled stepping, with the bilinear law). ``links``: the
+    paper pair joined by two linear viscous dampers (links between buildings: the links' stepping
+    with the viscous law, with pounding). Measured in
     ``benchmarks/bench_compile.py``."""
     import warnings
 
@@ -112,6 +130,8 @@ def _warm_task(name: str) -> None:
         run(scene.with_analysis(contact="none", contact_params={}))
     elif name == "force":
         run(scene.with_analysis(contact="kelvin", contact_params={}, duration=5.0))
+    elif name == "links":
+        run(_linked_scene().with_analysis(duration=5.0))
     elif name == "yielding":
         yielding = _yielding_scene()
         run(yielding.with_analysis(duration=5.0))
