@@ -14,7 +14,7 @@ cuts it (``--refine N`` divides every scene's step by N, to see how far the tabl
 * ``maxwell``: ``pair_maxwell.toml``, the same dampers each in series with a steel brace;
 * ``tie``: ``pair_tie.toml``, two stiff elastic ties in their place (the rigid limit);
 * ``unlinked_force``: ``pair_bumper.toml`` without its ``[[contact]]`` table: the paper's pair under
-  Jankowski's force law for the slabs (e = 0.5, dt = 0.5 ms), the bumper's reference;
+  Jankowski's force law for the slabs (e = 0.5, dt = 0.25 ms), the bumper's reference;
 * ``bumper``: ``pair_bumper.toml``, a rubber bumper on the roof slab of "low" facing "high" (a bumper
   needs a force law for the slabs, hence the reference above).
 
@@ -441,7 +441,8 @@ def layer_design(scene, approach_speed: float) -> dict:
     free (masses of the two slabs it stands between: the layer's storey and the other building's slab
     at its level): the layer law's own contact (:func:`pounding.contact.rebound.rebound`, integrated to
     rtol 1e-12), ``penetration`` [m] and ``force`` [N] at its deepest, ``rebound`` [-], ``duration`` [s],
-    and the layer's ``reach`` c t [m], beyond which the slabs' law would act."""
+    the layer's ``reach`` c t [m], beyond which the slabs' law would act, and ``slabs_force`` [N], the
+    peak force of the slabs' law alone (the bare slabs meeting at the same speed)."""
     from pounding.contact.rebound import rebound
     from pounding.framework.model.levels import common_levels
     from pounding.framework.model.registry import CONTACT_LAWS
@@ -455,8 +456,9 @@ def layer_design(scene, approach_speed: float) -> dict:
     level = next(fo for fa, fo in common_levels(on, other) if fa == storey)
     m1, m2 = assemble(on).mass[3 * storey], assemble(other).mass[3 * level]
     r = rebound(CONTACT_LAWS.get(bumper.law)(**bumper.params), approach_speed=approach_speed, m1=m1, m2=m2)
+    bare = rebound(CONTACT_LAWS.get(rule.law)(**rule.params), approach_speed=approach_speed, m1=m1, m2=m2)
     return {"penetration": r.peak_penetration, "force": r.peak_force, "rebound": r.ratio, "duration": r.duration,
-            "reach": bumper.compressible * bumper.thickness, "masses": (float(m1), float(m2))}
+            "reach": bumper.compressible * bumper.thickness, "masses": (float(m1), float(m2)), "slabs_force": bare.peak_force}
 
 
 def describe_layer(scene, approach_speed: float) -> str:
@@ -464,7 +466,8 @@ def describe_layer(scene, approach_speed: float) -> str:
     d = layer_design(scene, approach_speed)
     return (f"struck at {approach_speed:.3f} m/s by free slabs of {d['masses'][0] / 1e3:.0f} and {d['masses'][1] / 1e3:.0f} t, "
             f"the layer compresses {1e3 * d['penetration']:.1f} mm (c t = {1e3 * d['reach']:.1f} mm), "
-            f"peak force {d['force'] / 1e3:.0f} kN, rebound {d['rebound']:.3f}, contact {1e3 * d['duration']:.0f} ms")
+            f"peak force {d['force'] / 1e3:.0f} kN (the bare slabs' law: {d['slabs_force'] / 1e3:.0f} kN), "
+            f"rebound {d['rebound']:.3f}, contact {1e3 * d['duration']:.0f} ms")
 
 
 def fastest_approach(result) -> float:
