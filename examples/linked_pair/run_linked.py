@@ -103,8 +103,11 @@ class SceneRun:
     result: object
     summary: dict
     row: dict
-    #: the force laws' contact forces at every output step (None when no pair acts by forces)
+    #: the force laws' contact forces at the recorded steps in contact (:func:`contact_forces`; None when no
+    #: pair acts by forces or nothing touched)
     forces: object = None
+    #: the indices (k,) into ``result.t`` of those steps
+    force_steps: np.ndarray | None = None
 
 
 def scene_for(key: str, duration: float | None, refine: int = 1):
@@ -235,6 +238,19 @@ def contact_figures(result) -> dict:
             "energy": float(sum(e.energy_dissipated for e in eps))}
 
 
+def contact_forces(result) -> tuple[object, np.ndarray]:
+    """The force laws' contact forces (:func:`~pounding.framework.post.contact_forces.contact_force_history`)
+    at the recorded steps within the run's contact episodes, one step either side, and the indices (k,)
+    of those steps into ``result.t``. Elsewhere no pair touches and every contact force is zero, so the
+    peaks are the whole run's; the rebuild, one contact solve per step, then costs a fraction."""
+    t, margin = result.t, 1.5 * result.dt
+    keep = np.zeros(len(t), dtype=bool)
+    for e in result.contacts:
+        keep |= (t >= e.start - margin) & (t <= e.end + margin)
+    steps = np.flatnonzero(keep)
+    return contact_force_history(replace(result, t=t[steps], q=result.q[steps], qd=result.qd[steps])), steps
+
+
 def contact_acceleration(result, forces, name: str) -> np.ndarray:
     """Peak in plan (N,) [m/s2] per floor of building ``name`` of the contact forces' own part of its
     floor acceleration, M^-1 f_c (:meth:`~pounding.framework.post.contact_forces.ContactForces.floor_acceleration`),
@@ -258,7 +274,7 @@ def run_scene(key: str, duration: float | None, refine: int = 1) -> SceneRun:
     summ = summary(result)
     links = link_figures(result)
     contacts = contact_figures(result)
-    forces = contact_force_history(result) if by_forces(result) and result.contacts else None
+    forces, steps = contact_forces(result) if by_forces(result) and result.contacts else (None, None)
     row = {"scene": key, "runtime": result.runtime_s, "impacts": int(result.n_impacts), "episodes": int(summ["n_contact_episodes"]),
            "contact_force": contacts["force"] / 1e3, "penetration": 1e3 * contacts["penetration"],
            "contact_energy": contacts["energy"] / 1e3,
@@ -268,7 +284,7 @@ def run_scene(key: str, duration: float | None, refine: int = 1) -> SceneRun:
         row[f"top_{name}"] = 1e3 * b["peak_u"][-1]
         row[f"drift_{name}"] = 100.0 * max(b["peak_drift_ratio_corner"])
         row[f"acc_{name}"] = max(b["peak_floor_acceleration"])
-    out = SceneRun(key, result, summ, row, forces)
+    out = SceneRun(key, result, summ, row, forces, steps)
     row["spike"] = float(max(np.max(impact_spikes(out, name), initial=0.0) for name in BUILDINGS))
     return out
 
@@ -398,8 +414,9 @@ def plot_loops(runs: list[SceneRun], plt, path: Path) -> None:
         ax.tick_params(labelsize=7)
     for ax, r in zip(axes[0][len(damped):], bumpers):
         p, bumper = bumper_pair(r.result)
-        steps = np.flatnonzero(r.forces.pair_force[:, p] > 0.0)
-        ax.plot(1e3 * pair_penetration(r.result, p, steps), r.forces.pair_force[steps, p] / 1e3, ".", color=COLOURS[r.key], ms=1)
+        pressed = np.flatnonzero(r.forces.pair_force[:, p] > 0.0)
+        compression = pair_penetration(r.result, p, r.force_steps[pressed])
+        ax.plot(1e3 * compression, r.forces.pair_force[pressed, p] / 1e3, ".", color=COLOURS[r.key], ms=1)
         ax.axvline(1e3 * bumper.compressible * bumper.thickness, color="0.4", ls=":", lw=0.8)
         ax.set_xlabel("layer compression [mm]", fontsize=8)
         ax.set_ylabel("contact force [kN]", fontsize=8)
@@ -475,6 +492,14 @@ def fastest_approach(result) -> float:
     return max((float(e.approach_velocity) for e in result.episodes()), default=0.0)
 
 
+def describe_durations(r: SceneRun) -> str:
+    """", contacts A-B ms at dt = C ms": the shortest and longest contact of a force law's run, "" otherwise."""
+    durations = [e.end - e.start for e in r.result.episodes()] if np.isfinite(r.row["contact_force"]) else []
+    if not durations:
+        return ""
+    return f", contacts {1e3 * min(durations):.1f}-{1e3 * max(durations):.1f} ms at dt = {1e3 * r.result.dt:.3g} ms"
+
+
 def main(out: Path, duration: float | None = None, readme: bool = False, refine: int = 1) -> list[SceneRun]:
     out.mkdir(parents=True, exist_ok=True)
     print("dampers of pair_viscous.toml:", describe_damping(load_scene(SCENES["viscous"])), flush=True)
@@ -486,9 +511,8 @@ def main(out: Path, duration: float | None = None, readme: bool = False, refine:
     for key in SCENES:
         runs.append(run_scene(key, duration, refine))
         r = runs[-1]
-        durations = [e.end - e.start for e in r.result.episodes()] if np.isfinite(r.row["contact_force"]) else []
-        spans = f", contacts {1e3 * min(durations):.1f}-{1e3 * max(durations):.1f} ms at dt = {1e3 * r.result.dt:.3g} ms" if durations else ""
-        print(f"{key}: solved in {r.row['runtime']:.2f} s, fastest approach {fastest_approach(r.result):.3f} m/s{spans}", flush=True)
+        print(f"{key}: solved in {r.row['runtime']:.2f} s, fastest approach {fastest_approach(r.result):.3f} m/s"
+              f"{describe_durations(r)}", flush=True)
         if key == "unlinked_force" and r.result.episodes():
             print("bumper of pair_bumper.toml at that approach:", describe_layer(load_scene(SCENES["bumper"]),
                                                                           fastest_approach(r.result)), flush=True)
