@@ -258,3 +258,20 @@ class LinkStepping(NamedTuple):
     S: np.ndarray  #: (ns, ns) the grid step's compliance [m/N] (block diagonal by group)
     now: LinkTrial  #: the committed links, updated in place
     record: LinkRecord  #: what the run records of them, updated in place
+
+
+class HeldSearch(NamedTuple):
+    """What the compiled impact search needs to step with held pairs in rigid sustained contact
+    (:func:`pounding.framework.engine.held.held_step`) to any instant inside a grid step, and which
+    gap it seeks the zero of (:func:`pounding.framework.engine.event_search.locate`)."""
+
+    held: np.ndarray  #: (k,) int64 the held pairs
+    contact: HeldContact  #: the tolerance and the touching gap
+    pair0: np.ndarray  #: (m,) int64 the held pairs' touching features at the start: their pairs,
+    gap0: np.ndarray  #: (m,) gaps [m],
+    W0: np.ndarray  #: (m, n) modal rows,
+    Q0: np.ndarray  #: (m, 2) and contact points [m]
+    modes: Modes  #: the stacked modal model
+    arrival: bool  #: seek the arrival gap (held pairs' points apart at the start), else the pairs' smallest gap
+    far: float  #: the arrival gap where no point is apart [m] (a positive stand-in)
+    g0: float  #: the gap sought at the step's start [m]

@@ -1009,7 +1009,10 @@ class Driver:
 
         herm = (np.ascontiguousarray(st.z0[:, 0]), np.ascontiguousarray(st.z0[:, 1]), np.ascontiguousarray(st.z1[:, 0]),
                 np.ascontiguousarray(st.z1[:, 1]), float(h))
-        return self.locate_crossing(gap, h, herm, np.array([st.arriving], dtype=np.int64))
+        plist = np.array([st.arriving], dtype=np.int64)
+        if self.search_record is not None and self.springs is None:  # the held step compiled inside the search
+            return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=True, far=far, g0=start))
+        return self.locate_crossing(gap, h, herm, plist)
 
     def strike_arrival(self, t: float, p: int) -> bool:
         """Strike held pair p at t, where a point of it that was apart has reached contact: the law's
@@ -1058,14 +1061,16 @@ class Driver:
 
         if self.crossing:
             z0, z1 = (self.z, self.trial(self.z, t, h).z1) if st is None else (st.z0, st.z1)
-            if self.search_record is not None and z0 is self.z and not self.sustained and self.springs is None:
-                # nothing but the ground acts in the step: the same search, compiled whole
-                from pounding.framework.engine.event_search import locate as locate_compiled
-
-                maps, params = self._search_maps
-                found, hs = locate_compiled(float(t), float(h), self.z, np.ascontiguousarray(z1[:, 0]), np.ascontiguousarray(z1[:, 1]),
-                                            p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params)
-                return float(hs) if found else None
+            # the step's cubic Hermite interpolant (q, q' at both ends): a fourth-order guess of the
+            # integrator's intra-step solution, with no transition to build (pounding.framework.engine.crossing)
+            herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
+                    np.ascontiguousarray(z1[:, 1]), float(h))
+            if self.search_record is not None and self.springs is None and (self.sustained or z0 is self.z):
+                # only the ground and the held pairs act in the step: the same search, compiled whole
+                if not self.sustained:
+                    return self.locate_compiled(t, herm, p0, plist, None)
+                g0 = float(self.model.gaps(self.z[:, 0], plist).min())
+                return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=False, far=0.0, g0=g0))
             memo: dict[float, float] = {}
 
             def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
@@ -1074,10 +1079,6 @@ class Driver:
                     g = memo[hh] = gmin(hh)
                 return g
 
-            # the step's cubic Hermite interpolant (q, q' at both ends): a fourth-order guess of the
-            # integrator's intra-step solution, with no transition to build (pounding.framework.engine.crossing)
-            herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
-                    np.ascontiguousarray(z1[:, 1]), float(h))
             return self.locate_crossing(gmin_once, h, herm, plist)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
@@ -1112,6 +1113,29 @@ class Driver:
         found, hs = crossing_search.py_func(lambda hh: gmin(float(hh)), None, herm, self.eps, 1e-14 * max(self.dt, 1.0),
                                             plist, self.model.geo)
         return float(hs) if found else None
+
+    def locate_compiled(self, t: float, herm: tuple, p0: np.ndarray, plist: np.ndarray, held) -> float | None:
+        """:func:`pounding.framework.engine.event_search.locate` from the state at t [s] with start
+        load p0 (n,), for the pairs ``plist``, on the step's interpolant ``herm``; ``held`` None (only
+        the ground acts) or the held pairs' :class:`~pounding.framework.engine.bundles.HeldSearch`.
+        The step length to the zero [s], or None."""
+        from pounding.framework.engine.event_search import locate
+
+        maps, params = self._search_maps
+        found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params, held)
+        return float(hs) if found else None
+
+    def held_search(self, *, arrival: bool, far: float, g0: float):
+        """The :class:`~pounding.framework.engine.bundles.HeldSearch` of the held pairs at the current
+        state: what :meth:`held_trial` steps with (their touching features at the start), and the gap
+        sought (``arrival``: the held pairs' points apart at the start, ``far`` where none is; else
+        the culprits' smallest gap), ``g0`` its value at the start [m]."""
+        from pounding.framework.engine.bundles import HeldSearch
+
+        m = self.model
+        held = np.array(sorted(self.sustained), dtype=np.int64)
+        pair0, gap0, W0, Q0, _ = m.touching(self.z[:, 0], held, self.tol, deep=True)
+        return HeldSearch(held, HeldContact(float(self.tol), float(self.touch)), pair0, gap0, W0, Q0, m.modes, bool(arrival), float(far), float(g0))
 
     def step_search(self):
         """The :class:`~pounding.framework.engine.bundles.StepSearch` bundle of this run (built once)."""

@@ -30,6 +30,7 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
+from pounding.framework.engine.held import held_step
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
 from pounding.solvers.exact_partial import exact_maps
 from pounding.solvers.newmark import alpha_maps
@@ -101,27 +102,55 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 
 @njit
 def stepped_gap(hh, sol):
-    """The smallest gap [m] of the pairs after the integrator's step of hh [s]; at hh <= 0, at the
-    start state itself. ``sol`` = (t, z, p0, plist, search, maps, params): the step's start time
-    [s], state (n, 3) and load (n,), the pairs (k,), the
-    :class:`~pounding.framework.engine.bundles.StepSearch` bundle, and the integrator's compiled
-    maps ``maps(omega, zeta, hh, params) -> (A, B)`` for a step of hh with its parameters
-    (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
-    t, z, p0, plist, ex, maps, builtin, params = sol
+    """The gap [m] the search seeks the zero of, after the integrator's step of hh [s] (at hh <= 0,
+    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held): the
+    step's start time [s], state (n, 3) and load (n,), the pairs (k,), the
+    :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
+    ``maps(omega, zeta, hh, params) -> (A, B)``, or None and the number of built-in maps:
+    :func:`step_maps`) and their parameters, and ``held``: None (only the ground acts in the step:
+    the pairs' smallest gap after the free step) or a
+    :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with held pairs, and its gap)."""
+    return _gap_after(hh, sol, sol[8])
+
+
+@njit
+def _gap_after(hh, sol, held):
+    """:func:`stepped_gap`, with ``held`` an argument of its own (numba then compiles only the branch
+    its type takes)."""
+    t, z, p0, plist, ex, maps, builtin, params, _ = sol
+    if held is None:
+        if hh <= 0.0:
+            return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
+        p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
+        if hh == ex.dt:
+            return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
+        A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
+        return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
     if hh <= 0.0:
-        g = np.inf
-        q = z[:, 0].copy()
-        for j in range(plist.shape[0]):
-            gj = pair_gap(q, plist[j], np.inf, ex.geo)
-            if gj != gj:  # NaN, as numpy's min of the driver's gaps gives it
-                return gj
-            g = min(g, gj)
-        return g
+        return held.g0
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
     if hh == ex.dt:
-        return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
-    A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-    return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
+        A, B = ex.A, ex.B
+    else:
+        A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
+    _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
+                                           (held.pair0, held.gap0, held.W0, held.Q0), ex.geo)
+    if held.arrival:
+        return arrival if arrival < np.inf else held.far
+    return _smallest_gap(z1[:, 0].copy(), plist, ex.geo)
+
+
+@njit
+def _smallest_gap(q, plist, geo):
+    """The smallest gap [m] of the pairs ``plist`` at modal displacements q, NaN as numpy's min of
+    the driver's gaps gives it."""
+    g = np.inf
+    for j in range(plist.shape[0]):
+        gj = pair_gap(q, plist[j], np.inf, geo)
+        if gj != gj:
+            return gj
+        g = min(g, gj)
+    return g
 
 
 @njit
@@ -139,23 +168,23 @@ def step_maps(maps, builtin, omega, zeta, hh, params):
 
 
 @njit
-def locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
-    """:func:`crossing_search` on the integrator's step of h [s] from state z (n, 3) at t [s], start
-    load p0 (n,), ending at displacements q1 and velocities v1 (n,), for the pairs plist (k,):
-    (found, hs) (see there). ``search``: :class:`~pounding.framework.engine.bundles.StepSearch`;
-    ``maps``, ``params``: the integrator's compiled maps to any step length and their parameters
-    (:meth:`pounding.solvers.base.Integrator.search_maps`)."""
-    herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)  # the step's cubic Hermite interpolant
-    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params), herm, eps, xtol, plist, search.geo)
+def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
+    """:func:`crossing_search` on the integrator's step from state z (n, 3) at t [s] with start load
+    p0 (n,), for the pairs plist (k,): (found, hs) (see there). ``herm`` = (q0, v0, q1, v1 (n,), h)
+    the step's cubic Hermite interpolant (h [s] its length); ``search``:
+    :class:`~pounding.framework.engine.bundles.StepSearch`; ``maps``, ``params``: the integrator's
+    compiled maps to any step length and their parameters
+    (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: None, or the held pairs'
+    :class:`~pounding.framework.engine.bundles.HeldSearch` (:func:`stepped_gap`)."""
+    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held), herm, eps, xtol, plist, search.geo)
 
 
 @njit
-def locate_builtin(t, h, z, q1, v1, p0, plist, eps, xtol, search, builtin, params):
+def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held):
     """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
     directly: an entry without a function argument (the extension module takes arrays, numbers
     and bundles only, and numba does not cache a function that holds a function value)."""
-    herm = (z[:, 0].copy(), z[:, 1].copy(), q1, v1, h)
-    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held), herm, eps, xtol, plist, search.geo)
 
 
 #: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third
@@ -163,13 +192,14 @@ def locate_builtin(t, h, z, q1, v1, p0, plist, eps, xtol, search, builtin, param
 BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
-def locate(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params):
+def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held=None):
     """The compiled search on the integrator's maps and parameters
-    (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`."""
+    (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
+    (arguments: :func:`locate_with`)."""
     for j, known in enumerate(BUILTIN_MAPS):
         if maps is known:
-            return locate_builtin(t, h, z, q1, v1, p0, plist, eps, xtol, search, j, params)
-    return locate_with(t, h, z, q1, v1, p0, plist, eps, xtol, search, maps, params)
+            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held)
+    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held)
 
 
 @njit
