@@ -17,7 +17,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from pounding import compiler
+from pounding.compiler import njit
 from pounding.framework.engine.driver import Driver
+from pounding.solvers.base import Integrator
+from pounding.solvers.hht import HHT
+from pounding.solvers.newmark import alpha_step, alpha_transition
 from pounding.framework.engine.event_search import modal_load_at, record_at
 from pounding.io.motion_pair import GroundMotionPair
 from pounding.io.scene import load_scene
@@ -100,4 +105,42 @@ def test_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(path, duratio
         d.run()
         runs.append(d)
     assert runs[0].n_located >= 10
+    assert _digest(runs[0]) == _digest(runs[1])
+
+
+@njit
+def _own_alpha_maps(omega, zeta, dt, params):
+    """A plugin's compiled maps: HHT's, written in the plugin's own module."""
+    return alpha_transition(omega, zeta, dt, params[0], params[1], params[2], params[3])
+
+
+class OwnMapsHHT(Integrator):
+    """An out-of-tree integrator written from :class:`Integrator` alone: HHT's step (alpha = -0.05),
+    its transitions probed from that step, and compiled maps of its own for the impact search."""
+
+    name = "own_maps_hht"
+
+    def step(self, q, qd, qdd, p0, p1, omega, zeta, dt):
+        return alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, beta=HHT().beta, gamma=HHT().gamma, alpha_m=0.0, alpha_f=0.05)
+
+    def transition(self, omega, zeta, dt):
+        return HHT().transition(omega, zeta, dt)
+
+    def search_maps(self):
+        return _own_alpha_maps, np.array([HHT().beta, HHT().gamma, 0.0, 0.05])
+
+
+@pytest.mark.skipif(not compiler.enabled(), reason="the compiled search needs numba")
+def test_a_plugins_compiled_maps_run_the_compiled_search_as_the_built_in_ones():
+    """A third-party integrator's maps (a compiled function of its own module, passed to the search
+    as an argument: ``event_search.locate_with``) locate the same impacts as HHT's built-in maps,
+    bit for bit: the same arithmetic, called through another function."""
+    sc = load_scene(PAPER).with_analysis(duration=3.0)
+    runs = []
+    for integrator in ("hht", OwnMapsHHT):
+        d = Driver(sc.with_analysis(integrator=integrator, integrator_params={} if integrator is OwnMapsHHT else {"alpha": -0.05}))
+        assert d.search_record is not None
+        d.run()
+        runs.append(d)
+    assert runs[0].n_located >= 3
     assert _digest(runs[0]) == _digest(runs[1])
