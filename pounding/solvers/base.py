@@ -39,7 +39,10 @@ Contract for an implementer
 6. Optionally override :meth:`partial_transition` and :meth:`partial_work_maps`: the same maps
    for the crossing locator's one-off step lengths (its trials, the parts of a step split at an
    impact), cheaper and equal to rounding (not necessarily to the bit).
-7. Register the class under the entry-point group ``pounding.integrators``.
+7. Optionally override :meth:`search_maps`: a compiled function giving :meth:`partial_transition`'s
+   maps and its parameters, with which the impact search runs compiled whole (without it the
+   search runs interpreted on :meth:`partial_transition`: the same instants, slower).
+8. Register the class under the entry-point group ``pounding.integrators``.
 """
 
 from __future__ import annotations
