@@ -258,3 +258,21 @@ class LinkStepping(NamedTuple):
     S: np.ndarray  #: (ns, ns) the grid step's compliance [m/N] (block diagonal by group)
     now: LinkTrial  #: the committed links, updated in place
     record: LinkRecord  #: what the run records of them, updated in place
+
+
+class LinkPass(NamedTuple):
+    """The links of a step whose contact forces depend on its end, solved by a fixed point on their
+    end remainders around the contact solve (:func:`pounding.framework.engine.held.held_fixed_point`)."""
+
+    links: Links  #: the links and their laws' parameters
+    now: LinkTrial  #: the committed links (read)
+    #: the trial the passes write: end remainders, trial states (slots a law does not write hold the
+    #: committed values), their modal load
+    out: LinkTrial
+
+
+class HeldPairs(NamedTuple):
+    """The pairs held in sustained contact and their contact force, updated in place by a held stretch."""
+
+    fc: np.ndarray  #: (n,) modal contact force at the current instant [N/kg^0.5]
+    mask: np.ndarray  #: (P,) bool, the held pairs

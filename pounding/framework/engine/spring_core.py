@@ -264,6 +264,40 @@ def forces_at(laws, links, h, q1, now, out):
     end_load(f1, G, bounds, gmodes, out.g)
 
 
+#: the fixed point's relaxation weights, tried in turn (:func:`fixed_point_pass`): plain substitution,
+#: then under-relaxed by 1/2 and 1/4 where the plain map does not settle
+RELAXATION = (1.0, 0.5, 0.25)
+
+
+@njit
+def fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
+    """One pass of the links' fixed point around a contact solve whose step of h [s] ended at the modal
+    displacements q1 (n,) with the remainders' end load g (n,): the trial ``out`` (:class:`LinkTrial`)
+    at q1 (:func:`forces_at`), then the convergence test and the next load.
+
+    Converged when every group's end deformations differ from the last pass's ``prev`` (ns,) [m] by
+    at most w times its Newton tolerance (deformations, not forces: a damper has no stiffness to scale
+    a force by; w scales the tolerance so that a relaxed iteration stops at the same residual as a
+    plain one). Otherwise prev takes the new deformations and g (n,) the next end load, in place:
+    out.g (w = 1), or g + w (out.g - g) (under-relaxed, w < 1). Returns True when converged."""
+    forces_at(laws, links, h, q1, now, out)
+    d, bounds = out.state, links.bounds
+    done = True
+    for j in range(bounds.shape[0] - 1):
+        worst = 0.0
+        for s in range(bounds[j], bounds[j + 1]):
+            worst = max(worst, abs(d[s, 0] - prev[s]))
+        if worst > w * links.tol[j]:
+            done = False
+    if done:
+        return True
+    for s in range(prev.shape[0]):
+        prev[s] = d[s, 0]
+    for i in range(g.shape[0]):
+        g[i] = out.g[i] if w == 1.0 else g[i] + w * (out.g[i] - g[i])
+    return False
+
+
 @njit
 def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
     """out (n,) <- work [J] in a step of h [s] of a modal load w linear in it (w0 at its start, w1
