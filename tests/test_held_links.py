@@ -139,3 +139,38 @@ def test_the_lead_rubber_and_wall_run_closes_every_account_and_its_contacts_crea
     total_input = sum(acc["input"] for acc in accounts.values())
     assert sum(acc["contact_forces"] for acc in accounts.values()) <= 10 * EPS * result.steps * total_input
     assert sum(acc["impacts"] for acc in accounts.values()) < 0.0
+
+
+class CountingHeldSteps(Driver):
+    """The driver, counting the grid steps its compiled held stretch takes."""
+
+    held_steps = 0
+
+    def advance_held(self, k0, k1):
+        k, status, pair = super().advance_held(k0, k1)
+        self.held_steps += k - k0
+        return k, status, pair
+
+
+def test_the_compiled_held_stretch_with_yielding_springs_gives_the_python_path():
+    """The first 4 s (the base slab struck, held against the wall and the neighbour, released), run
+    with the compiled stretches (the held grid steps in :func:`~pounding.framework.engine.held.held_links_stretch`)
+    and with every step in Python (``use_kernel=False``). The stretch takes each held step with the
+    Python step's functions in its order (the plastic stop, :func:`held_fixed_point`, the same
+    energy rules and commits), so the runs agree to rounding (measured: bit for bit). Tolerance, as
+    for the stretches between impacts (tests/test_inelastic_pounding.py): ~1e2 roundings of the peak
+    per step, accumulated over every step; the same impacts at the same instants."""
+    scene = parse_scene(copy.deepcopy(isolated_beside_a_wall(duration=4.0)))
+    compiled = CountingHeldSteps(scene)
+    a, b = compiled.run(), Driver(scene, use_kernel=False).run()
+    assert compiled.held_steps >= 10 and len(a.impacts) >= 20
+    assert [(x.time, x.pair) for x in a.impacts] == [(y.time, y.pair) for y in b.impacts]
+    tol = 1e2 * EPS * a.steps
+    assert np.abs(a.q - b.q).max() <= tol * np.abs(b.q).max()
+    for name in b.springs:
+        assert np.abs(a.springs[name]["deformation"] - b.springs[name]["deformation"]).max() <= tol * np.abs(
+            b.springs[name]["deformation"]).max(), name
+    for name in b.energy:
+        scale = max(abs(v) for v in b.energy[name].values())
+        for key, value in b.energy[name].items():
+            assert abs(a.energy[name][key] - value) <= tol * scale, (name, key)
