@@ -934,9 +934,8 @@ class Driver:
             st, new = sp.fixed_point(solve, h)
             st.sp = new
             return st
-        zlin = self.step(z, t, h, self.fc - g0)
-        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1], h)
-        return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
+        z1, new = sp.step(np.ascontiguousarray(z), self.load(t) + (self.fc - g0), self.load(t + h), tr, h)
+        return Step(z, z1, self.fc, np.zeros(self.model.n), new)
 
     def force_trial(self, z, t, h, e0, e1) -> Step:
         """A force-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;

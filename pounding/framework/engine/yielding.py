@@ -240,16 +240,19 @@ class Yielding:
         # slots a narrower law does not write keep their committed values
         return LinkTrial(np.empty(self.size), self.state.copy(), np.empty(self.n))
 
-    def solve(self, q_lin: np.ndarray, B1: np.ndarray, h: float) -> LinkTrial:
-        """Newton on every building for a step of h [s] whose linear part ends at q_lin (n,)."""
-        from pounding.framework.engine.spring_core import solve_springs
+    def step(self, z: np.ndarray, p0: np.ndarray, p1: np.ndarray, tr, h: float):
+        """A step of h [s] from z (n, 3) with the modal loads p0 (the links' -g0 in it) and p1 (n,) at
+        its ends, no force depending on its end (:func:`pounding.framework.engine.spring_core.spring_step`,
+        the compiled stretch's step); tr the integrator's transition for h (A, B). Returns (z1, trial)."""
+        from pounding.framework.engine.spring_core import spring_step
 
         out = self._trial()
-        j = solve_springs(self.updates, self.links, self.S(np.ascontiguousarray(B1)), float(h), np.ascontiguousarray(q_lin),
-                          self.now, out)
+        B = np.ascontiguousarray(tr.B)
+        j, z1 = spring_step(self.updates, np.ascontiguousarray(tr.A), B, z, p0, p1, float(h), self.links,
+                            self.S(np.ascontiguousarray(B[:, 0, 1])), self.now, out)
         if j >= 0:
             raise self._diverged(j)
-        return out
+        return z1, out
 
     def at(self, q1: np.ndarray, h: float) -> LinkTrial:
         """Remainders and trial states of a step of h [s] ending at displacements q1 (n,) (the fixed-point pass)."""
