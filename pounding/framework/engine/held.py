@@ -22,7 +22,10 @@ like any other, so each step and its energy audit are the integrator's own.
   point of a held pair arrives.
 
 The driver's Python path calls the first two step by step; the stretch calls
-the very same functions, so both paths give the same numbers. Like
+the very same functions, so both paths give the same numbers. With yielding storey springs (links
+with laws) a held step is :func:`held_fixed_point` (their end remainders by a fixed point around
+:func:`held_step`), in the Python step and in :func:`held_links_stretch` (the stretch's loop with
+the springs' bookings) alike. Like
 :mod:`pounding.framework.engine.kernel`, everything runs compiled by numba or, without
 numba, as plain Python with the same arithmetic.
 """

@@ -19,7 +19,8 @@ velocities only, so the springs' states stay valid across impacts.
 
 Steps in which forces act that depend on the end state (pairs held in sustained contact,
 penalty forces) solve the springs by an outer fixed-point loop on their end remainders around
-the contact solve (:meth:`Yielding.fixed_point`): the map's contraction is the share of a
+the contact solve (:meth:`Yielding.fixed_point` for penalty forces; for held contact the same
+passes compiled with the held step, :func:`pounding.framework.engine.held.held_fixed_point`): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
 storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance. A
 link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than the step's inertia
@@ -28,7 +29,10 @@ link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than t
 Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
 :func:`pounding.framework.engine.spring_core.stretch`): the same step, and the slab pairs' check of the
 elastic kernel after it; a step ending with a pair within the contact tolerance is rolled back for
-the driver's Python step, which handles every contact event. The springs are links with laws in flat arrays
+the driver's Python step, which handles every contact event. Grid steps with pairs held in
+sustained contact run compiled too (:meth:`Yielding.advance_held`,
+:func:`pounding.framework.engine.held.held_links_stretch`), each the held step's fixed point, until
+an event the driver handles. The springs are links with laws in flat arrays
 over every building (:class:`Yielding`); both paths solve them with the same compiled functions,
 which take the scene's laws as arguments (:mod:`pounding.framework.engine.links`), so they agree to
 rounding (bit for bit measured where no contact force acts at a step's end).
