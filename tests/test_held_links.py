@@ -6,7 +6,7 @@ along x, impulse contact (e = 0.5). The wall stops the base slab, which chatters
 pressed against it while the isolators and the storeys above keep yielding: every held step solves the
 springs' end remainders by a fixed point around the rigid held step
 (:func:`pounding.framework.engine.held.held_fixed_point`), in the driver's Python step and in the
-compiled held stretch (:func:`pounding.framework.engine.held.held_links_stretch`) alike.
+compiled held stretch (:func:`pounding.framework.engine.held.held_stretch`) alike.
 """
 
 from __future__ import annotations
@@ -154,7 +154,7 @@ class CountingHeldSteps(Driver):
 
 def test_the_compiled_held_stretch_with_yielding_springs_gives_the_python_path():
     """The first 4 s (the base slab struck, held against the wall and the neighbour, released), run
-    with the compiled stretches (the held grid steps in :func:`~pounding.framework.engine.held.held_links_stretch`)
+    with the compiled stretches (the held grid steps in :func:`~pounding.framework.engine.held.held_stretch`)
     and with every step in Python (``use_kernel=False``). The stretch takes each held step with the
     Python step's functions in its order (the plastic stop, :func:`held_fixed_point`, the same
     energy rules and commits), so the runs agree to rounding (measured: bit for bit). Tolerance, as

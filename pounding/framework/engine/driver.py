@@ -38,7 +38,7 @@ from pounding.framework.model.levels import common_levels
 from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
-from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, Modes, PairArrays, Recorder, Settings, Status, Transition
+from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, HeldPairs, Modes, PairArrays, Recorder, Settings, Status, Transition
 from pounding.framework.model.scene import Scene
 from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 from pounding.framework.engine.results import Impact, Result
@@ -788,8 +788,8 @@ class Driver:
             out = self.springs.advance_held(self, mask, k0, k1)
             self.sustained = {int(p) for p in np.flatnonzero(mask)}
             return out
-        out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, self.fc, mask, int(k0), int(k1),
-                                self.rec, self.model.geo, self.settings, self.rules)
+        out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, HeldPairs(self.fc, mask), int(k0),
+                                int(k1), self.rec, self.model.geo, self.settings, self.rules, None, None)
         self.sustained = {int(p) for p in np.flatnonzero(mask)}
         return out
 

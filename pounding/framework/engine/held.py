@@ -22,10 +22,9 @@ like any other, so each step and its energy audit are the integrator's own.
   point of a held pair arrives.
 
 The driver's Python path calls the first two step by step; the stretch calls
-the very same functions, so both paths give the same numbers. With yielding storey springs (links
-with laws) a held step is :func:`held_fixed_point` (their end remainders by a fixed point around
-:func:`held_step`), in the Python step and in :func:`held_links_stretch` (the stretch's loop with
-the springs' bookings) alike. Like
+the very same functions, so both paths give the same numbers. With yielding storey
+springs (links with laws) a held step is :func:`held_fixed_point` (their end remainders
+by a fixed point around :func:`held_step`), in the Python step and in the stretch alike. Like
 :mod:`pounding.framework.engine.kernel`, everything runs compiled by numba or, without
 numba, as plain Python with the same arithmetic.
 """
@@ -36,7 +35,7 @@ import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import HeldContact, HeldPairs, LinkPass, LinkTrial, Status
+from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.engine.inelastic import MAX_ITER
@@ -430,46 +429,33 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
 
 
 @njit
-def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules):
+def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, rules, laws, run):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
     Bundles and ``rules`` (None: the crossing locator; True: the paper's rules, the other
-    branch pruned before compiling) as in :func:`pounding.framework.engine.kernel.advance`, plus the contact force at the
-    current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
+    branch pruned before compiling) as in :func:`pounding.framework.engine.kernel.advance`, plus
+    ``held_pairs``, the :class:`~pounding.framework.engine.bundles.HeldPairs` (the contact force at
+    the current instant and the held pairs, both updated in place).
     Each step: :func:`stop_closing` on the held pairs' touching points (with ``rules`` None) or
     their points within the tolerance (the paper's rules), its kinetic-energy change booked as contact work,
     :func:`held_step`, then the same checks as the driver's Python step.
+
+    A model with links with laws (yielding storey springs) passes the run's law updates ``laws`` and
+    the :class:`~pounding.framework.engine.bundles.LinkStepping` ``run`` (its compliance is not read);
+    without them both are None, and their branches are pruned before compiling. Every step is then
+    :func:`held_fixed_point`, booked as the driver's Python step books it (``Driver.commit`` with the
+    links: the contact forces' and the remainders' loads in the energy audit, the remainders' work
+    to ``run.record.work``, the links committed and recorded).
 
     Returns (k, status, pair): the grid index reached and a
     :class:`~pounding.framework.engine.bundles.Status`: DONE (k1 reached), RELEASED (every held
     pair let go at the end of step k - 1), OVERLAP (in step k a point of held pair ``pair``
     arrives, or free pair ``pair`` would overlap: the state and the energy account are as at its
-    start, for the driver's Python step to locate the impact) or CONTACT (a free pair touches and
-    closes at the end of step k - 1).
+    start, for the driver's Python step to locate the impact), CONTACT (a free pair touches and
+    closes at the end of step k - 1) or, with links, DIVERGED (the fixed point did not converge in
+    step k; the state is its start).
     """
-    return _held_run(None, None, tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules)
-
-
-@njit
-def held_links_stretch(laws, tr, modes, ground, z, held, k0, k1, rec, geo, settings, rules, run):
-    """:func:`held_stretch` for a model with links with laws (yielding storey springs): every step is
-    :func:`held_fixed_point` and is booked as the driver's Python step books it (``Driver.commit``
-    with the links: the contact forces' and the remainders' loads in the energy audit, the
-    remainders' work to ``run.record.work``, the links committed and recorded).
-
-    ``laws`` the run's law updates; ``held`` the :class:`~pounding.framework.engine.bundles.HeldPairs`
-    (contact force and held pairs, updated in place); ``run`` the
-    :class:`~pounding.framework.engine.bundles.LinkStepping` (its compliance is not read: a held
-    step's links are solved by the fixed point). Returns (k, status, pair) as :func:`held_stretch`,
-    or DIVERGED (the fixed point did not converge in step k; the state is its start).
-    """
-    return _held_run(laws, run, tr, modes, ground, z, held.fc, held.mask, k0, k1, rec, geo, settings, rules)
-
-
-@njit
-def _held_run(laws, run, tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules):
-    """The held stretches' loop: without links (``laws`` and ``run`` None, their branches pruned
-    before compiling) or with them (:func:`held_links_stretch`)."""
+    fc, held_mask = held_pairs.fc, held_pairs.mask
     A, B = tr.A, tr.B
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag

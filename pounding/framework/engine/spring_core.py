@@ -404,7 +404,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     rows, n_modes = geo.rows, geo.n_modes
     pa, pb, off, radii, rest = geo.pa, geo.pb, geo.off, geo.radii, geo.rest
     links, S, now, lrec = run.links, run.S, run.now, run.record
-    G, bounds, gmodes = links.G, links.bounds, links.gmodes
+    bounds = links.bounds
     f, g, state = now.f, now.g, now.state
     work, counts, hist, joined_work = lrec.work, lrec.counts, lrec.hist, lrec.joined_work
     n = z.shape[0]

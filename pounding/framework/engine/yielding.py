@@ -31,7 +31,7 @@ Between contact events the driver's grid steps run compiled (:meth:`Yielding.adv
 elastic kernel after it; a step ending with a pair within the contact tolerance is rolled back for
 the driver's Python step, which handles every contact event. Grid steps with pairs held in
 sustained contact run compiled too (:meth:`Yielding.advance_held`,
-:func:`pounding.framework.engine.held.held_links_stretch`), each the held step's fixed point, until
+:func:`pounding.framework.engine.held.held_stretch` with the links), each the held step's fixed point, until
 an event the driver handles. The springs are links with laws in flat arrays
 over every building (:class:`Yielding`); both paths solve them with the same compiled functions,
 which take the scene's laws as arguments (:mod:`pounding.framework.engine.links`), so they agree to
@@ -361,16 +361,14 @@ class Yielding:
 
     def advance_held(self, driver, mask: np.ndarray, k0: int, k1: int):
         """Grid steps k0 -> k1 with the pairs ``mask`` (P,) bool held (updated in place), compiled
-        (:func:`pounding.framework.engine.held.held_links_stretch`): the driver's held Python step with
-        the links, until an event the driver handles. Same answers as
-        :func:`pounding.framework.engine.held.held_stretch`."""
-        from pounding.framework.engine.held import held_links_stretch
+        (:func:`pounding.framework.engine.held.held_stretch` with the links): the driver's held Python step
+        with the links, until an event the driver handles."""
+        from pounding.framework.engine.held import held_stretch
 
         tr = driver.transition(driver.dt)
         run = LinkStepping(self.links, self.S(np.ascontiguousarray(tr.B[:, 0, 1])), self.now, self.rec)
-        k, status, pair = held_links_stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z,
-                                             HeldPairs(driver.fc, mask), int(k0), int(k1), driver.rec, driver.model.geo,
-                                             driver.settings, driver.rules, run)
+        k, status, pair = held_stretch(tr, driver.model.modes, driver.ground, driver.z, HeldPairs(driver.fc, mask), int(k0),
+                                       int(k1), driver.rec, driver.model.geo, driver.settings, driver.rules, self.updates, run)
         if status == Status.DIVERGED:
             raise self.fixed_point_error()
         return k, status, pair
