@@ -275,3 +275,21 @@ class HeldSearch(NamedTuple):
     arrival: bool  #: seek the arrival gap (held pairs' points apart at the start), else the pairs' smallest gap
     far: float  #: the arrival gap where no point is apart [m] (a positive stand-in)
     g0: float  #: the gap sought at the step's start [m]
+
+
+class LinkPass(NamedTuple):
+    """The links of a step whose contact forces depend on its end, solved by a fixed point on their
+    end remainders around the contact solve (:func:`pounding.framework.engine.held.held_fixed_point`)."""
+
+    links: Links  #: the links and their laws' parameters
+    now: LinkTrial  #: the committed links (read)
+    #: the trial the passes write: end remainders, trial states (slots a law does not write hold the
+    #: committed values), their modal load
+    out: LinkTrial
+
+
+class HeldPairs(NamedTuple):
+    """The pairs held in sustained contact and their contact force, updated in place by a held stretch."""
+
+    fc: np.ndarray  #: (n,) modal contact force at the current instant [N/kg^0.5]
+    mask: np.ndarray  #: (P,) bool, the held pairs

@@ -38,7 +38,7 @@ from pounding.framework.model.levels import common_levels
 from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
-from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, Modes, PairArrays, Recorder, Settings, Status, Transition
+from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, HeldPairs, Modes, PairArrays, Recorder, Settings, Status, Transition
 from pounding.framework.model.scene import Scene
 from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 from pounding.framework.engine.results import Impact, Result
@@ -610,7 +610,7 @@ class Driver:
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.use_kernel and self.sustained and self.springs is None:  # (only impulses hold pairs)
+            if self.use_kernel and self.sustained:  # (only impulses hold pairs)
                 k_end = min(self.nsteps, k + 4096)
                 k_new, status, _ = self.advance_held(k, k_end)
             elif self.needs_python(k):
@@ -782,8 +782,12 @@ class Driver:
         mask = np.zeros(len(self.model.pairs), dtype=np.bool_)
         mask[sorted(self.sustained)] = True
         self.fc = np.ascontiguousarray(self.fc, dtype=float)
-        out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, self.fc, mask, int(k0), int(k1),
-                                self.rec, self.model.geo, self.settings, self.rules)
+        if self.springs is not None:  # yielding springs: the held steps' fixed point, compiled with them
+            out = self.springs.advance_held(self, mask, k0, k1)
+            self.sustained = {int(p) for p in np.flatnonzero(mask)}
+            return out
+        out = hold.held_stretch(self.transition(self.dt), self.model.modes, self.ground, self.z, HeldPairs(self.fc, mask), int(k0),
+                                int(k1), self.rec, self.model.geo, self.settings, self.rules, None, None)
         self.sustained = {int(p) for p in np.flatnonzero(mask)}
         return out
 
@@ -919,13 +923,7 @@ class Driver:
         sp, tr = self.springs, self.cache(h)
         g0 = sp.g
         if self.sustained:  # (only impulses hold pairs)
-            def solve(g1):
-                st = self.held_trial(z, t, h, g0, g1)
-                return st, st.z1[:, 0]
-
-            st, new = sp.fixed_point(solve, h)
-            st.sp = new
-            return st
+            return self.held_trial(z, t, h)
         if self.law.with_step:
             def solve(g1):
                 st = self.force_trial(z, t, h, -g0, -g1)
@@ -934,9 +932,8 @@ class Driver:
             st, new = sp.fixed_point(solve, h)
             st.sp = new
             return st
-        zlin = self.step(z, t, h, self.fc - g0)
-        new = sp.solve(zlin[:, 0], tr.B[:, 0, 1], h)
-        return Step(z, zlin - tr.B[:, :, 1] * new.g[:, None], self.fc, np.zeros(self.model.n), new)
+        z1, new = sp.step(np.ascontiguousarray(z), self.load(t) + (self.fc - g0), self.load(t + h), tr, h)
+        return Step(z, z1, self.fc, np.zeros(self.model.n), new)
 
     def force_trial(self, z, t, h, e0, e1) -> Step:
         """A force-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
@@ -967,18 +964,20 @@ class Driver:
         contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, near, near_gap, f1)
         return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1, contacts=contacts)
 
-    def held_trial(self, z, t, h, e0=None, e1=None) -> Step:
-        """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`)."""
+    def held_trial(self, z, t, h) -> Step:
+        """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`;
+        with yielding springs :func:`pounding.framework.engine.held.held_fixed_point`, their trial in ``Step.sp``)."""
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
         pair0, gap0, W0, Q0, _ = m.touching(z[:, 0], held, self.tol, deep=True)
         p0, p1 = self.load(t), self.load(t + h)
-        if e0 is not None:  # the yielding springs' remainders, -g at the ends (loads like the ground's)
-            p0, p1 = p0 - e0, p1 - e1
         contact = HeldContact(float(self.tol), float(self.touch))
-        z0, z1, f0, f1, _, arrival, arriving = hold.held_step(np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A),
-                                                              np.ascontiguousarray(tr.B), float(h), m.modes, held, contact,
-                                                              (pair0, gap0, W0, Q0), m.geo)
+        args = (np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), float(h), m.modes,
+                held, contact, (pair0, gap0, W0, Q0), m.geo)
+        if self.springs is not None:  # their end remainders by the fixed point around the held step
+            z0, z1, f0, f1, arrival, arriving, sp = self.springs.held_step(*args)
+            return Step(z0, z1, f0, f1, sp, arrival=float(arrival), arriving=int(arriving))
+        z0, z1, f0, f1, _, arrival, arriving = hold.held_step(*args)
         return Step(z0, z1, f0, f1, arrival=float(arrival), arriving=int(arriving))
 
     def locate_arrival(self, t: float, h: float, st: Step) -> float | None:

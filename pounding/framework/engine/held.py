@@ -22,7 +22,9 @@ like any other, so each step and its energy audit are the integrator's own.
   point of a held pair arrives.
 
 The driver's Python path calls the first two step by step; the stretch calls
-the very same functions, so both paths give the same numbers. Like
+the very same functions, so both paths give the same numbers. With yielding storey
+springs (links with laws) a held step is :func:`held_fixed_point` (their end remainders
+by a fixed point around :func:`held_step`), in the Python step and in the stretch alike. Like
 :mod:`pounding.framework.engine.kernel`, everything runs compiled by numba or, without
 numba, as plain Python with the same arithmetic.
 """
@@ -33,10 +35,12 @@ import numpy as np
 
 from pounding.contact.base import newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import HeldContact, Status
+from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
+from pounding.framework.engine.inelastic import MAX_ITER
 from pounding.framework.engine.pairs import closing, features_of, pair_gap, slab_dofs
+from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work
 
 #: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
 #: and the driver share one specialization
@@ -380,23 +384,78 @@ def rows_where(mask, W):
 
 
 @njit
-def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings, rules):
+def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo, spr):
+    """A held step of h [s] (:func:`held_step`) of a model with links with laws (yielding storey
+    springs): the links' end remainders by a fixed point around it.
+
+    The links' remainders are loads like the ground's: -g0 at the start (the committed ``spr.now.g``)
+    and -g1 at the end, g1 iterated (:func:`~pounding.framework.engine.spring_core.fixed_point_pass`:
+    plain substitution, then under-relaxed, ``RELAXATION``) until the links' end deformations agree to
+    their groups' Newton tolerances. p0, p1 (n,) the ground motion's modal loads at the step's ends;
+    tr the :class:`~pounding.framework.engine.bundles.Transition` of h (A and B are read); ``laws``
+    the run's law updates (:mod:`pounding.framework.engine.links`); ``spr`` the
+    :class:`~pounding.framework.engine.bundles.LinkPass` (the links' trial ``spr.out`` is written);
+    the rest as :func:`held_step`. The driver's Python step and :func:`held_stretch` both take held
+    steps of models with links through this function.
+
+    Returns (status, z0, z1, f0, f1, end, arrival, apair): Status.DONE, or Status.DIVERGED when the
+    fixed point did not converge (the rest is then the last pass's); the rest as :func:`held_step`,
+    with the links' loads not in f0, f1 (the contact forces only).
+    """
+    links, now, out = spr.links, spr.now, spr.out
+    n = z.shape[0]
+    ns = now.f.shape[0]
+    e0 = np.empty(n)
+    e1 = np.empty(n)
+    g = np.empty(n)
+    prev = np.empty(ns)
+    for i in range(n):
+        e0[i] = p0[i] - now.g[i]
+    q1 = np.empty(n)
+    for w in RELAXATION:
+        for i in range(n):
+            g[i] = now.g[i]
+        for s in range(ns):
+            prev[s] = now.state[s, 0]
+        for _ in range(4 * MAX_ITER):
+            for i in range(n):
+                e1[i] = p1[i] - g[i]
+            z0, z1, f0, f1, end, arrival, apair = held_step(z, e0, e1, A, B, h, modes, held, contact, start, geo)
+            for i in range(n):
+                q1[i] = z1[i, 0]
+            if fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
+                return Status.DONE, z0, z1, f0, f1, end, arrival, apair
+    return Status.DIVERGED, z0, z1, f0, f1, end, arrival, apair
+
+
+@njit
+def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, rules, laws, run):
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
     Bundles and ``rules`` (None: the crossing locator; True: the paper's rules, the other
-    branch pruned before compiling) as in :func:`pounding.framework.engine.kernel.advance`, plus the contact force at the
-    current instant fc (n,) and the held pairs held_mask (P,) bool, both updated in place.
+    branch pruned before compiling) as in :func:`pounding.framework.engine.kernel.advance`, plus
+    ``held_pairs``, the :class:`~pounding.framework.engine.bundles.HeldPairs` (the contact force at
+    the current instant and the held pairs, both updated in place).
     Each step: :func:`stop_closing` on the held pairs' touching points (with ``rules`` None) or
     their points within the tolerance (the paper's rules), its kinetic-energy change booked as contact work,
     :func:`held_step`, then the same checks as the driver's Python step.
+
+    A model with links with laws (yielding storey springs) passes the run's law updates ``laws`` and
+    the :class:`~pounding.framework.engine.bundles.LinkStepping` ``run`` (its compliance is not read);
+    without them both are None, and their branches are pruned before compiling. Every step is then
+    :func:`held_fixed_point`, booked as the driver's Python step books it (``Driver.commit`` with the
+    links: the contact forces' and the remainders' loads in the energy audit, the remainders' work
+    to ``run.record.work``, the links committed and recorded).
 
     Returns (k, status, pair): the grid index reached and a
     :class:`~pounding.framework.engine.bundles.Status`: DONE (k1 reached), RELEASED (every held
     pair let go at the end of step k - 1), OVERLAP (in step k a point of held pair ``pair``
     arrives, or free pair ``pair`` would overlap: the state and the energy account are as at its
-    start, for the driver's Python step to locate the impact) or CONTACT (a free pair touches and
-    closes at the end of step k - 1).
+    start, for the driver's Python step to locate the impact), CONTACT (a free pair touches and
+    closes at the end of step k - 1) or, with links, DIVERGED (the fixed point did not converge in
+    step k; the state is its start).
     """
+    fc, held_mask = held_pairs.fc, held_pairs.mask
     A, B = tr.A, tr.B
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
@@ -410,6 +469,16 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
     contact = HeldContact(tol, touch)
     have = False  # start features known (the last step's end features)
     startS = (np.empty(0, dtype=np.int64), np.empty(0), np.empty((0, n)), np.empty((0, 2)))
+    if run is not None:
+        now, lrec = run.now, run.record
+        spr = LinkPass(run.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(n)))
+        nb = lrec.work.shape[0]
+        per = np.empty(nb)
+        w = np.empty(n)
+        ftot0 = np.empty(n)
+        ftot1 = np.empty(n)
+        gx0 = np.empty(n)
+        gx1 = np.empty(n)
     for k in range(k0, k1):
         held = np.nonzero(held_mask)[0]
         if not have:
@@ -423,7 +492,16 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
-        z0, z1, f0, f1, startS, arrival, apair = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
+        if run is None:
+            z0, z1, f0, f1, startS, arrival, apair = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
+        else:
+            status, z0, z1, f0, f1, startS, arrival, apair = held_fixed_point(laws, z, g0, g1, A, B, dt, modes, held, contact,
+                                                                              startS, geo, spr)
+            if status != Status.DONE:
+                for i in range(n):
+                    z[i, 1] = v_before[i]
+                E[:, :] = E_before
+                return k, Status.DIVERGED, -1
         have = True
         if arrival < overlap:  # a point of a held pair arrives: the driver locates and strikes it
             for i in range(n):
@@ -446,7 +524,12 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
                 E[:, :] = E_before
                 return k, Status.OVERLAP, p
         book_velocity_change(E, bidx, z[:, 1].copy(), z0[:, 1].copy())  # pressed points' start velocity projected (held_step)
-        _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
+        if run is None:
+            _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
+        else:
+            _book_links(tr, modes, dt, ag[k], ag[k + 1], g0, g1, z0, z1, f0, f1, E, run, spr.out,
+                        (per, w, ftot0, ftot1, gx0, gx1))
+            _commit_held_links(now, spr.out, lrec.peak)
         for i in range(n):
             z[i, 0] = z1[i, 0]
             z[i, 1] = z1[i, 1]
@@ -455,6 +538,11 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         if rec.every > 1:
             update_peaks(geo.rows, z0, z1, dt, geo.n_modes, modes.slab_building, rec.peak)
         _record(z, k + 1, rec)
+        if run is not None and (k + 1) % rec.every == 0:
+            row = (k + 1) // rec.every
+            for s in range(now.f.shape[0]):
+                for c in range(3):
+                    lrec.hist[c, row, s] = now.state[s, c]
         # release the held pairs that opened beyond the tolerance
         q = z[:, 0].copy()
         any_held = False
@@ -476,3 +564,56 @@ def held_stretch(tr, modes, ground, z, fc, held_mask, k0, k1, rec, geo, settings
         if not any_held:
             return k + 1, Status.RELEASED, -1
     return k1, Status.DONE, -1
+
+
+@njit
+def _book_links(tr, modes, h, ag0, ag1, p0, p1, z0, z1, f0, f1, E, run, out, buf):
+    """Book a held step of h [s] with links as ``Driver.accumulate_with_springs`` does: the contact
+    forces f0, f1 and the remainders' loads -g (committed ``run.now.g`` at the start, the trial's
+    ``out.g`` at the end) in the energy audit E, the remainders' work (by the integrator's rule,
+    :func:`~pounding.framework.engine.spring_core.spring_work`, on the ground loads p0, p1) to the
+    contact column and ``run.record.work`` per building, the links between slabs' part of it to
+    ``run.record.joined_work``. ``buf``: work arrays (per (nb,), then five (n,))."""
+    per, w, ftot0, ftot1, gx0, gx1 = buf
+    bidx = modes.bidx
+    g, g1 = run.now.g, out.g
+    lrec = run.record
+    n = z0.shape[0]
+    for i in range(n):
+        ftot0[i] = f0[i] - g[i]
+        ftot1[i] = f1[i] - g1[i]
+    _accumulate_forces(tr, modes, h, ag0, ag1, z0, z1, ftot0, ftot1, E)
+    spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, g, g1, w)
+    _add_per_building(w, bidx, per)
+    for b in range(per.shape[0]):
+        E[b, 2] += per[b]
+        lrec.work[b] += per[b]
+    if _has_joins(run.links):  # the links between slabs' part of it, by the same rule
+        joined_load(run.now.f, run.links, gx0)
+        joined_load(out.f, run.links, gx1)
+        spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, gx0, gx1, w)
+        _add_per_building(w, bidx, per)
+        for b in range(per.shape[0]):
+            lrec.joined_work[b] += per[b]
+
+
+@njit
+def _add_per_building(w, bidx, per):
+    """per (nb,) <- the sum of w (n,) over each building's modes (bidx), in mode order (numpy's bincount)."""
+    for b in range(per.shape[0]):
+        per[b] = 0.0
+    for i in range(w.shape[0]):
+        per[bidx[i]] += w[i]
+
+
+@njit
+def _commit_held_links(now, out, peak):
+    """Commit a held step's trial links ``out`` into ``now`` as ``Yielding.commit`` does: remainders,
+    states, their modal load, and the running peaks |deformation| ``peak`` (ns,)."""
+    for s in range(now.f.shape[0]):
+        now.f[s] = out.f[s]
+        for c in range(now.state.shape[1]):
+            now.state[s, c] = out.state[s, c]
+        peak[s] = max(peak[s], abs(out.state[s, 0]))
+    for i in range(now.g.shape[0]):
+        now.g[i] = out.g[i]

@@ -17,9 +17,11 @@ Python do the same arithmetic in the same order:
 * :func:`stretch`: grid steps between contact events, for the pounding driver and for the
   contact-free run (:func:`pounding.framework.post.inelastic_run.run_inelastic` is the driver without
   contact): :meth:`pounding.framework.engine.yielding.Yielding.advance`;
-* :func:`solve_springs` and :func:`forces_at`: the links' end remainders of one step of any length
-  (Newton), or at given end displacements (the fixed-point pass around held contact and penalty
-  forces), for the driver's Python step;
+* :func:`spring_step`: one step of any length (the linear step, the links' Newton, their end load),
+  the very step the stretch takes (:func:`_step_with_links`), for the driver's Python step;
+* :func:`forces_at` and :func:`fixed_point_pass`: the links' end remainders at given end
+  displacements, and a pass of the fixed point on them around held contact
+  (:func:`pounding.framework.engine.held.held_fixed_point`) and penalty forces;
 * :func:`spring_work`: the work of the remainders' modal loads in a step, by the integrator's
   energy rule.
 
@@ -216,22 +218,6 @@ def newton_work(bounds):
 
 
 @njit
-def solve_springs(laws, links, S, h, q_lin, now, out):
-    """Every group's Newton (:func:`solve_group`) for a step of h [s] whose linear part ends at the
-    modal displacements q_lin (n,), from the committed links ``now`` (:class:`LinkTrial`).
-
-    Writes the trial ``out`` (:class:`LinkTrial`: end remainders, trial states, their modal load).
-    Returns the index of a group whose Newton diverged, or -1.
-    """
-    ws = newton_work(links.bounds)
-    compliance_load(now.f, S, links.bounds, ws.sf)
-    j = _solve_springs(laws, links, S, h, q_lin, now, out, ws, np.zeros((links.tol.shape[0], 3), dtype=np.int64))
-    if j < 0:
-        end_load(out.f, links.G, links.bounds, links.gmodes, out.g)
-    return j
-
-
-@njit
 def _solve_springs(laws, links, S, h, q_lin, now, out, ws, counts):
     """Every group's Newton (:func:`solve_group`) with ``ws.sf`` = S f given (the stretch keeps it
     until f changes) and the work buffers ``ws`` (:class:`NewtonWork`). Adds every group's
@@ -262,6 +248,40 @@ def forces_at(laws, links, h, q1, now, out):
         r, _ = law_update(laws, law[s], d[s], h, state, params, trial, s)
         f1[s] = r - k0[s] * d[s]
     end_load(f1, G, bounds, gmodes, out.g)
+
+
+#: the fixed point's relaxation weights, tried in turn (:func:`fixed_point_pass`): plain substitution,
+#: then under-relaxed by 1/2 and 1/4 where the plain map does not settle
+RELAXATION = (1.0, 0.5, 0.25)
+
+
+@njit
+def fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
+    """One pass of the links' fixed point around a contact solve whose step of h [s] ended at the modal
+    displacements q1 (n,) with the remainders' end load g (n,): the trial ``out`` (:class:`LinkTrial`)
+    at q1 (:func:`forces_at`), then the convergence test and the next load.
+
+    Converged when every group's end deformations differ from the last pass's ``prev`` (ns,) [m] by
+    at most w times its Newton tolerance (deformations, not forces: a damper has no stiffness to scale
+    a force by; w scales the tolerance so that a relaxed iteration stops at the same residual as a
+    plain one). Otherwise prev takes the new deformations and g (n,) the next end load, in place:
+    out.g (w = 1), or g + w (out.g - g) (under-relaxed, w < 1). Returns True when converged."""
+    forces_at(laws, links, h, q1, now, out)
+    d, bounds = out.state, links.bounds
+    done = True
+    for j in range(bounds.shape[0] - 1):
+        worst = 0.0
+        for s in range(bounds[j], bounds[j + 1]):
+            worst = max(worst, abs(d[s, 0] - prev[s]))
+        if worst > w * links.tol[j]:
+            done = False
+    if done:
+        return True
+    for s in range(prev.shape[0]):
+        prev[s] = d[s, 0]
+    for i in range(g.shape[0]):
+        g[i] = out.g[i] if w == 1.0 else g[i] + w * (out.g[i] - g[i])
+    return False
 
 
 @njit
@@ -299,12 +319,61 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
 
 
 @njit
+def _step_with_links(laws, A, B, z0, p0, p1, h, links, S, now, out, ws, counts, qlin, z):
+    """z (n, 3) <- a step of h [s] from z0 (n, 3) with links: the integrator's linear step (A (n, 3, 3),
+    B (n, 3, 2)) with the modal loads p0 (the start's, the links' -g0 in it) and p1 (n,) at its ends,
+    the links' Newton on its end displacements (written to qlin (n,)), and their end load
+    -B1 out.g. Writes the trial ``out`` (:class:`LinkTrial`); ``ws``, ``counts`` as
+    :func:`_solve_springs`, with ``ws.sf`` = S now.f. Returns the index of a group whose Newton
+    diverged (z is then the linear step's), or -1."""
+    n = z0.shape[0]
+    for i in range(n):
+        for r in range(3):
+            z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0[i] + B[i, r, 1] * p1[i]
+        qlin[i] = z[i, 0]
+    j = _solve_springs(laws, links, S, h, qlin, now, out, ws, counts)
+    if j >= 0:
+        return j
+    f1, f, g1 = out.f, now.f, out.g
+    changed = False
+    for s in range(f.shape[0]):
+        if f1[s] != f[s]:
+            changed = True
+            break
+    if changed:
+        end_load(f1, links.G, links.bounds, links.gmodes, g1)
+    else:  # the same remainders: the same end load, bit for bit
+        for i in range(n):
+            g1[i] = now.g[i]
+    for i in range(n):
+        for r in range(3):
+            z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
+    return -1
+
+
+@njit
+def spring_step(laws, A, B, z, p0, p1, h, links, S, now, out):
+    """A step of h [s] from z (n, 3) of a model with links and no force depending on the step's end
+    (the driver's Python step, ``Driver.spring_trial``): :func:`_step_with_links`, as the compiled
+    :func:`stretch` takes each of its steps. p0, p1 (n,) the modal loads at the ends (p0 with the links'
+    -g0); S (ns, ns) the step's compliance; writes the trial ``out``. Returns (j, z1): the index of a
+    group whose Newton diverged, or -1, and the end state (n, 3)."""
+    n = z.shape[0]
+    ws = newton_work(links.bounds)
+    compliance_load(now.f, S, links.bounds, ws.sf)
+    z1 = np.empty((n, 3))
+    j = _step_with_links(laws, A, B, z, p0, p1, h, links, S, now, out, ws, np.zeros((links.tol.shape[0], 3), dtype=np.int64),
+                         np.empty(n), z1)
+    return j, z1
+
+
+@njit
 def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     """Grid steps k0 -> k1 of a model with links, until a slab pair comes within the contact tolerance.
 
     Each step is the driver's Python step without contact (``Driver.spring_trial`` and
-    ``Driver.commit``): the modal step with the remainders' start load -g, the links' Newton
-    (:func:`_solve_springs`), the end load, the energy audit (the remainders' work booked to
+    ``Driver.commit``): :func:`_step_with_links` (the modal step with the remainders' start load -g,
+    the links' Newton, the end load), the energy audit (the remainders' work booked to
     ``run.record.work`` per building and to the contact column as the Python path books it), the records.
     After the step every slab pair is checked (:func:`~pounding.framework.engine.pairs.pair_gap`'s cascade): when a pair ends within
     ``tol`` of contact (or overlapping), the step is rolled back (state, links and energy
@@ -335,7 +404,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     rows, n_modes = geo.rows, geo.n_modes
     pa, pb, off, radii, rest = geo.pa, geo.pb, geo.off, geo.radii, geo.rest
     links, S, now, lrec = run.links, run.S, run.now, run.record
-    G, bounds, gmodes = links.G, links.bounds, links.gmodes
+    bounds = links.bounds
     f, g, state = now.f, now.g, now.state
     work, counts, hist, joined_work = lrec.work, lrec.counts, lrec.hist, lrec.joined_work
     n = z.shape[0]
@@ -351,6 +420,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     w = np.empty(n)
     pg0 = np.empty(n)
     pg1 = np.empty(n)
+    pp0 = np.empty(n)
     per = np.empty(nb)
     da = np.empty(3)
     db = np.empty(3)
@@ -358,7 +428,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     xw = np.empty(4)
     out = LinkTrial(f1, trial, g1)
     ws = newton_work(bounds)
-    compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers solve_springs computes)
+    compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers spring_step computes)
     # the links between slabs: their modal load at the step's ends, whose work is booked apart
     joined = _has_joins(links)
     gx0 = np.zeros(n)
@@ -376,30 +446,18 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             # the Python step's loads: load(t) + fc - g0 with fc = 0, and load(t + h)
             pg0[i] = modal_load(L, i, ag0)
             pg1[i] = modal_load(L, i, ag1)
-            p0 = (pg0[i] + 0.0) - g[i]
-            p1 = pg1[i]
-            for r in range(3):
-                z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
-            qlin[i] = z[i, 0]
-        if _solve_springs(laws, links, S, dt, qlin, now, out, ws, counts) >= 0:
+            pp0[i] = (pg0[i] + 0.0) - g[i]
+        if _step_with_links(laws, A, B, z0, pp0, pg1, dt, links, S, now, out, ws, counts, qlin, z) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
                 z[i, 2] = z0[i, 2]
             return k, Status.DIVERGED, -1
-        changed = False
+        changed = False  # (S f is renewed on commit when the remainders changed)
         for s in range(ns):
             if f1[s] != f[s]:
                 changed = True
                 break
-        if changed:
-            end_load(f1, G, bounds, gmodes, g1)
-        else:  # the same remainders: the same end load, bit for bit
-            for i in range(n):
-                g1[i] = g[i]
-        for i in range(n):
-            for r in range(3):
-                z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
         # contact check: within the tolerance, the Python step decides
         for i in range(n):
             q1[i] = z[i, 0]

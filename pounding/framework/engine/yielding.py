@@ -19,7 +19,8 @@ velocities only, so the springs' states stay valid across impacts.
 
 Steps in which forces act that depend on the end state (pairs held in sustained contact,
 penalty forces) solve the springs by an outer fixed-point loop on their end remainders around
-the contact solve (:meth:`Yielding.fixed_point`): the map's contraction is the share of a
+the contact solve (:meth:`Yielding.fixed_point` for penalty forces; for held contact the same
+passes compiled with the held step, :func:`pounding.framework.engine.held.held_fixed_point`): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
 storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance. A
 link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than the step's inertia
@@ -28,7 +29,10 @@ link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than t
 Between contact events the driver's grid steps run compiled (:meth:`Yielding.advance`,
 :func:`pounding.framework.engine.spring_core.stretch`): the same step, and the slab pairs' check of the
 elastic kernel after it; a step ending with a pair within the contact tolerance is rolled back for
-the driver's Python step, which handles every contact event. The springs are links with laws in flat arrays
+the driver's Python step, which handles every contact event. Grid steps with pairs held in
+sustained contact run compiled too (:meth:`Yielding.advance_held`,
+:func:`pounding.framework.engine.held.held_stretch` with the links), each the held step's fixed point, until
+an event the driver handles. The springs are links with laws in flat arrays
 over every building (:class:`Yielding`); both paths solve them with the same compiled functions,
 which take the scene's laws as arguments (:mod:`pounding.framework.engine.links`), so they agree to
 rounding (bit for bit measured where no contact force acts at a step's end).
@@ -38,7 +42,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.framework.engine.bundles import LinkRecord, Links, LinkStepping, LinkTrial, Status
+from pounding.framework.engine.bundles import HeldPairs, LinkPass, LinkRecord, Links, LinkStepping, LinkTrial, Status
 from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
 
 #: what a diverged Newton of the links suggests: a smaller step, or, for a damper whose force rises
@@ -240,16 +244,19 @@ class Yielding:
         # slots a narrower law does not write keep their committed values
         return LinkTrial(np.empty(self.size), self.state.copy(), np.empty(self.n))
 
-    def solve(self, q_lin: np.ndarray, B1: np.ndarray, h: float) -> LinkTrial:
-        """Newton on every building for a step of h [s] whose linear part ends at q_lin (n,)."""
-        from pounding.framework.engine.spring_core import solve_springs
+    def step(self, z: np.ndarray, p0: np.ndarray, p1: np.ndarray, tr, h: float):
+        """A step of h [s] from z (n, 3) with the modal loads p0 (the links' -g0 in it) and p1 (n,) at
+        its ends, no force depending on its end (:func:`pounding.framework.engine.spring_core.spring_step`,
+        the compiled stretch's step); tr the integrator's transition for h (A, B). Returns (z1, trial)."""
+        from pounding.framework.engine.spring_core import spring_step
 
         out = self._trial()
-        j = solve_springs(self.updates, self.links, self.S(np.ascontiguousarray(B1)), float(h), np.ascontiguousarray(q_lin),
-                          self.now, out)
+        B = np.ascontiguousarray(tr.B)
+        j, z1 = spring_step(self.updates, np.ascontiguousarray(tr.A), B, z, p0, p1, float(h), self.links,
+                            self.S(np.ascontiguousarray(B[:, 0, 1])), self.now, out)
         if j >= 0:
             raise self._diverged(j)
-        return out
+        return z1, out
 
     def at(self, q1: np.ndarray, h: float) -> LinkTrial:
         """Remainders and trial states of a step of h [s] ending at displacements q1 (n,) (the fixed-point pass)."""
@@ -262,27 +269,43 @@ class Yielding:
     def fixed_point(self, solve, h: float):
         """Solve a step of h [s] whose contact forces depend on its end: ``solve(g1) -> (step, q1)``
         with the remainders' end load g1; iterate g1 until the springs' end deformations agree to
-        tolerance.
+        tolerance (the penalty laws' steps; held contact runs the same passes compiled,
+        :func:`pounding.framework.engine.held.held_fixed_point`).
 
         Plain substitution first; where it does not settle (buildings held together by contact
         forces, whose coupled compliance can make the plain map expand), under-relaxed
         substitution g <- g + w (g_new - g) with w = 1/2, then 1/4: the same fixed point, reached
-        from a contracting map. It stops when successive end deformations of every building's links
-        differ by at most w times its Newton tolerance, so that a relaxed iteration stops at the same
-        residual as a plain one (deformations, not forces: a damper has no stiffness to scale a force by)."""
-        for w in (1.0, 0.5, 0.25):
+        from a contracting map. Each pass is :func:`pounding.framework.engine.spring_core.fixed_point_pass`."""
+        from pounding.framework.engine.spring_core import RELAXATION, fixed_point_pass
+
+        h = float(h)
+        for w in RELAXATION:
             g, prev = self.g.copy(), self.state[:, 0].copy()
             for _ in range(4 * MAX_ITER):
                 st, q1 = solve(g)
-                new = self.at(q1, h)
-                # the end deformations themselves (a law with no initial stiffness, a damper, has no
-                # force scale to convert a change of its remainder into one of its deformation)
-                d = new.state[:, 0]
-                if all(np.max(np.abs(d[grp.lo:grp.hi] - prev[grp.lo:grp.hi]), initial=0.0) <= w * grp.tol for grp in self.groups):
+                new = self._trial()
+                if fixed_point_pass(self.updates, self.links, h, np.ascontiguousarray(q1, dtype=float), self.now, new, g, prev, w):
                     return st, new
-                prev = d.copy()
-                g = new.g if w == 1.0 else g + w * (new.g - g)
-        raise FloatingPointError(f"the yielding springs' fixed-point iteration with contact forces did not converge ({NEWTON_HINT})")
+        raise self.fixed_point_error()
+
+    @staticmethod
+    def fixed_point_error() -> FloatingPointError:
+        """What a fixed point that did not converge raises."""
+        return FloatingPointError(f"the yielding springs' fixed-point iteration with contact forces did not converge ({NEWTON_HINT})")
+
+    def held_step(self, z, p0, p1, A, B, h: float, modes, held, contact, start, geo):
+        """A held step of h [s] with the links' end remainders by the fixed point around it
+        (:func:`pounding.framework.engine.held.held_fixed_point`; arguments as there).
+        Returns (z0, z1, f0, f1, arrival, arriving, trial): the held step's (contact forces only) and the
+        links' trial (:class:`~pounding.framework.engine.bundles.LinkTrial`)."""
+        from pounding.framework.engine.held import held_fixed_point
+
+        out = self._trial()
+        status, z0, z1, f0, f1, _, arrival, arriving = held_fixed_point(self.updates, z, p0, p1, A, B, h, modes, held, contact,
+                                                                         start, geo, LinkPass(self.links, self.now, out))
+        if status != Status.DONE:
+            raise self.fixed_point_error()
+        return z0, z1, f0, f1, arrival, arriving, out
 
     def joined_part(self, force_work, tr, h: float, load0, load1, st, ftot0, ftot1, bidx) -> np.ndarray:
         """Work per building [J] of the links between slabs' modal loads in the step ``st`` of h [s]
@@ -334,6 +357,20 @@ class Yielding:
         if status == Status.DIVERGED:
             raise FloatingPointError(f"the links' Newton iteration did not converge in the step starting at "
                                      f"t = {k * driver.dt:g} s ({NEWTON_HINT})")
+        return k, status, pair
+
+    def advance_held(self, driver, mask: np.ndarray, k0: int, k1: int):
+        """Grid steps k0 -> k1 with the pairs ``mask`` (P,) bool held (updated in place), compiled
+        (:func:`pounding.framework.engine.held.held_stretch` with the links): the driver's held Python step
+        with the links, until an event the driver handles."""
+        from pounding.framework.engine.held import held_stretch
+
+        tr = driver.transition(driver.dt)
+        run = LinkStepping(self.links, self.S(np.ascontiguousarray(tr.B[:, 0, 1])), self.now, self.rec)
+        k, status, pair = held_stretch(tr, driver.model.modes, driver.ground, driver.z, HeldPairs(driver.fc, mask), int(k0),
+                                       int(k1), driver.rec, driver.model.geo, driver.settings, driver.rules, self.updates, run)
+        if status == Status.DIVERGED:
+            raise self.fixed_point_error()
         return k, status, pair
 
 
