@@ -230,6 +230,21 @@ def activate() -> None:
     _register_typeof()
     event.register("numba:compile", _compile_listener())
     _active = True
+    for hook in _activation_hooks:
+        hook()
+
+
+#: what a module needs from numba itself before its compiled functions are typed (called once, when
+#: numba is imported by :func:`activate`): a run served by the extension module built at install
+#: never imports numba, so no module may import it at its own import
+_activation_hooks: list = []
+
+
+def on_activate(hook) -> None:
+    """Call ``hook()`` when numba is set up (at once if it is already)."""
+    _activation_hooks.append(hook)
+    if _active:
+        hook()
 
 
 def _register_typeof() -> None:

@@ -410,6 +410,7 @@ class Driver:
         self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
         self._search_maps = self.integrator.search_maps() if self.search_record is not None else None
         self._step_search = None  # its bundle (step_search())
+        self._no_held = None  # the search's held pairs when none is held (held_search())
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -1067,7 +1068,7 @@ class Driver:
             if self.search_record is not None and self.springs is None and (self.sustained or z0 is self.z):
                 # only the ground and the held pairs act in the step: the same search, compiled whole
                 if not self.sustained:
-                    return self.locate_compiled(t, herm, p0, plist, None)
+                    return self.locate_compiled(t, herm, p0, plist, self.held_search(arrival=False, far=0.0, g0=0.0))
                 g0 = float(self.model.gaps(self.z[:, 0], plist).min())
                 return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=False, far=0.0, g0=g0))
             memo: dict[float, float] = {}
@@ -1115,8 +1116,8 @@ class Driver:
 
     def locate_compiled(self, t: float, herm: tuple, p0: np.ndarray, plist: np.ndarray, held) -> float | None:
         """:func:`pounding.framework.engine.event_search.locate` from the state at t [s] with start
-        load p0 (n,), for the pairs ``plist``, on the step's interpolant ``herm``; ``held`` None (only
-        the ground acts) or the held pairs' :class:`~pounding.framework.engine.bundles.HeldSearch`.
+        load p0 (n,), for the pairs ``plist``, on the step's interpolant ``herm``; ``held`` the held
+        pairs' :class:`~pounding.framework.engine.bundles.HeldSearch` (none held: only the ground acts).
         The step length to the zero [s], or None."""
         from pounding.framework.engine.event_search import locate
 
@@ -1132,6 +1133,12 @@ class Driver:
         from pounding.framework.engine.bundles import HeldSearch
 
         m = self.model
+        if not self.sustained:  # none held: the same bundle's type, with no pair (built once)
+            if self._no_held is None:
+                none = np.zeros(0, dtype=np.int64)
+                self._no_held = HeldSearch(none, HeldContact(float(self.tol), float(self.touch)), none, np.zeros(0), np.zeros((0, m.n)),
+                                           np.zeros((0, 2)), m.modes, False, 0.0, 0.0)
+            return self._no_held
         held = np.array(sorted(self.sustained), dtype=np.int64)
         pair0, gap0, W0, Q0, _ = m.touching(self.z[:, 0], held, self.tol, deep=True)
         return HeldSearch(held, HeldContact(float(self.tol), float(self.touch)), pair0, gap0, W0, Q0, m.modes, bool(arrival), float(far), float(g0))

@@ -107,18 +107,11 @@ def stepped_gap(hh, sol):
     step's start time [s], state (n, 3) and load (n,), the pairs (k,), the
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
     ``maps(omega, zeta, hh, params) -> (A, B)``, or None and the number of built-in maps:
-    :func:`step_maps`) and their parameters, and ``held``: None (only the ground acts in the step:
-    the pairs' smallest gap after the free step) or a
-    :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with held pairs, and its gap)."""
-    return _gap_after(hh, sol, sol[8])
-
-
-@njit
-def _gap_after(hh, sol, held):
-    """:func:`stepped_gap`, with ``held`` an argument of its own (numba then compiles only the branch
-    its type takes)."""
-    t, z, p0, plist, ex, maps, builtin, params, _ = sol
-    if held is None:
+    :func:`step_maps`) and their parameters, and ``held``: the held pairs'
+    :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with them, and its gap), or
+    one with no held pair (only the ground acts in the step: the pairs' smallest gap after it)."""
+    t, z, p0, plist, ex, maps, builtin, params, held = sol
+    if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
         p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
@@ -174,8 +167,9 @@ def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
     the step's cubic Hermite interpolant (h [s] its length); ``search``:
     :class:`~pounding.framework.engine.bundles.StepSearch`; ``maps``, ``params``: the integrator's
     compiled maps to any step length and their parameters
-    (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: None, or the held pairs'
-    :class:`~pounding.framework.engine.bundles.HeldSearch` (:func:`stepped_gap`)."""
+    (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: the held pairs'
+    :class:`~pounding.framework.engine.bundles.HeldSearch`, with none held where only the ground
+    acts (:func:`stepped_gap`)."""
     return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held), herm, eps, xtol, plist, search.geo)
 
 
@@ -192,7 +186,7 @@ def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, he
 BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
-def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held=None):
+def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
     """The compiled search on the integrator's maps and parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
     (arguments: :func:`locate_with`)."""

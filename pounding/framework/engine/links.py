@@ -32,24 +32,16 @@ from __future__ import annotations
 from pounding import compiler
 from pounding.compiler import njit
 
-if compiler.enabled():
-    import warnings
 
-    from numba import literal_unroll
-
-    # numba says so of every compiled function passed as an argument (the laws' updates here); it
-    # has typed and called them so since 0.49, and the tests check the stepping against closed
-    # forms and OpenSees: not a message for a user of a run
-    warnings.filterwarnings("ignore", message="First-class function type feature is experimental")
-else:
-    def literal_unroll(container):
-        """The tuple itself: a plain loop over the laws (the compiler is off)."""
-        return container
+def literal_unroll(container):
+    """The tuple itself: a plain loop over the laws (the compiler is off; with it on, numba's own
+    ``literal_unroll`` replaces this when numba is set up: :func:`_with_numba`)."""
+    return container
 
 
 class LawTuple(tuple):
     """The compiled updates of a run's laws, as the stepping takes them: a tuple whose numba type is
-    worked out once (:func:`_typeof_laws`).
+    worked out once (registered with numba by :func:`_with_numba`).
 
     numba types a plain tuple of compiled functions anew at every call from Python, through its
     first-class-function unification (``inspect.signature`` of every member): measured 320 us per
@@ -62,8 +54,14 @@ def law_tuple(laws: tuple) -> LawTuple:
     return LawTuple(cls.update for cls in laws)
 
 
-if compiler.enabled():
+def _with_numba() -> None:
+    """What the laws' tuple needs from numba, set up when numba is (not at this module's import: a
+    run served by the extension module never imports numba): its ``literal_unroll`` in this module's
+    globals, where the compiled stepping reads it, and the numba type of a :class:`LawTuple`."""
+    from numba import literal_unroll as unroll
     from numba.extending import typeof_impl
+
+    globals()["literal_unroll"] = unroll
 
     @typeof_impl.register(LawTuple)
     def _typeof_laws(val, c):
@@ -72,6 +70,16 @@ if compiler.enabled():
         if t is None:
             t = val.__dict__["numba_type"] = typeof_impl(tuple(val), c)
         return t
+
+
+if compiler.enabled():
+    import warnings
+
+    # numba says so of every compiled function passed as an argument (the laws' updates here); it
+    # has typed and called them so since 0.49, and the tests check the stepping against closed
+    # forms and OpenSees: not a message for a user of a run
+    warnings.filterwarnings("ignore", message="First-class function type feature is experimental")
+    compiler.on_activate(_with_numba)
 
 
 @njit
