@@ -12,6 +12,8 @@ compiled held stretch (:func:`pounding.framework.engine.held.held_stretch`) alik
 from __future__ import annotations
 
 import copy
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,39 +24,23 @@ from pounding.framework.engine.driver import Driver, Step
 from pounding.framework.post.energy_account import building_balances
 from pounding.io.scene import parse_scene
 
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
+import bench_walls  # noqa: E402  (the scene the walls' benchmark times)
+
 EPS = np.finfo(float).eps
-GAP, MOAT = 0.10, 0.10  # [m] to the neighbour (east), to the moat wall (west)
-YIELD = 1.5e5  # [N] an isolator line's yield force
-
-
-def _springs(start, end, k, **kw) -> dict:
-    return {"type": "storey_springs", "start": start, "end": end, "stiffness": k, **kw}
 
 
 def isolated_beside_a_wall(duration: float | None = None) -> dict:
-    """The isolated building on lead-rubber isolators (yield 1.5e5 N per line, hardening 0.1), its
-    neighbour and the moat wall; ``duration`` [s] of El Centro (None: the whole record)."""
-    iso = {"storeys": 1, "yield_force": YIELD, "hardening": 0.1, "hysteresis": "bilinear"}
-    isolated = {
-        "name": "isolated", "storey_heights": [1.0, 3.2, 3.2, 3.2, 3.2], "slab": [[0, 0], [12, 0], [12, 8], [0, 8]],
-        "mass": [150000.0, 135000.0, 135000.0, 135000.0, 120000.0], "damping": {"type": "rayleigh", "ratio": 0.05, "modes": [1, 3]},
-        "element": [_springs([0, 0], [12, 0], 5.0e6, **iso), _springs([0, 8], [12, 8], 5.0e6, **iso),
-                    _springs([0, 0], [0, 8], 5.0e6, **iso), _springs([12, 0], [12, 8], 5.0e6, **iso),
-                    _springs([0, 0], [12, 0], 2.0e8, first_storey=2), _springs([0, 8], [12, 8], 2.0e8, first_storey=2),
-                    _springs([6, 0], [6, 8], 4.0e8, first_storey=2)],
-    }
-    x0 = 12.0 + GAP
-    fixed = {
-        "name": "fixed", "storey_heights": [4.2, 3.2, 3.2, 3.2, 3.2, 3.2], "slab": [[x0, 0], [x0 + 10, 0], [x0 + 10, 8], [x0, 8]],
-        "mass_per_area": 1000.0, "damping": {"type": "rayleigh", "ratio": 0.05, "modes": [1, 3]},
-        "element": [_springs([x0, 0], [x0 + 10, 0], 1.5e8), _springs([x0, 8], [x0 + 10, 8], 1.5e8),
-                    _springs([x0 + 5, 0], [x0 + 5, 8], 3.0e8)],
-    }
-    analysis = {"contact": {"name": "impulse", "restitution": 0.5}, "silence": ["soft_storey", "isolation_damping"]}
+    """benchmarks/bench_walls.py's scene with lead-rubber isolators and the moat wall; ``duration`` [s]
+    of El Centro (None: the whole record)."""
+    data = bench_walls.scene_data(yielding=True, wall=True)
     if duration is not None:
-        analysis["duration"] = duration
-    return {"building": [isolated, fixed], "ground_motion": {"record": "elcentro", "pga": 0.5}, "analysis": analysis,
-            "wall": [{"name": "moat", "face": [[-MOAT, -1.0], [-MOAT, 9.0]], "top": 1.0}]}
+        data["analysis"]["duration"] = duration
+    return data
+
+
+#: [N] an isolator line's yield force (the scene's)
+YIELD = float(isolated_beside_a_wall()["building"][0]["element"][0]["yield_force"])
 
 
 class FirstYieldingHeldStep(Driver):
