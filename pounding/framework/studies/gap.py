@@ -241,11 +241,14 @@ class _Side:
     facade: bool
 
     def at(self, q: np.ndarray) -> np.ndarray:
-        """The displaced outline (k, 2) for the building's modal coordinates q (n,)."""
-        from pounding.contact.geometry import turned
+        """The displaced outline (k, 2) for the building's modal coordinates q (n,): the contact
+        geometry's exact turn (:func:`~pounding.contact.geometry.displaced`, compiled: the study's
+        maximisation asks it some thousand times a run)."""
+        from pounding.contact.geometry import displaced
 
         u, v, phi = self.rows @ q
-        return self.vertices + np.array([u, v]) + turned(self.vertices - self.centre, np.array([phi]))
+        return displaced(np.ascontiguousarray(self.vertices, dtype=float), np.ascontiguousarray(self.centre, dtype=float),
+                         float(u), float(v), float(phi))
 
 
 def _sides(result, a, b, site) -> tuple[_Side, _Side]:
