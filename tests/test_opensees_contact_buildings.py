@@ -48,7 +48,7 @@ import pytest
 
 from contact_pair import pair_scene
 from pounding.contact.hertzdamp import HertzDamp, hertzdamp_force
-from pounding.contact.pointwise import point_shares, solve_point_forces
+from pounding.contact.pointwise import PointLaw, contact_forces
 from pounding.framework.post.run import run
 from pounding.peer.opensees_contact import run_law_pounding
 
@@ -82,8 +82,7 @@ class TrialImpactHertzDamp(HertzDamp):
         params[first, 0] *= 1.0 + self.damping_ratio  # Kh (1 + xiNorm) delta^n, no rate term
         params[first, 2] = 0.0
         approach = np.array([0.0 if f else self._first[k][1] for f, k in zip(first, keys)])
-        solve = lambda p: solve_point_forces(hertzdamp_force, -contact.gap, -contact.rate, approach, p,  # noqa: E731
-                                             point_shares(contact), contact.S_q, contact.S_v)
+        solve = lambda p: contact_forces(PointLaw.single(hertzdamp_force, p), contact._replace(approach=approach))  # noqa: E731
         lam = solve(params)
         closing = -(contact.rate + contact.S_v @ lam)  # end-of-step penetration rates [m/s]
         if np.any(first & (closing <= 0.0)):  # OpenSees sets no damping for a contact that is not closing

@@ -20,7 +20,7 @@ impact at the lower speed c t later. ``kelvin``, ``hertz`` and ``penalty`` do no
 
 The solve: when both laws are given point by point (:meth:`~pounding.contact.base.ContactLaw.point_law`),
 the sum is one point law solved with the step by Newton's method
-(:func:`pounding.contact.pointwise.solve_point_forces`); otherwise the two laws' forces are swept in
+(:func:`pounding.contact.pointwise.contact_forces`); otherwise the two laws' forces are swept in
 turn, each seeing the other's as a known load (block Gauss-Seidel, as
 :func:`pounding.framework.engine.contact_laws.solve_forces` does for two pairs).
 """
@@ -33,7 +33,7 @@ from typing import ClassVar
 import numpy as np
 
 from pounding.contact.base import ContactLaw
-from pounding.contact.pointwise import point_shares, solve_point_forces
+from pounding.contact.pointwise import contact_forces
 
 #: block Gauss-Seidel of two laws not given point by point: relative change at which it stops
 SWEEP_RTOL = 1e-12
@@ -87,38 +87,24 @@ class BumperLaw(ContactLaw):
         return min(d for d in durations if not math.isnan(d))
 
     def point_law(self, m_eff: np.ndarray):
-        """The sum of the two point laws (see the module docstring), or None when either law is
-        not given point by point. Its kernel runs in Python, calling the two compiled ones."""
+        """The two point laws in parallel, the slabs' on the penetration less c t (see the module
+        docstring: :meth:`PointLaw.beside <pounding.contact.pointwise.PointLaw.beside>`), or None
+        when either law is not given point by point."""
         layer, slabs = self.layer.point_law(m_eff), self.slabs.point_law(m_eff)
         if layer is None or slabs is None:
             return None
-        (fb, pb), (fs, ps) = layer, slabs
-        nb, reach = pb.shape[1], self.reach
-
-        def bumper_force(delta, rate, approach_rate, params):
-            f1, d1, r1 = fb(delta, rate, approach_rate, params[:nb])
-            f2, d2, r2 = fs(delta - reach, rate, approach_rate, params[nb:])
-            return f1 + f2, d1 + d2, r1 + r2
-
-        return bumper_force, np.ascontiguousarray(np.hstack([pb, ps]))
+        return layer.beside(slabs, self.reach)
 
     def point_force(self, delta: float, rate: float, approach_rate: float, m_eff: float) -> tuple[float, float, float]:
         """(force [N], d/d delta [N/m], d/d rate [N s/m]) of one whole contact of effective mass
         ``m_eff`` [kg] (both laws point by point)."""
-        law, params = self.point_law(np.array([float(m_eff)]))
-        f, fd, fr = law(float(delta), float(rate), float(approach_rate), params[0])
-        return float(f), float(fd), float(fr)
+        return self.point_law(np.array([float(m_eff)])).at(0, delta, rate, approach_rate)
 
     def forces(self, contact) -> np.ndarray:
         """End-of-step forces lambda (m,) [N] of the m pressed points (the contact-law contract)."""
-        gap = np.asarray(contact.gap, dtype=float)
-        m_eff = 1.0 / np.diag(np.asarray(contact.W, dtype=float))
-        joint = self.point_law(m_eff)
+        joint = self.point_law(1.0 / np.diag(np.asarray(contact.W, dtype=float)))
         if joint is not None:
-            law, params = joint
-            return solve_point_forces(law, -gap, -np.asarray(contact.rate, dtype=float), np.asarray(contact.approach, dtype=float),
-                                      params, point_shares(contact), np.asarray(contact.S_q, dtype=float),
-                                      np.asarray(contact.S_v, dtype=float))
+            return contact_forces(joint, contact)
         return self._swept(contact)
 
     def _swept(self, contact) -> np.ndarray:

@@ -53,17 +53,28 @@ forces (a force vector lambda moves the gaps by S_q lambda, so delta = delta_0 -
 by Newton's method on that residual with the law's tangent, backtracking on its norm: the
 residual is monotone (every law's force grows with delta and delta', and S_q, S_v are positive
 semidefinite), so the solution is unique.
+
+A contact's force point by point is a :class:`PointLaw`: one or more compiled kernels acting in
+parallel, each on the penetration less its own shift (a bumper's layer, and the slabs' law once
+the layer is compressed by c t: :mod:`pounding.contact.bumper`). The solve is one compiled
+function that takes the kernels as a tuple (:mod:`pounding.compiler.unroll`: compiled once per
+tuple of kernels, each inlined), or the same function run as Python around a kernel only Python
+knows (a third party's law written without the compiler).
 """
 
 from __future__ import annotations
 
 import math
-from typing import ClassVar
+from typing import ClassVar, NamedTuple
 
 import numpy as np
 
+from pounding.compiler import Kernel, njit
+from pounding.compiler.unroll import LawTuple, kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw
 from pounding.errors import InputError
+
+unrolled_in(globals())  # this module's literal_unroll: numba's once numba is set up
 
 #: default Hertz stiffness of two concrete slabs [N/m^1.5]: Jankowski (2005), fitted to impact
 #: tests of concrete members (Earthquake Eng. Struct. Dyn. 34, 595-611)
@@ -103,6 +114,53 @@ def check_tolerance(value) -> float:
     return float(value)
 
 
+class PointLaw(NamedTuple):
+    """A contact's force law point by point: compiled kernels acting in parallel.
+
+    F(delta, delta', delta'_0) = sum_j F_j(delta - shifts[j], delta', delta'_0; params[:, starts[j]:starts[j+1]])
+
+    Attributes
+    ----------
+    kernels : LawTuple
+        The kernels ``(delta, rate, approach_rate, params_row) -> (force [N], d force / d delta
+        [N/m], d force / d rate [N s/m])`` (a compiled function each, or plain Python ones).
+    shifts : ndarray (j,)
+        Penetration [m] at which each kernel begins (0 for a law on its own).
+    starts : ndarray (j + 1,) int64
+        Each kernel's first column of ``params`` (and the end of the last).
+    params : ndarray (m, p)
+        The kernels' parameters at each of m points.
+    """
+
+    kernels: LawTuple
+    shifts: np.ndarray
+    starts: np.ndarray
+    params: np.ndarray
+
+    @classmethod
+    def single(cls, kernel, params: np.ndarray) -> "PointLaw":
+        """One kernel with its parameters (m, p) at m points."""
+        params = np.ascontiguousarray(params, dtype=float)
+        return cls(kernel_tuple((kernel,)), np.zeros(1), np.array([0, params.shape[1]], dtype=np.int64), params)
+
+    def beside(self, other: "PointLaw", shift: float) -> "PointLaw":
+        """This law in parallel with ``other`` acting on the penetration less ``shift`` [m]."""
+        return PointLaw(kernel_tuple(tuple(self.kernels) + tuple(other.kernels)), np.concatenate([self.shifts, other.shifts + shift]),
+                        np.concatenate([self.starts, other.starts[1:] + self.starts[-1]]),
+                        np.ascontiguousarray(np.hstack([self.params, other.params])))
+
+    @property
+    def compiled(self) -> bool:
+        """Whether every kernel is compiled (the solve then runs compiled whole)."""
+        return all(isinstance(k, Kernel) for k in self.kernels)
+
+    def at(self, i: int, delta: float, rate: float, approach_rate: float) -> tuple[float, float, float]:
+        """(force [N], d/d delta [N/m], d/d rate [N s/m]) at point i's parameters."""
+        f = point_force if self.compiled else point_force.py_func
+        out = f(self.kernels, self.shifts, self.starts, float(delta), float(rate), float(approach_rate), self.params[i])
+        return float(out[0]), float(out[1]), float(out[2])
+
+
 class PointwiseLaw(ContactLaw):
     """A force law given point by point (see the module docstring).
 
@@ -131,30 +189,23 @@ class PointwiseLaw(ContactLaw):
         """Parameters (m, p) [float64] of the law at m points of effective masses ``m_eff`` (m,) [kg]."""
         raise NotImplementedError
 
-    def point_law(self, m_eff: np.ndarray):
-        """(``law_force``, :meth:`params` at ``m_eff`` (m,) [kg]): this law point by point."""
-        return self.law_force, self.params(np.asarray(m_eff, dtype=float))
+    def point_law(self, m_eff: np.ndarray) -> PointLaw:
+        """This law point by point at m points of effective masses ``m_eff`` (m,) [kg]: its kernel
+        with :meth:`params`."""
+        return PointLaw.single(self.law_force, self.params(np.asarray(m_eff, dtype=float)))
 
     def point_force(self, delta: float, rate: float, approach_rate: float, m_eff: float) -> tuple[float, float, float]:
         """(force [N], d force / d delta [N/m], d force / d rate [N s/m]) of one whole contact of
         effective mass ``m_eff`` [kg] at penetration ``delta`` [m], rate ``rate`` [m/s], begun at
         ``approach_rate`` [m/s]."""
-        p = self.params(np.array([float(m_eff)]))[0]
-        f, fd, fr = self.law_force(float(delta), float(rate), float(approach_rate), p)
-        return float(f), float(fd), float(fr)
+        return self.point_law(np.array([float(m_eff)])).at(0, delta, rate, approach_rate)
 
     def forces(self, contact) -> np.ndarray:
         """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact
         state: ``gap``, ``rate`` (m,) without contact forces, ``S_q``, ``S_v``, ``W`` (m, m),
         ``approach``, ``share`` (m,)), shared by the face rule and solved with the step
-        (:func:`solve_point_forces`)."""
-        gap = np.asarray(contact.gap, dtype=float)
-        W = np.asarray(contact.W, dtype=float)
-        m_eff = 1.0 / np.diag(W)
-        return solve_point_forces(self.law_force, -gap, -np.asarray(contact.rate, dtype=float),
-                                  np.asarray(contact.approach, dtype=float), self.params(m_eff),
-                                  point_shares(contact), np.asarray(contact.S_q, dtype=float),
-                                  np.asarray(contact.S_v, dtype=float))
+        (:func:`contact_forces`)."""
+        return contact_forces(self.point_law(1.0 / np.diag(np.asarray(contact.W, dtype=float))), contact)
 
 
 def point_shares(contact) -> np.ndarray:
@@ -165,17 +216,51 @@ def point_shares(contact) -> np.ndarray:
     return np.ones(len(contact.gap)) if share is None else np.asarray(share, dtype=float)
 
 
-def evaluate(law_force, delta: np.ndarray, rate: np.ndarray, approach: np.ndarray, params: np.ndarray):
-    """Force, d/d delta and d/d rate (each (m,)) of ``law_force`` at m points."""
-    m = delta.shape[0]
-    f, fd, fr = np.empty(m), np.empty(m), np.empty(m)
-    for i in range(m):
-        f[i], fd[i], fr[i] = law_force(float(delta[i]), float(rate[i]), float(approach[i]), params[i])
+def contact_forces(law: PointLaw, contact) -> np.ndarray:
+    """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact-law
+    contract's state) under ``law``, shared by the face rule: :func:`solve_point_forces`, compiled
+    whole where every kernel is compiled, else the same function run as Python."""
+    solve = solve_point_forces if law.compiled else solve_point_forces.py_func
+    return solve(law.kernels, law.shifts, law.starts, law.params, -np.asarray(contact.gap, dtype=float),
+                 -np.asarray(contact.rate, dtype=float), np.ascontiguousarray(contact.approach, dtype=float),
+                 point_shares(contact), np.ascontiguousarray(contact.S_q, dtype=float), np.ascontiguousarray(contact.S_v, dtype=float))
+
+
+@njit
+def point_force(kernels, shifts, starts, delta, rate, approach_rate, params):
+    """(force [N], d/d delta [N/m], d/d rate [N s/m]) of one point: the kernels in parallel, kernel
+    j at the penetration ``delta - shifts[j]`` [m] with ``params[starts[j]:starts[j + 1]]``
+    (:class:`PointLaw`)."""
+    f, fd, fr = 0.0, 0.0, 0.0
+    j = 0
+    for kernel in literal_unroll(kernels):
+        a, b, c = kernel(delta - shifts[j], rate, approach_rate, params[starts[j]:starts[j + 1]])
+        f += a
+        fd += b
+        fr += c
+        j += 1
     return f, fd, fr
 
 
-def solve_point_forces(law_force, delta0: np.ndarray, rate0: np.ndarray, approach: np.ndarray, params: np.ndarray,
-                       share: np.ndarray, S_q: np.ndarray, S_v: np.ndarray) -> np.ndarray:
+@njit
+def _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, lam, out):
+    """out (4, m) <- the residual lam - share F(delta0 - S_q lam, rate0 - S_v lam), and F, dF/d delta,
+    dF/d rate at each point; returns max |residual|."""
+    m = delta0.shape[0]
+    norm = 0.0
+    for i in range(m):
+        d, v = delta0[i], rate0[i]
+        for j in range(m):
+            d -= S_q[i, j] * lam[j]
+            v -= S_v[i, j] * lam[j]
+        out[1, i], out[2, i], out[3, i] = point_force(kernels, shifts, starts, d, v, approach[i], params[i])
+        out[0, i] = lam[i] - share[i] * out[1, i]
+        norm = max(norm, abs(out[0, i]))
+    return norm
+
+
+@njit
+def solve_point_forces(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v):
     """End-of-step forces lambda (m,) [N] of m points solved with the step.
 
     Solves ``lambda_i = share_i F(delta_i, delta'_i, approach_i, params_i)`` with
@@ -185,40 +270,44 @@ def solve_point_forces(law_force, delta0: np.ndarray, rate0: np.ndarray, approac
 
     Parameters
     ----------
-    law_force : compiled point law (see the module docstring)
+    kernels, shifts, starts, params
+        The law point by point (the fields of a :class:`PointLaw`; ``params`` (m, p)).
     delta0, rate0 : ndarray (m,)
         Penetrations [m] and their rates [m/s] at the step's end without contact forces.
     approach : ndarray (m,)
         Closing speed when each point's contact began [m/s].
-    params : ndarray (m, p)
-        The law's parameters at each point.
     share : ndarray (m,)
         The share of the law each point carries (:func:`point_shares`).
     S_q, S_v : ndarray (m, m)
         Compliances of the end-of-step gaps [m/N] and rates [m/(N s)] to the forces.
     """
     m = delta0.shape[0]
-    lam = np.zeros(m)
-
-    def residual(lam):
-        f, fd, fr = evaluate(law_force, delta0 - S_q @ lam, rate0 - S_v @ lam, approach, params)
-        return lam - share * f, f, fd, fr
-
-    r, f, fd, fr = residual(lam)
-    scale = max(float(np.max(np.abs(share * f), initial=0.0)), 1e-300)
+    lam, trial = np.zeros(m), np.zeros(m)
+    now, new = np.empty((4, m)), np.empty((4, m))  # residual, F, dF/d delta, dF/d rate: at lam, and at a trial
+    J = np.empty((m, m))
+    norm = _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, lam, now)
+    scale = 1e-300
+    for i in range(m):
+        scale = max(scale, abs(share[i] * now[1, i]))
     for _ in range(NEWTON_ITERATIONS):
-        norm = float(np.max(np.abs(r), initial=0.0))
         if norm <= NEWTON_RTOL * scale:
             break
-        J = np.eye(m) + (share * fd)[:, None] * S_q + (share * fr)[:, None] * S_v
-        step = np.linalg.solve(J, -r)
+        for i in range(m):
+            for j in range(m):
+                J[i, j] = (1.0 if i == j else 0.0) + share[i] * now[2, i] * S_q[i, j] + share[i] * now[3, i] * S_v[i, j]
+        step = np.linalg.solve(J, -now[0])
         t = 1.0
+        trial_norm = norm
         for _ in range(40):  # backtrack: the residual's kinks (contact lost, force clamped) can overshoot
-            r_new, f_new, fd_new, fr_new = residual(lam + t * step)
-            if float(np.max(np.abs(r_new), initial=0.0)) < norm:
+            for i in range(m):
+                trial[i] = lam[i] + t * step[i]
+            trial_norm = _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, trial, new)
+            if trial_norm < norm:
                 break
             t *= 0.5
-        lam = lam + t * step
-        r, f, fd, fr = r_new, f_new, fd_new, fr_new
-        scale = max(scale, float(np.max(np.abs(lam), initial=0.0)))
+        for i in range(m):
+            lam[i] = trial[i]
+            scale = max(scale, abs(lam[i]))
+        now[:] = new
+        norm = trial_norm
     return lam
