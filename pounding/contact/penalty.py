@@ -9,7 +9,7 @@ with the dashpot from the restitution k by Anagnostopoulos (1988):
 where m_eff = 1/a is the effective mass of the two slabs at the contact point
 (for two point masses, m1 m2 / (m1 + m2), the original form). Several points
 pressed at once (two ends of a face) share one dashpot matrix that gives every
-contact mode that ratio (:meth:`Penalty.dashpots`). That relation
+contact mode that ratio (:func:`dashpot_matrix`). That relation
 assumes a dashpot that may pull; with the force clamped at zero the rebound of
 a stiff contact is larger than k (0.551 for k = 0.5, 0.135 for k = 0). With
 ``dashpot = "no_tension"`` xi is instead calibrated so that the clamped
@@ -30,6 +30,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from pounding.compiler import njit
 from pounding.contact.base import ContactLaw, ContactState
 from pounding.errors import InputError
 
@@ -89,72 +90,86 @@ class Penalty(ContactLaw):
 
     def forces(self, contact: ContactState) -> np.ndarray:
         """End-of-step forces (see :meth:`ContactLaw.forces`): lambda = k delta + C delta' on the
-        points that push, solved with the step, ``(I + K S_q + C S_v) lambda = -K gap - C rate``
-        over an active set (a point whose force would pull is let go)."""
+        points that push, solved with the step (:func:`penalty_forces`, compiled)."""
         c = contact
-        m = len(c.gap)
-        ks = self.point_springs(c)
-        active = np.ones(m, dtype=bool)
-        lam = np.zeros(m)
-        for _ in range(m + 1):  # active set: drop points that would pull
-            idx = np.flatnonzero(active)
-            if idx.size == 0:
-                break
-            if idx.size == m:  # every point (the first pass, mostly the last): no copies to gather
-                ki, W, S_q, S_v, gap, rate = ks, c.W, c.S_q, c.S_v, c.gap, c.rate
-            else:
-                ki, gap, rate = ks[idx], c.gap[idx], c.rate[idx]
-                W, S_q, S_v = (a[idx][:, idx] for a in (c.W, c.S_q, c.S_v))
-            C = self.point_dashpots(W, ki)
-            K = np.eye(idx.size) + ki[:, None] * S_q + C @ S_v
-            sol = np.linalg.solve(K, -ki * gap - C @ rate)
-            lam[:] = 0.0
-            lam[idx] = sol
-            if np.all(sol >= 0):
-                break
-            active[idx[sol < 0]] = False
-        return np.maximum(lam, 0.0)
+        return penalty_forces(np.ascontiguousarray(c.W, dtype=float), np.ascontiguousarray(c.S_q, dtype=float),
+                              np.ascontiguousarray(c.S_v, dtype=float), np.ascontiguousarray(c.gap, dtype=float),
+                              np.ascontiguousarray(c.rate, dtype=float), self.point_springs(c), float(self.damping_ratio))
 
     def point_springs(self, contact: ContactState) -> np.ndarray:
         """Spring of every point (m,) [N/m]: k_p at each."""
         return np.full(len(contact.gap), self.stiffness)
 
-    def point_dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """Dashpot matrix (m, m) [N s/m] of points with Delassus matrix W and springs k (m,):
-        :meth:`dashpots` (one spring k_p at every point)."""
-        return self.dashpots(W)
+    def dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
+        """Dashpot matrix (m, m) [N s/m] of points with Delassus matrix W (m, m) and springs k (m,)
+        [N/m] (:func:`dashpot_matrix` with this law's damping ratio)."""
+        return dashpot_matrix(np.ascontiguousarray(W, dtype=float), np.ascontiguousarray(k, dtype=float), float(self.damping_ratio))
 
-    def dashpots_for(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """Dashpot matrix C (m, m) [N s/m] for points with springs k (m,) [N/m] of their own.
 
-        The points' mass is M = W^-1; C = 2 xi M^1/2 (M^-1/2 K M^-1/2)^1/2 M^1/2 gives every
-        mode of (M, K = diag k) the damping ratio xi (with k equal at every point it is
-        :meth:`dashpots`' 2 xi sqrt(k) W^-1/2). Directions of W with no compliance get none.
-        """
-        lam, V = np.linalg.eigh(0.5 * (W + W.T))
-        keep = lam > 1e-12 * max(lam.max(), 0.0)
-        Vk, lk = V[:, keep], lam[keep]
-        Mh = (Vk / np.sqrt(lk)) @ Vk.T  # M^1/2 = W^-1/2 on the compliant directions
-        Wh = (Vk * np.sqrt(lk)) @ Vk.T  # M^-1/2 = W^1/2
-        A = Wh @ (k[:, None] * Wh)
-        a, U = np.linalg.eigh(0.5 * (A + A.T))
-        root = (U * np.sqrt(np.maximum(a, 0.0))) @ U.T
-        return 2.0 * self.damping_ratio * Mh @ root @ Mh
+@njit
+def dashpot_matrix(W, k, xi):
+    """Dashpot matrix C (m, m) [N s/m] of m points pressed together, with Delassus matrix W (m, m)
+    [1/kg] and springs k (m,) [N/m], that gives every contact mode the damping ratio xi.
 
-    def dashpots(self, W: np.ndarray) -> np.ndarray:
-        """Dashpot matrix C (m, m) [N s/m] of the points pressed together, for their Delassus matrix W.
+    The points' mass is M = W^-1; C = 2 xi M^1/2 (M^-1/2 K M^-1/2)^1/2 M^1/2 gives every mode of
+    (M, K = diag k) the ratio xi. With one spring k_p at every point it is 2 xi sqrt(k_p) W^-1/2:
+    one point gets 2 xi sqrt(k_p m_eff), m_eff = 1/a (Anagnostopoulos), and two ends of a face
+    pressed together rebound as one contact would. Directions of W with no compliance (rounding:
+    eigenvalues below 1e-12 of the largest) get no dashpot: nothing moves along them.
+    """
+    m = W.shape[0]
+    lam, V = np.linalg.eigh(0.5 * (W + W.T))
+    top = max(np.max(lam), 0.0)
+    root_w, inv_root_w = np.zeros(m), np.zeros(m)
+    for i in range(m):
+        if lam[i] > 1e-12 * top:
+            root_w[i] = math.sqrt(lam[i])
+            inv_root_w[i] = 1.0 / root_w[i]
+    Mh = (V * inv_root_w) @ V.T  # M^1/2 = W^-1/2 on the compliant directions
+    Wh = (V * root_w) @ V.T  # M^-1/2 = W^1/2
+    A = Wh @ (np.expand_dims(k, 1) * Wh)
+    a, U = np.linalg.eigh(0.5 * (A + A.T))
+    root = (U * np.sqrt(np.maximum(a, 0.0))) @ U.T
+    return 2.0 * xi * (Mh @ root @ Mh)
 
-        The m points' springs k_p I act on masses W^-1 (the pair's mass seen at the points), so
-        C = 2 xi sqrt(k_p) W^(-1/2) gives every contact mode the damping ratio xi: one point
-        gets 2 xi sqrt(k_p m_eff), m_eff = 1/a (Anagnostopoulos), and two ends of a face pressed
-        together rebound as one contact would. Directions of W with no compliance (rounding) get
-        no dashpot: nothing moves along them.
-        """
-        lam, V = np.linalg.eigh(0.5 * (W + W.T))
-        keep = lam > 1e-12 * max(lam.max(), 0.0)
-        inv_sqrt = np.zeros_like(lam)
-        inv_sqrt[keep] = 1.0 / np.sqrt(lam[keep])
-        return 2.0 * self.damping_ratio * np.sqrt(self.stiffness) * (V * inv_sqrt) @ V.T
+
+@njit
+def penalty_forces(W, S_q, S_v, gap, rate, k, xi):
+    """End-of-step forces lambda (m,) [N] of m points, each a spring k (m,) [N/m] with the dashpots
+    of :func:`dashpot_matrix` (damping ratio xi), solved with the step:
+
+        (I + diag(k) S_q + C S_v) lambda = -k gap - C rate
+
+    over an active set (a point whose force would pull is let go, and the rest solved again); W,
+    S_q, S_v (m, m) the points' Delassus matrix and compliances, gap [m] and rate [m/s] (m,) their
+    end-of-step values without contact forces."""
+    m = gap.shape[0]
+    active = np.ones(m, dtype=np.bool_)
+    lam = np.zeros(m)
+    for _ in range(m + 1):  # active set: drop points that would pull
+        idx = np.flatnonzero(active)
+        n = idx.shape[0]
+        if n == 0:
+            break
+        Wa, Sq, Sv = np.empty((n, n)), np.empty((n, n)), np.empty((n, n))
+        ka, ga, ra = np.empty(n), np.empty(n), np.empty(n)
+        for i in range(n):
+            ka[i], ga[i], ra[i] = k[idx[i]], gap[idx[i]], rate[idx[i]]
+            for j in range(n):
+                Wa[i, j], Sq[i, j], Sv[i, j] = W[idx[i], idx[j]], S_q[idx[i], idx[j]], S_v[idx[i], idx[j]]
+        C = dashpot_matrix(Wa, ka, xi)
+        K = np.eye(n) + np.expand_dims(ka, 1) * Sq + C @ Sv
+        sol = np.linalg.solve(K, -ka * ga - C @ ra)
+        lam[:] = 0.0
+        pulls = False
+        for i in range(n):
+            lam[idx[i]] = sol[i]
+            if sol[i] < 0.0:
+                active[idx[i]] = False
+                pulls = True
+        if not pulls:
+            break
+    return np.maximum(lam, 0.0)
 
 
 def no_tension_restitution(xi: float) -> float:
@@ -222,10 +237,6 @@ class FacadePenalty(Penalty):
     def point_springs(self, contact: ContactState) -> np.ndarray:
         """Spring of every point (m,) [N/m]: k_p in series with the struck element's local stiffness."""
         return self.point_stiffness(contact.local_stiffness)
-
-    def point_dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """Dashpot matrix (m, m) [N s/m] for springs k (m,) of their own (:meth:`dashpots_for`)."""
-        return self.dashpots_for(W, k)
 
     def point_stiffness(self, local: np.ndarray) -> np.ndarray:
         """Springs (m,) [N/m] of points whose struck element has the local stiffness ``local`` (m,)
