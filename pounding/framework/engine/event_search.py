@@ -30,7 +30,9 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
-from pounding.framework.engine.held import held_step
+from pounding.framework.engine.bundles import LinkPass, LinkTrial, Status
+from pounding.framework.engine.held import held_fixed_point, held_step
+from pounding.framework.engine.spring_core import compliance, spring_step
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
 from pounding.solvers.exact_partial import exact_maps
 from pounding.solvers.newmark import alpha_maps
@@ -103,22 +105,25 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 @njit
 def stepped_gap(hh, sol):
     """The gap [m] the search seeks the zero of, after the integrator's step of hh [s] (at hh <= 0,
-    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held): the
-    step's start time [s], state (n, 3) and load (n,), the pairs (k,), the
+    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held, springs):
+    the step's start time [s], state (n, 3) and load (n,) (with the links' start load -g0 in it
+    where only the ground acts), the pairs (k,), the
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
     ``maps(omega, zeta, hh, params) -> (A, B)``, or None and the number of built-in maps:
-    :func:`step_maps`) and their parameters, and ``held``: the held pairs'
+    :func:`step_maps`) and their parameters, ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with them, and its gap), or
-    one with no held pair (only the ground acts in the step: the pairs' smallest gap after it)."""
-    t, z, p0, plist, ex, maps, builtin, params, held = sol
+    one with no held pair (only the ground acts in the step: the pairs' smallest gap after it), and
+    ``springs``: the run's links with laws (:class:`~pounding.framework.engine.bundles.LinkSearch`),
+    or None (every building elastic)."""
+    t, z, p0, plist, ex, maps, builtin, params, held, springs = sol
     if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
         p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
         if hh == ex.dt:
-            return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
+            return free_gap(springs, ex.A, ex.B, z, p0, p1, hh, plist, ex.geo)
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-        return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
+        return free_gap(springs, A, B, z, p0, p1, hh, plist, ex.geo)
     if hh <= 0.0:
         return held.g0
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
@@ -126,11 +131,47 @@ def stepped_gap(hh, sol):
         A, B = ex.A, ex.B
     else:
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-    _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
-                                           (held.pair0, held.gap0, held.W0, held.Q0), ex.geo)
+    z1, arrival = held_end(springs, z, p0, p1, A, B, hh, held, ex.geo)
     if held.arrival:
         return arrival if arrival < np.inf else held.far
     return _smallest_gap(z1[:, 0].copy(), plist, ex.geo)
+
+
+@njit
+def free_gap(springs, A, B, z, p0, p1, hh, plist, geo):
+    """The smallest gap [m] of the pairs ``plist`` after a step of hh [s] from z (n, 3) in which only
+    the ground acts, by the maps A (n, 3, 3), B (n, 3, 2), with the modal loads p0, p1 (n,) at its
+    ends: the integrator's linear step (``springs`` None; numba drops the other branch), or the
+    links' own step (:func:`~pounding.framework.engine.spring_core.spring_step`, the driver's
+    ``Yielding.step``: their Newton with the step's compliance, p0 holding their start load -g0)."""
+    if springs is None:
+        return stepped_min_gap(A, B, z, p0, p1, plist, geo)
+    links, now = springs.links, springs.now
+    out = LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0]))  # (Yielding._trial)
+    j, z1 = spring_step(springs.laws, A, B, z, p0, p1, hh, links, compliance(links, B[:, 0, 1].copy()), now, out)
+    if j >= 0:  # (the driver raises what its trial step raises)
+        springs.failed[0] = j
+    return _smallest_gap(z1[:, 0].copy(), plist, geo)
+
+
+@njit
+def held_end(springs, z, p0, p1, A, B, hh, held, geo):
+    """(z1 (n, 3), arrival [m]) of the held step of hh [s] from z (the held pairs'
+    :class:`~pounding.framework.engine.bundles.HeldSearch`), with the ground's modal loads p0, p1
+    (n,) at its ends: :func:`~pounding.framework.engine.held.held_step` (``springs`` None), or with
+    the links :func:`~pounding.framework.engine.held.held_fixed_point`, as the driver's held trial
+    takes them."""
+    start = (held.pair0, held.gap0, held.W0, held.Q0)
+    if springs is None:
+        _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact, start, geo)
+        return z1, arrival
+    now = springs.now
+    spr = LinkPass(springs.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0])))
+    status, _, z1, _, _, _, arrival, _ = held_fixed_point(springs.laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
+                                                          start, geo, spr)
+    if status != Status.DONE:
+        springs.failed[0] = 0
+    return z1, arrival
 
 
 @njit
@@ -161,7 +202,7 @@ def step_maps(maps, builtin, omega, zeta, hh, params):
 
 
 @njit
-def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
+def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs):
     """:func:`crossing_search` on the integrator's step from state z (n, 3) at t [s] with start load
     p0 (n,), for the pairs plist (k,): (found, hs) (see there). ``herm`` = (q0, v0, q1, v1 (n,), h)
     the step's cubic Hermite interpolant (h [s] its length); ``search``:
@@ -169,16 +210,17 @@ def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
     compiled maps to any step length and their parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch`, with none held where only the ground
-    acts (:func:`stepped_gap`)."""
-    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held), herm, eps, xtol, plist, search.geo)
+    acts (:func:`stepped_gap`); ``springs``: the links with laws'
+    :class:`~pounding.framework.engine.bundles.LinkSearch`, or None (every building elastic)."""
+    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held, springs), herm, eps, xtol, plist, search.geo)
 
 
 @njit
-def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held):
+def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held, springs):
     """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
     directly: an entry without a function argument (the extension module takes arrays, numbers
     and bundles only, and numba does not cache a function that holds a function value)."""
-    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held, springs), herm, eps, xtol, plist, search.geo)
 
 
 #: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third
@@ -186,14 +228,14 @@ def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, he
 BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
-def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
+def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs=None):
     """The compiled search on the integrator's maps and parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
     (arguments: :func:`locate_with`)."""
     for j, known in enumerate(BUILTIN_MAPS):
         if maps is known:
-            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held)
-    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held)
+            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, springs)
+    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs)
 
 
 @njit
