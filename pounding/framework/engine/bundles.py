@@ -297,12 +297,12 @@ class HeldPairs(NamedTuple):
 
 class LinkSearch(NamedTuple):
     """The links with laws of a run, for the compiled impact search's trial steps
-    (:func:`pounding.framework.engine.event_search.locate`): each trial is the links' own step
-    (:func:`pounding.framework.engine.spring_core.spring_step`, or with held pairs
-    :func:`pounding.framework.engine.held.held_fixed_point`) from the committed links, whose trial
-    is discarded."""
+    (:func:`pounding.framework.engine.event_search.locate`, which takes the laws' compiled updates
+    beside it: arrays only here, which numba's dispatcher types without Python, as every bundle): each
+    trial is the links' own step (:func:`pounding.framework.engine.spring_core.spring_step`, or with
+    held pairs :func:`pounding.framework.engine.held.held_fixed_point`) from the committed links,
+    whose trial is discarded."""
 
-    laws: tuple  #: the run's law updates (:func:`pounding.framework.engine.links.law_tuple`)
     links: Links  #: the links and their laws' parameters
     now: LinkTrial  #: the committed links (read)
     #: (1,) int64, set by the search: -1, or where a trial's links did not converge, the Newton group

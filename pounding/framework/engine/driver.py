@@ -1126,8 +1126,9 @@ class Driver:
 
         maps, params = self._search_maps
         springs = self.link_search()
+        laws = None if springs is None else self.springs.updates
         found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params, held,
-                           springs)
+                           laws, springs)
         if springs is not None and springs.failed[0] >= 0:  # a trial's Newton or fixed point failed: as the trial step says
             raise self.springs.fixed_point_error() if self.sustained else self.springs._diverged(int(springs.failed[0]))
         return float(hs) if found else None
@@ -1142,7 +1143,7 @@ class Driver:
             from pounding.framework.engine.bundles import LinkSearch
 
             sp = self.springs
-            self._link_search = LinkSearch(sp.updates, sp.links, sp.now, np.full(1, -1, dtype=np.int64))
+            self._link_search = LinkSearch(sp.links, sp.now, np.full(1, -1, dtype=np.int64))
         self._link_search.failed[0] = -1
         return self._link_search
 

@@ -105,7 +105,7 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 @njit
 def stepped_gap(hh, sol):
     """The gap [m] the search seeks the zero of, after the integrator's step of hh [s] (at hh <= 0,
-    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held, springs):
+    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held, laws, springs):
     the step's start time [s], state (n, 3) and load (n,) (with the links' start load -g0 in it
     where only the ground acts), the pairs (k,), the
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
@@ -113,17 +113,17 @@ def stepped_gap(hh, sol):
     :func:`step_maps`) and their parameters, ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with them, and its gap), or
     one with no held pair (only the ground acts in the step: the pairs' smallest gap after it), and
-    ``springs``: the run's links with laws (:class:`~pounding.framework.engine.bundles.LinkSearch`),
-    or None (every building elastic)."""
-    t, z, p0, plist, ex, maps, builtin, params, held, springs = sol
+    ``laws``, ``springs``: the run's links' law updates (:mod:`pounding.framework.engine.links`) and
+    the links (:class:`~pounding.framework.engine.bundles.LinkSearch`), or None (every building elastic)."""
+    t, z, p0, plist, ex, maps, builtin, params, held, laws, springs = sol
     if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
         p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
         if hh == ex.dt:
-            return free_gap(springs, ex.A, ex.B, z, p0, p1, hh, plist, ex.geo)
+            return free_gap(laws, springs, ex.A, ex.B, z, p0, p1, hh, plist, ex.geo)
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-        return free_gap(springs, A, B, z, p0, p1, hh, plist, ex.geo)
+        return free_gap(laws, springs, A, B, z, p0, p1, hh, plist, ex.geo)
     if hh <= 0.0:
         return held.g0
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
@@ -131,14 +131,14 @@ def stepped_gap(hh, sol):
         A, B = ex.A, ex.B
     else:
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-    z1, arrival = held_end(springs, z, p0, p1, A, B, hh, held, ex.geo)
+    z1, arrival = held_end(laws, springs, z, p0, p1, A, B, hh, held, ex.geo)
     if held.arrival:
         return arrival if arrival < np.inf else held.far
     return _smallest_gap(z1[:, 0].copy(), plist, ex.geo)
 
 
 @njit
-def free_gap(springs, A, B, z, p0, p1, hh, plist, geo):
+def free_gap(laws, springs, A, B, z, p0, p1, hh, plist, geo):
     """The smallest gap [m] of the pairs ``plist`` after a step of hh [s] from z (n, 3) in which only
     the ground acts, by the maps A (n, 3, 3), B (n, 3, 2), with the modal loads p0, p1 (n,) at its
     ends: the integrator's linear step (``springs`` None; numba drops the other branch), or the
@@ -148,14 +148,14 @@ def free_gap(springs, A, B, z, p0, p1, hh, plist, geo):
         return stepped_min_gap(A, B, z, p0, p1, plist, geo)
     links, now = springs.links, springs.now
     out = LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0]))  # (Yielding._trial)
-    j, z1 = spring_step(springs.laws, A, B, z, p0, p1, hh, links, compliance(links, B[:, 0, 1].copy()), now, out)
+    j, z1 = spring_step(laws, A, B, z, p0, p1, hh, links, compliance(links, B[:, 0, 1].copy()), now, out)
     if j >= 0:  # (the driver raises what its trial step raises)
         springs.failed[0] = j
     return _smallest_gap(z1[:, 0].copy(), plist, geo)
 
 
 @njit
-def held_end(springs, z, p0, p1, A, B, hh, held, geo):
+def held_end(laws, springs, z, p0, p1, A, B, hh, held, geo):
     """(z1 (n, 3), arrival [m]) of the held step of hh [s] from z (the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch`), with the ground's modal loads p0, p1
     (n,) at its ends: :func:`~pounding.framework.engine.held.held_step` (``springs`` None), or with
@@ -167,7 +167,7 @@ def held_end(springs, z, p0, p1, A, B, hh, held, geo):
         return z1, arrival
     now = springs.now
     spr = LinkPass(springs.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0])))
-    status, _, z1, _, _, _, arrival, _ = held_fixed_point(springs.laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
+    status, _, z1, _, _, _, arrival, _ = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
                                                           start, geo, spr)
     if status != Status.DONE:
         springs.failed[0] = 0
@@ -202,7 +202,7 @@ def step_maps(maps, builtin, omega, zeta, hh, params):
 
 
 @njit
-def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs):
+def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws, springs):
     """:func:`crossing_search` on the integrator's step from state z (n, 3) at t [s] with start load
     p0 (n,), for the pairs plist (k,): (found, hs) (see there). ``herm`` = (q0, v0, q1, v1 (n,), h)
     the step's cubic Hermite interpolant (h [s] its length); ``search``:
@@ -210,17 +210,18 @@ def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, sp
     compiled maps to any step length and their parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch`, with none held where only the ground
-    acts (:func:`stepped_gap`); ``springs``: the links with laws'
-    :class:`~pounding.framework.engine.bundles.LinkSearch`, or None (every building elastic)."""
-    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held, springs), herm, eps, xtol, plist, search.geo)
+    acts (:func:`stepped_gap`); ``laws``, ``springs``: the links' law updates
+    (:func:`pounding.framework.engine.links.law_tuple`) and their
+    :class:`~pounding.framework.engine.bundles.LinkSearch`, or None both (every building elastic)."""
+    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
 
 
 @njit
-def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held, springs):
+def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held, laws, springs):
     """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
     directly: an entry without a function argument (the extension module takes arrays, numbers
     and bundles only, and numba does not cache a function that holds a function value)."""
-    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held, springs), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
 
 
 #: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third
@@ -228,14 +229,14 @@ def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, he
 BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
-def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs=None):
+def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws=None, springs=None):
     """The compiled search on the integrator's maps and parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
     (arguments: :func:`locate_with`)."""
     for j, known in enumerate(BUILTIN_MAPS):
         if maps is known:
-            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, springs)
-    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, springs)
+            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, laws, springs)
+    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws, springs)
 
 
 @njit
