@@ -8,14 +8,20 @@ slope, then regula falsi with the Illinois rule.
 
 The search is one compiled function; where the gap comes from is its first argument. When the
 integrator has compiled maps to any step length (:meth:`pounding.solvers.base.Integrator.search_maps`:
-``exact``, Newmark, HHT, generalized-alpha) and nothing acts in the step but the ground (no held
-pair, an impulse law, no yielding springs), it runs compiled whole with :func:`stepped_gap` (the
-integrator's maps to any instant and the record interpolated there: :func:`locate`, one call per
-located event).
-Otherwise the driver runs the very same function with the compiler off for its own body
-(``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step
-(any integrator, held pairs, yielding springs); the arithmetic it calls (the interpolant's
-search, the Newton and Illinois updates) is compiled either way.
+``exact``, Newmark, HHT, generalized-alpha) and the law acts by impulses, it runs compiled whole
+with :func:`stepped_gap` (:func:`locate`, one call per located event): the integrator's maps to
+any instant and the record interpolated there, and what else acts in the step stepped by the
+functions the driver's own trial steps call: the held pairs' rigid contact
+(:func:`~pounding.framework.engine.held.held_step`), and yielding storey springs (links with
+laws) by their own step (:func:`~pounding.framework.engine.spring_core.spring_step`: their Newton
+with the step's compliance :func:`~pounding.framework.engine.spring_core.compliance`), or with
+held pairs by the fixed point around the held step
+(:func:`~pounding.framework.engine.held.held_fixed_point`).
+Otherwise (an integrator without compiled maps, the driver without its compiled core) the driver
+runs the very same function with the compiler off for its own body
+(``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step;
+the arithmetic it calls (the interpolant's search, the Newton and Illinois updates) is compiled
+either way.
 
 The modal load at t + hh is :meth:`~pounding.framework.engine.driver.Driver.load`'s: the grid row
 of the record at a grid instant, else the record interpolated by :func:`record_at` (numpy's
