@@ -72,8 +72,9 @@ def _warm_task(name: str) -> None:
     contact-free stretch (the same scene with contact ``none``). ``force``: the same scene with a
     force law (``kelvin``), whose stretches stop at the contact tolerance rather than at a crossing,
     and the law's compiled force. ``yielding``: the paper pair with yielding storey springs, with
-    pounding and without (the springs' compiled stepping, with the bilinear law), and their held
-    stretch and held step (calls over no steps and no held pair). ``links``: the paper pair joined
+    pounding and without (the springs' compiled stepping, with the bilinear law), their held
+    stretch and held step (calls over no steps and no held pair) and the impact search with
+    their step inside it. ``links``: the paper pair joined
     by two linear viscous dampers (links between buildings: the links' stepping with the viscous
     law, with pounding). Measured in
     ``benchmarks/bench_compile.py``."""
@@ -139,6 +140,8 @@ def _warm_task(name: str) -> None:
         driver = Driver(yielding)
         driver.advance_held(0, 0)  # the held stretch with the springs (a call over no steps)
         driver.held_trial(driver.z, 0.0, driver.dt)  # the held step's fixed point, as the Python step calls it
+        # the impact search compiled whole with the links' own step inside (event_search.locate)
+        driver.locate(0.0, driver.dt, [0], driver.trial(driver.z, 0.0, driver.dt))
         run(yielding.with_analysis(contact="none", contact_params={}, duration=1.0))
     else:
         raise ValueError(f"unknown warm-up task {name!r}; expected one of {WARM_TASKS}")

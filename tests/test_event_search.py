@@ -144,3 +144,91 @@ def test_a_plugins_compiled_maps_run_the_compiled_search_as_the_built_in_ones():
         runs.append(d)
     assert runs[0].n_located >= 3
     assert _digest(runs[0]) == _digest(runs[1])
+
+
+YIELDING = ROOT / "examples" / "inelastic_pair" / "pair_yielding_gap_0.03.toml"
+
+
+def _walls_scene():
+    """benchmarks/bench_walls.py's lead-rubber (bilinear) isolated building beside a fixed-base
+    neighbour, with the moat wall it strikes and is held pressed against."""
+    import copy
+    import sys
+
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    try:
+        from bench_walls import scene_data
+    finally:
+        sys.path.remove(str(ROOT / "benchmarks"))
+    from pounding.io.scene import parse_scene
+
+    return parse_scene(copy.deepcopy(scene_data(True, True)))
+
+
+def _counted(d: Driver) -> dict:
+    """Count the driver's searches as it runs them: impact searches with and without held pairs,
+    and the held pairs' arrival searches that found an arrival."""
+    seen = {"free": 0, "held": 0, "arrivals": 0}
+    locate, arrival = d.locate, d.locate_arrival
+
+    def counted_locate(*args):
+        seen["held" if d.sustained else "free"] += 1
+        return locate(*args)
+
+    def counted_arrival(*args):
+        hs = arrival(*args)
+        seen["arrivals"] += hs is not None
+        return hs
+
+    d.locate, d.locate_arrival = counted_locate, counted_arrival
+    return seen
+
+
+@pytest.mark.skipif(not compiler.enabled(), reason="the compiled search needs numba")
+@pytest.mark.parametrize("make, duration, least", [(lambda: load_scene(YIELDING), None, {"free": 5}),
+                                                   (_walls_scene, 8.0, {"free": 20, "held": 3, "arrivals": 1})])
+def test_yielding_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(make, duration, least):
+    """With yielding storey springs each of the search's trial steps is the links' own step (their
+    Newton with the step's compliance, ``spring_core.spring_step``; with held pairs the fixed point
+    around the held step, ``held.held_fixed_point``), compiled inside the search as the driver's
+    interpreted search takes it: the same functions, so the same bits. The paper pair with bilinear
+    storeys and pounding (its whole record), and the lead-rubber isolated building that strikes a
+    moat wall, is held pressed against it and whose held points arrive at contact (impact searches
+    with held pairs, arrival searches): the recorded states, the energy account and every impulse
+    are equal with the compiled search and with the driver's."""
+    sc = make() if duration is None else make().with_analysis(duration=duration)
+    runs, counts = [], []
+    for compiled in (True, False):
+        d = Driver(sc)
+        assert d.springs is not None and d.search_record is not None
+        if not compiled:
+            d.search_record = None
+        counts.append(_counted(d))
+        d.run()
+        runs.append(d)
+    assert counts[0] == counts[1]
+    assert all(counts[0][k] >= n for k, n in least.items()), counts[0]
+    assert _digest(runs[0]) == _digest(runs[1])
+    assert np.array_equal(runs[0].springs.state, runs[1].springs.state)
+
+
+def test_the_links_compliance_is_g_diag_b1_g_transposed():
+    """spring_core.compliance, the step's compliance every path steps the links with: S = G diag(B1)
+    G^T on each Newton group's block (the paper pair with yielding storeys: one group per building),
+    zero between groups. Against numpy's product, each entry a sum of nm products: rounding of at
+    most nm eps sum_i |G_ai B1_i G_bi| (two roundings per product and one per sum, each below eps/2)."""
+    from pounding.framework.engine.spring_core import compliance
+
+    d = Driver(load_scene(YIELDING))
+    links = d.springs.links
+    B1 = np.ascontiguousarray(d.cache(0.37 * d.dt).B[:, 0, 1])
+    S = compliance(links, B1)
+    expect, bound = np.zeros_like(S), np.zeros_like(S)
+    for j in range(links.bounds.shape[0] - 1):
+        lo, hi, (m0, nm) = links.bounds[j], links.bounds[j + 1], links.gmodes[j]
+        Gg = links.G[lo:hi, :nm]
+        expect[lo:hi, lo:hi] = (Gg * B1[m0:m0 + nm]) @ Gg.T
+        bound[lo:hi, lo:hi] = nm * np.finfo(float).eps * (np.abs(Gg * B1[m0:m0 + nm]) @ np.abs(Gg).T)
+    assert links.bounds.shape[0] - 1 == 2
+    assert np.all(np.abs(S - expect) <= bound)
+    assert np.all(S[expect == 0.0] == 0.0)

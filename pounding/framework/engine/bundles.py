@@ -293,3 +293,18 @@ class HeldPairs(NamedTuple):
 
     fc: np.ndarray  #: (n,) modal contact force at the current instant [N/kg^0.5]
     mask: np.ndarray  #: (P,) bool, the held pairs
+
+
+class LinkSearch(NamedTuple):
+    """The links with laws of a run, for the compiled impact search's trial steps
+    (:func:`pounding.framework.engine.event_search.locate`, which takes the laws' compiled updates
+    beside it: arrays only here, which numba's dispatcher types without Python, as every bundle): each
+    trial is the links' own step (:func:`pounding.framework.engine.spring_core.spring_step`, or with
+    held pairs :func:`pounding.framework.engine.held.held_fixed_point`) from the committed links,
+    whose trial is discarded."""
+
+    links: Links  #: the links and their laws' parameters
+    now: LinkTrial  #: the committed links (read)
+    #: (1,) int64, set by the search: -1, or where a trial's links did not converge, the Newton group
+    #: that diverged (0 for a held step's fixed point): the driver then raises what its trial step raises
+    failed: np.ndarray

@@ -411,6 +411,7 @@ class Driver:
         self._search_maps = self.integrator.search_maps() if self.search_record is not None else None
         self._step_search = None  # its bundle (step_search())
         self._no_held = None  # the search's held pairs when none is held (held_search())
+        self._link_search = None  # the search's links with laws (link_search())
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
@@ -1010,7 +1011,7 @@ class Driver:
         herm = (np.ascontiguousarray(st.z0[:, 0]), np.ascontiguousarray(st.z0[:, 1]), np.ascontiguousarray(st.z1[:, 0]),
                 np.ascontiguousarray(st.z1[:, 1]), float(h))
         plist = np.array([st.arriving], dtype=np.int64)
-        if self.search_record is not None and self.springs is None:  # the held step compiled inside the search
+        if self.search_record is not None:  # the held step (with the links: its fixed point) compiled inside the search
             return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=True, far=far, g0=start))
         return self.locate_crossing(gap, h, herm, plist)
 
@@ -1065,9 +1066,11 @@ class Driver:
             # integrator's intra-step solution, with no transition to build (pounding.framework.engine.crossing)
             herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
                     np.ascontiguousarray(z1[:, 1]), float(h))
-            if self.search_record is not None and self.springs is None and (self.sustained or z0 is self.z):
-                # only the ground and the held pairs act in the step: the same search, compiled whole
+            if self.search_record is not None and (self.sustained or z0 is self.z):
+                # the ground, the held pairs and the links act in the step: the same search, compiled whole
                 if not self.sustained:
+                    if self.springs is not None:  # the links' start load, as spring_trial forms it
+                        p0 = self.load(t) + (self.fc - self.springs.g)
                     return self.locate_compiled(t, herm, p0, plist, self.held_search(arrival=False, far=0.0, g0=0.0))
                 g0 = float(self.model.gaps(self.z[:, 0], plist).min())
                 return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=False, far=0.0, g0=g0))
@@ -1122,8 +1125,27 @@ class Driver:
         from pounding.framework.engine.event_search import locate
 
         maps, params = self._search_maps
-        found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params, held)
+        springs = self.link_search()
+        laws = None if springs is None else self.springs.updates
+        found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params, held,
+                           laws, springs)
+        if springs is not None and springs.failed[0] >= 0:  # a trial's Newton or fixed point failed: as the trial step says
+            raise self.springs.fixed_point_error() if self.sustained else self.springs._diverged(int(springs.failed[0]))
         return float(hs) if found else None
+
+    def link_search(self):
+        """The :class:`~pounding.framework.engine.bundles.LinkSearch` of this run's links with laws
+        (built once: the committed links are updated in place), its failure flag reset; None where
+        every building is elastic."""
+        if self.springs is None:
+            return None
+        if self._link_search is None:
+            from pounding.framework.engine.bundles import LinkSearch
+
+            sp = self.springs
+            self._link_search = LinkSearch(sp.links, sp.now, np.full(1, -1, dtype=np.int64))
+        self._link_search.failed[0] = -1
+        return self._link_search
 
     def held_search(self, *, arrival: bool, far: float, g0: float):
         """The :class:`~pounding.framework.engine.bundles.HeldSearch` of the held pairs at the current

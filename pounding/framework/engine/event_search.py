@@ -8,14 +8,20 @@ slope, then regula falsi with the Illinois rule.
 
 The search is one compiled function; where the gap comes from is its first argument. When the
 integrator has compiled maps to any step length (:meth:`pounding.solvers.base.Integrator.search_maps`:
-``exact``, Newmark, HHT, generalized-alpha) and nothing acts in the step but the ground (no held
-pair, an impulse law, no yielding springs), it runs compiled whole with :func:`stepped_gap` (the
-integrator's maps to any instant and the record interpolated there: :func:`locate`, one call per
-located event).
-Otherwise the driver runs the very same function with the compiler off for its own body
-(``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step
-(any integrator, held pairs, yielding springs); the arithmetic it calls (the interpolant's
-search, the Newton and Illinois updates) is compiled either way.
+``exact``, Newmark, HHT, generalized-alpha) and the law acts by impulses, it runs compiled whole
+with :func:`stepped_gap` (:func:`locate`, one call per located event): the integrator's maps to
+any instant and the record interpolated there, and what else acts in the step stepped by the
+functions the driver's own trial steps call: the held pairs' rigid contact
+(:func:`~pounding.framework.engine.held.held_step`), and yielding storey springs (links with
+laws) by their own step (:func:`~pounding.framework.engine.spring_core.spring_step`: their Newton
+with the step's compliance :func:`~pounding.framework.engine.spring_core.compliance`), or with
+held pairs by the fixed point around the held step
+(:func:`~pounding.framework.engine.held.held_fixed_point`).
+Otherwise (an integrator without compiled maps, the driver without its compiled core) the driver
+runs the very same function with the compiler off for its own body
+(``crossing_search.py_func``), its gap a Python callable that takes the integrator's trial step;
+the arithmetic it calls (the interpolant's search, the Newton and Illinois updates) is compiled
+either way.
 
 The modal load at t + hh is :meth:`~pounding.framework.engine.driver.Driver.load`'s: the grid row
 of the record at a grid instant, else the record interpolated by :func:`record_at` (numpy's
@@ -30,7 +36,9 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
-from pounding.framework.engine.held import held_step
+from pounding.framework.engine.bundles import LinkPass, LinkTrial, Status
+from pounding.framework.engine.held import held_fixed_point, held_step
+from pounding.framework.engine.spring_core import compliance, spring_step
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
 from pounding.solvers.exact_partial import exact_maps
 from pounding.solvers.newmark import alpha_maps
@@ -103,22 +111,25 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
 @njit
 def stepped_gap(hh, sol):
     """The gap [m] the search seeks the zero of, after the integrator's step of hh [s] (at hh <= 0,
-    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held): the
-    step's start time [s], state (n, 3) and load (n,), the pairs (k,), the
+    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held, laws, springs):
+    the step's start time [s], state (n, 3) and load (n,) (with the links' start load -g0 in it
+    where only the ground acts), the pairs (k,), the
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
     ``maps(omega, zeta, hh, params) -> (A, B)``, or None and the number of built-in maps:
-    :func:`step_maps`) and their parameters, and ``held``: the held pairs'
+    :func:`step_maps`) and their parameters, ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch` (the step with them, and its gap), or
-    one with no held pair (only the ground acts in the step: the pairs' smallest gap after it)."""
-    t, z, p0, plist, ex, maps, builtin, params, held = sol
+    one with no held pair (only the ground acts in the step: the pairs' smallest gap after it), and
+    ``laws``, ``springs``: the run's links' law updates (:mod:`pounding.framework.engine.links`) and
+    the links (:class:`~pounding.framework.engine.bundles.LinkSearch`), or None (every building elastic)."""
+    t, z, p0, plist, ex, maps, builtin, params, held, laws, springs = sol
     if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
         p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
         if hh == ex.dt:
-            return stepped_min_gap(ex.A, ex.B, z, p0, p1, plist, ex.geo)
+            return free_gap(laws, springs, ex.A, ex.B, z, p0, p1, hh, plist, ex.geo)
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-        return stepped_min_gap(A, B, z, p0, p1, plist, ex.geo)
+        return free_gap(laws, springs, A, B, z, p0, p1, hh, plist, ex.geo)
     if hh <= 0.0:
         return held.g0
     p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
@@ -126,11 +137,47 @@ def stepped_gap(hh, sol):
         A, B = ex.A, ex.B
     else:
         A, B = step_maps(maps, builtin, ex.omega, ex.zeta, hh, params)
-    _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
-                                           (held.pair0, held.gap0, held.W0, held.Q0), ex.geo)
+    z1, arrival = held_end(laws, springs, z, p0, p1, A, B, hh, held, ex.geo)
     if held.arrival:
         return arrival if arrival < np.inf else held.far
     return _smallest_gap(z1[:, 0].copy(), plist, ex.geo)
+
+
+@njit
+def free_gap(laws, springs, A, B, z, p0, p1, hh, plist, geo):
+    """The smallest gap [m] of the pairs ``plist`` after a step of hh [s] from z (n, 3) in which only
+    the ground acts, by the maps A (n, 3, 3), B (n, 3, 2), with the modal loads p0, p1 (n,) at its
+    ends: the integrator's linear step (``springs`` None; numba drops the other branch), or the
+    links' own step (:func:`~pounding.framework.engine.spring_core.spring_step`, the driver's
+    ``Yielding.step``: their Newton with the step's compliance, p0 holding their start load -g0)."""
+    if springs is None:
+        return stepped_min_gap(A, B, z, p0, p1, plist, geo)
+    links, now = springs.links, springs.now
+    out = LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0]))  # (Yielding._trial)
+    j, z1 = spring_step(laws, A, B, z, p0, p1, hh, links, compliance(links, B[:, 0, 1].copy()), now, out)
+    if j >= 0:  # (the driver raises what its trial step raises)
+        springs.failed[0] = j
+    return _smallest_gap(z1[:, 0].copy(), plist, geo)
+
+
+@njit
+def held_end(laws, springs, z, p0, p1, A, B, hh, held, geo):
+    """(z1 (n, 3), arrival [m]) of the held step of hh [s] from z (the held pairs'
+    :class:`~pounding.framework.engine.bundles.HeldSearch`), with the ground's modal loads p0, p1
+    (n,) at its ends: :func:`~pounding.framework.engine.held.held_step` (``springs`` None), or with
+    the links :func:`~pounding.framework.engine.held.held_fixed_point`, as the driver's held trial
+    takes them."""
+    start = (held.pair0, held.gap0, held.W0, held.Q0)
+    if springs is None:
+        _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact, start, geo)
+        return z1, arrival
+    now = springs.now
+    spr = LinkPass(springs.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0])))
+    status, _, z1, _, _, _, arrival, _ = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
+                                                          start, geo, spr)
+    if status != Status.DONE:
+        springs.failed[0] = 0
+    return z1, arrival
 
 
 @njit
@@ -161,7 +208,7 @@ def step_maps(maps, builtin, omega, zeta, hh, params):
 
 
 @njit
-def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
+def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws, springs):
     """:func:`crossing_search` on the integrator's step from state z (n, 3) at t [s] with start load
     p0 (n,), for the pairs plist (k,): (found, hs) (see there). ``herm`` = (q0, v0, q1, v1 (n,), h)
     the step's cubic Hermite interpolant (h [s] its length); ``search``:
@@ -169,16 +216,18 @@ def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
     compiled maps to any step length and their parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`); ``held``: the held pairs'
     :class:`~pounding.framework.engine.bundles.HeldSearch`, with none held where only the ground
-    acts (:func:`stepped_gap`)."""
-    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held), herm, eps, xtol, plist, search.geo)
+    acts (:func:`stepped_gap`); ``laws``, ``springs``: the links' law updates
+    (:func:`pounding.framework.engine.links.law_tuple`) and their
+    :class:`~pounding.framework.engine.bundles.LinkSearch`, or None both (every building elastic)."""
+    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
 
 
 @njit
-def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held):
+def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, held, laws, springs):
     """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
     directly: an entry without a function argument (the extension module takes arrays, numbers
     and bundles only, and numba does not cache a function that holds a function value)."""
-    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
 
 
 #: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third
@@ -186,14 +235,14 @@ def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, he
 BUILTIN_MAPS = (exact_maps, alpha_maps)
 
 
-def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held):
+def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws=None, springs=None):
     """The compiled search on the integrator's maps and parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
     (arguments: :func:`locate_with`)."""
     for j, known in enumerate(BUILTIN_MAPS):
         if maps is known:
-            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held)
-    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held)
+            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, laws, springs)
+    return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws, springs)
 
 
 @njit

@@ -151,6 +151,35 @@ def compliance_load(f, S, bounds, sf):
 
 
 @njit
+def step_compliance(links, B1, S):
+    """S (ns, ns) <- the compliance [m/N] of a step of the links ``links`` (:class:`Links`): G diag(B1) G^T
+    per Newton group, zero between groups (uncoupled), B1 (n,) = B[:, 0, 1] the step's end-load map
+    [s^2] of every stacked mode. The one compliance every path steps with (the driver's trials and
+    stretches through ``Yielding.S``, the compiled impact search at any step length)."""
+    G, bounds, gmodes = links.G, links.bounds, links.gmodes
+    for a in range(S.shape[0]):
+        for b in range(S.shape[1]):
+            S[a, b] = 0.0
+    for j in range(bounds.shape[0] - 1):
+        m0, nm = gmodes[j, 0], gmodes[j, 1]
+        for a in range(bounds[j], bounds[j + 1]):
+            for b in range(bounds[j], bounds[j + 1]):
+                acc = 0.0
+                for i in range(nm):
+                    acc += G[a, i] * B1[m0 + i] * G[b, i]
+                S[a, b] = acc
+
+
+@njit
+def compliance(links, B1):
+    """A new (ns, ns) compliance of a step with end-load map B1 (n,) (:func:`step_compliance`)."""
+    ns = links.k0.shape[0]
+    S = np.empty((ns, ns))
+    step_compliance(links, B1, S)
+    return S
+
+
+@njit
 def deformations(q, G, bounds, gmodes, out):
     """out (ns,) <- G q per group: the links' deformations [m] from the stacked modal vector q (n,)."""
     for j in range(bounds.shape[0] - 1):

@@ -183,17 +183,17 @@ class Yielding:
 
     def S(self, B1: np.ndarray) -> np.ndarray:
         """The step's compliance (ns, ns), block diagonal by Newton group: G diag(B1) G^T for the
-        stacked B1 = B[:, 0, 1] (n,) of the step."""
+        stacked B1 = B[:, 0, 1] (n,) of the step (:func:`pounding.framework.engine.spring_core.compliance`),
+        kept per distinct B1."""
+        from pounding.framework.engine.spring_core import compliance
+
         key = B1.tobytes()
         out = self._S.get(key)
         if out is None:
             if len(self._S) > 256:
                 self._S.clear()
-            out = np.zeros((self.size, self.size))
-            for grp in self.groups:
-                Gg = self.links.G[grp.lo:grp.hi, : grp.sl.stop - grp.sl.start]
-                out[grp.lo:grp.hi, grp.lo:grp.hi] = (Gg * B1[grp.sl]) @ Gg.T
-            self._S[key] = out
+            # the compiled compliance, which the compiled impact search forms at its trial steps too
+            out = self._S[key] = compliance(self.links, np.ascontiguousarray(B1, dtype=float))
         return out
 
     def record(self, row: np.ndarray) -> None:
