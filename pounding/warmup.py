@@ -69,9 +69,10 @@ def _warm_task(name: str) -> None:
     of a pair and of several pairs, the held stretch (a call over no steps), the selection of a held
     pair's touching points and the one-off maps and impact search
     of ``exact`` (the default integrator of elastic scenes). ``free``: the
-    contact-free stretch (the same scene with contact ``none``). ``force``: the same scene with a
+    contact-free stretch (the same scene with contact ``none``) and the gap study on its result
+    (the compiled translation of two polygons to contact). ``force``: the same scene with a
     force law (``kelvin``), whose stretches stop at the contact tolerance rather than at a crossing,
-    and the law's compiled force. ``yielding``: the paper pair with yielding storey springs, with
+    and the law's compiled force and point solve; then with ``penalty`` (its compiled solve). ``yielding``: the paper pair with yielding storey springs, with
     pounding and without (the springs' compiled stepping, with the bilinear law), their held
     stretch and held step (calls over no steps and no held pair) and the impact search with
     their step inside it. ``links``: the paper pair joined
@@ -129,9 +130,13 @@ def _warm_task(name: str) -> None:
         search = Driver(scene.with_analysis(integrator="exact", integrator_params={}))
         search.locate(0.0, search.dt, [0], search.trial(search.z, 0.0, search.dt))
     elif name == "free":
-        run(scene.with_analysis(contact="none", contact_params={}))
+        free = scene.with_analysis(contact="none", contact_params={})
+        from pounding.framework.studies.gap import gap_from_result
+
+        gap_from_result(free, run(free), full=False)  # a gap study's (and fragility's) translation to contact
     elif name == "force":
         run(scene.with_analysis(contact="kelvin", contact_params={}, duration=5.0))
+        run(scene.with_analysis(contact="penalty", contact_params={}, duration=5.0))  # its compiled active-set solve
     elif name == "links":
         run(_linked_scene().with_analysis(duration=5.0))
     elif name == "yielding":
