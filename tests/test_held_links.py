@@ -145,13 +145,18 @@ def test_the_compiled_held_stretch_with_yielding_springs_gives_the_python_path()
     Python step's functions in its order (the plastic stop, :func:`held_fixed_point`, the same
     energy rules and commits), so the runs agree to rounding (measured: bit for bit). Tolerance, as
     for the stretches between impacts (tests/test_inelastic_pounding.py): ~1e2 roundings of the peak
-    per step, accumulated over every step; the same impacts at the same instants."""
+    per step, accumulated over every step; the same impacts, each located within (2 eps + delta) / b
+    of the other run's (the search stops within Driver.eps [m] of the zero gap; delta [m] the
+    vertices' allowed difference, b the approach speed)."""
     scene = parse_scene(copy.deepcopy(isolated_beside_a_wall(duration=4.0)))
     compiled = CountingHeldSteps(scene)
     a, b = compiled.run(), Driver(scene, use_kernel=False).run()
     assert compiled.held_steps >= 10 and len(a.impacts) >= 20
-    assert [(x.time, x.pair) for x in a.impacts] == [(y.time, y.pair) for y in b.impacts]
     tol = 1e2 * EPS * a.steps
+    assert [x.pair for x in a.impacts] == [y.pair for y in b.impacts]
+    delta = tol * max(np.nanmax(np.abs(b.vertices(n))) for n in b.names)
+    for x, y in zip(a.impacts, b.impacts):
+        assert abs(x.time - y.time) <= (2.0 * compiled.eps + delta) / y.approach_velocity
     assert np.abs(a.q - b.q).max() <= tol * np.abs(b.q).max()
     for name in b.springs:
         assert np.abs(a.springs[name]["deformation"] - b.springs[name]["deformation"]).max() <= tol * np.abs(
