@@ -25,9 +25,7 @@ Every figure comes from this one run: nothing is copied by hand.
 from __future__ import annotations
 
 import argparse
-import csv
-import re
-import shutil
+import sys
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -40,6 +38,8 @@ from pounding.framework.post.response import impact_forces
 from pounding.io.results import response_histories, summary
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # the examples' shared table helpers
+from readme_table import markers, update_readme, write_table  # noqa: E402
 SCENE = HERE.parent / "paper" / "pair_gap_0.03.toml"
 #: the laws compared, every one at its defaults with this restitution
 LAWS = ("impulse", "kelvin", "hertz", "hertzdamp", "jankowski")
@@ -65,7 +65,12 @@ COLUMNS = (
 FORMATS = {"dt": "{:.2g}", "top_low": "{:.4f}", "top_high": "{:.4f}", "drift_low": "{:.3f}", "drift_high": "{:.3f}",
            "shear_low": "{:.3f}", "shear_high": "{:.3f}", "acc_low": "{:.1f}", "acc_high": "{:.1f}", "impacts": "{:d}",
            "episodes": "{:d}", "force": "{:.2f}", "energy": "{:.1f}", "runtime": "{:.2f}"}
-README_START, README_END = "<!-- table: run_laws.py --readme writes it -->", "<!-- end of table -->"
+README_START, README_END = markers("run_laws.py")
+
+
+def formatted(key: str, value) -> str:
+    """One table cell: the value in its column's format."""
+    return FORMATS.get(key, "{}").format(value)
 
 
 @dataclass
@@ -126,24 +131,8 @@ def run_law(law: str, duration: float | None) -> LawRun:
     return LawRun(law, result, summ, row, forces, acc["low"][:, -1, 0])
 
 
-def table_markdown(rows: list[dict]) -> str:
-    """The table as Markdown, one row per law."""
-    lines = ["| " + " | ".join(h for h, _ in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
-    for row in rows:
-        lines.append("| " + " | ".join(FORMATS.get(k, "{}").format(row[k]) for _, k in COLUMNS) + " |")
-    return "\n".join(lines)
 
 
-def write_table(rows: list[dict], out: Path) -> str:
-    """Write table.md and table.csv (full precision) into ``out``; return the Markdown."""
-    md = table_markdown(rows)
-    (out / "table.md").write_text(md + "\n")
-    with open(out / "table.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow([h for h, _ in COLUMNS])
-        for row in rows:
-            w.writerow([row[k] for _, k in COLUMNS])
-    return md
 
 
 def strongest_episode(r: LawRun):
@@ -234,15 +223,6 @@ def plot_all(runs: list[LawRun], out: Path) -> list[Path]:
     return paths
 
 
-def update_readme(md: str, plots: list[Path]) -> None:
-    """Put the table between the README's markers and the plots into images/."""
-    readme = HERE / "README.md"
-    text = readme.read_text()
-    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.DOTALL)
-    readme.write_text(pattern.sub(lambda _: f"{README_START}\n{md}\n{README_END}", text))
-    (HERE / "images").mkdir(exist_ok=True)
-    for p in plots:
-        shutil.copy(p, HERE / "images" / p.name)
 
 
 def main(out: Path, duration: float | None = None, readme: bool = False) -> list[LawRun]:
@@ -252,11 +232,11 @@ def main(out: Path, duration: float | None = None, readme: bool = False) -> list
         t0 = time.perf_counter()
         runs.append(run_law(law, duration))
         print(f"{law}: {time.perf_counter() - t0:.1f} s", flush=True)
-    md = write_table([r.row for r in runs], out)
+    md = write_table(COLUMNS, [r.row for r in runs], out, formatted)
     print(md)
     plots = plot_all(runs, out)
     if readme:
-        update_readme(md, plots)
+        update_readme(HERE, "run_laws.py", md, plots)
     return runs
 
 

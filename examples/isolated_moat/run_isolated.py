@@ -31,9 +31,7 @@ plots into examples/isolated_moat/images/. Every figure comes from this one run.
 from __future__ import annotations
 
 import argparse
-import csv
-import re
-import shutil
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -44,6 +42,8 @@ from pounding.framework.post.contact_forces import contact_force_history
 from pounding.io.results import response_histories, summary
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # the examples' shared table helpers
+from readme_table import markers, update_readme, write_table  # noqa: E402
 #: scene key -> scene file
 SCENES = {
     "alone": HERE / "isolated.toml",
@@ -77,7 +77,12 @@ COLUMNS = (
 FORMATS = {"iso_d": "{:.1f}", "iso_f": "{:.0f}", "t_eff": "{:.2f}", "beta_eff": "{:.1f}", "drift": "{:.3f}", "acc": "{:.2f}",
            "acc_base": "{:.2f}", "wall_contacts": "{:d}", "wall_episodes": "{:d}", "wall_force": "{:.2f}", "nb_contacts": "{:d}",
            "nb_episodes": "{:d}", "nb_force": "{:.2f}", "iso_energy": "{:.0f}", "contact_energy": "{:.1f}", "runtime": "{:.2f}"}
-README_START, README_END = "<!-- table: run_isolated.py --readme writes it -->", "<!-- end of table -->"
+README_START, README_END = markers("run_isolated.py")
+
+
+def formatted(key: str, value) -> str:
+    """One table cell: the value in its column's format."""
+    return FORMATS.get(key, "{}").format(value)
 COLOURS = {"alone": "0.45", "moat": "C0", "moat_neighbour": "C3", "fixed_base": "C2"}
 
 
@@ -179,24 +184,8 @@ def describe_durations(wall: list[float], neighbour: list[float]) -> str:
     return ", ".join(f"{what} {1e3 * min(d):.1f}-{1e3 * max(d):.1f} ms" for what, d in (("wall", wall), ("neighbour", neighbour)) if d)
 
 
-def table_markdown(rows: list[dict]) -> str:
-    """The table as Markdown, one row per scene."""
-    lines = ["| " + " | ".join(h for h, _ in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
-    for row in rows:
-        lines.append("| " + " | ".join(FORMATS.get(k, "{}").format(row[k]) for _, k in COLUMNS) + " |")
-    return "\n".join(lines)
 
 
-def write_table(rows: list[dict], out: Path) -> str:
-    """Write table.md and table.csv (full precision) into ``out``; return the Markdown."""
-    md = table_markdown(rows)
-    (out / "table.md").write_text(md + "\n")
-    with open(out / "table.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow([h for h, _ in COLUMNS])
-        for row in rows:
-            w.writerow([row[k] for _, k in COLUMNS])
-    return md
 
 
 def profiles(r: SceneRun) -> tuple[np.ndarray, np.ndarray]:
@@ -289,15 +278,6 @@ def plot_all(runs: list[SceneRun], out: Path, gap: float) -> list[Path]:
     return paths
 
 
-def update_readme(md: str, plots: list[Path]) -> None:
-    """Put the table between the README's markers and the plots into images/."""
-    readme = HERE / "README.md"
-    text = readme.read_text()
-    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.DOTALL)
-    readme.write_text(pattern.sub(lambda _: f"{README_START}\n{md}\n{README_END}", text))
-    (HERE / "images").mkdir(exist_ok=True)
-    for p in plots:
-        shutil.copy(p, HERE / "images" / p.name)
 
 
 def main(out: Path, duration: float | None = None, readme: bool = False, dt: float | None = None,
@@ -309,11 +289,11 @@ def main(out: Path, duration: float | None = None, readme: bool = False, dt: flo
     for key in SCENES:
         runs.append(run_scene(key, duration, dt, stiffness))
         print(f"{key}: solved in {runs[-1].row['runtime']:.2f} s", flush=True)
-    md = write_table([r.row for r in runs], out)
+    md = write_table(COLUMNS, [r.row for r in runs], out, formatted)
     print(md)
     plots = plot_all(runs, out, gap)
     if readme:
-        update_readme(md, plots)
+        update_readme(HERE, "run_isolated.py", md, plots)
     return runs
 
 

@@ -39,10 +39,8 @@ plots into examples/linked_pair/images/. Every figure comes from this one run.
 from __future__ import annotations
 
 import argparse
-import csv
+import sys
 import math
-import re
-import shutil
 from dataclasses import dataclass, replace
 from pathlib import Path
 
@@ -53,6 +51,8 @@ from pounding.framework.post.contact_forces import contact_force_history, run_la
 from pounding.io.results import summary
 
 HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE.parent))  # the examples' shared table helpers
+from readme_table import markers, update_readme, write_table  # noqa: E402
 #: scene key -> scene file
 SCENES = {
     "unlinked": HERE.parent / "paper" / "pair_gap_0.03.toml",
@@ -91,7 +91,7 @@ FORMATS = {"top_low": "{:.1f}", "top_high": "{:.1f}", "drift_low": "{:.3f}", "dr
            "episodes": "{:d}", "acc_low": "{:.2f}", "acc_high": "{:.2f}", "spike": "{:.1f}", "contact_force": "{:.0f}",
            "penetration": "{:.2f}", "contact_energy": "{:.1f}", "link_force": "{:.0f}",
            "link_stroke": "{:.2f}", "link_energy": "{:.0f}", "runtime": "{:.2f}"}
-README_START, README_END = "<!-- table: run_linked.py --readme writes it -->", "<!-- end of table -->"
+README_START, README_END = markers("run_linked.py")
 COLOURS = {"unlinked": "0.55", "viscous": "C0", "maxwell": "C2", "tie": "C3", "unlinked_force": "0.2", "bumper": "C1"}
 
 
@@ -296,24 +296,8 @@ def cell(key: str, value) -> str:
     return FORMATS.get(key, "{}").format(value)
 
 
-def table_markdown(rows: list[dict]) -> str:
-    """The table as Markdown, one row per scene."""
-    lines = ["| " + " | ".join(h for h, _ in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
-    for row in rows:
-        lines.append("| " + " | ".join(cell(k, row[k]) for _, k in COLUMNS) + " |")
-    return "\n".join(lines)
 
 
-def write_table(rows: list[dict], out: Path) -> str:
-    """Write table.md and table.csv (full precision) into ``out``; return the Markdown."""
-    md = table_markdown(rows)
-    (out / "table.md").write_text(md + "\n")
-    with open(out / "table.csv", "w", newline="") as f:
-        w = csv.writer(f)
-        w.writerow([h for h, _ in COLUMNS])
-        for row in rows:
-            w.writerow([row[k] for _, k in COLUMNS])
-    return md
 
 
 def plot_top_displacement(runs: list[SceneRun], plt, path: Path) -> None:
@@ -442,15 +426,6 @@ def plot_all(runs: list[SceneRun], out: Path) -> list[Path]:
     return paths
 
 
-def update_readme(md: str, plots: list[Path]) -> None:
-    """Put the table between the README's markers and the plots into images/."""
-    readme = HERE / "README.md"
-    text = readme.read_text()
-    pattern = re.compile(re.escape(README_START) + ".*?" + re.escape(README_END), re.DOTALL)
-    readme.write_text(pattern.sub(lambda _: f"{README_START}\n{md}\n{README_END}", text))
-    (HERE / "images").mkdir(exist_ok=True)
-    for p in plots:
-        shutil.copy(p, HERE / "images" / p.name)
 
 
 def layer_design(scene, approach_speed: float) -> dict:
@@ -516,11 +491,11 @@ def main(out: Path, duration: float | None = None, readme: bool = False, refine:
         if key == "unlinked_force" and r.result.episodes():
             print("bumper of pair_bumper.toml at that approach:", describe_layer(load_scene(SCENES["bumper"]),
                                                                           fastest_approach(r.result)), flush=True)
-    md = write_table([r.row for r in runs], out)
+    md = write_table(COLUMNS, [r.row for r in runs], out, cell)
     print(md)
     plots = plot_all(runs, out)
     if readme:
-        update_readme(md, plots)
+        update_readme(HERE, "run_linked.py", md, plots)
     return runs
 
 
