@@ -127,6 +127,21 @@ def physical(model, x: np.ndarray) -> dict:
     return {(b, f): model.slab_dofs(x, b, f) for b, s in enumerate(model.systems) for f in range(s.n_storeys)}
 
 
+def contact_momentum_changes(model, result) -> list[float]:
+    """What the contact forces gave each building's first slab along x [N s]: its x momentum change
+    over the run less its columns' impulse, the columns' x force -(K x)_0 summed by the trapezoidal
+    rule on the output steps (Newmark's velocity update is that rule of the forces). One entry per
+    building (single-slab buildings: the whole building)."""
+    out = []
+    for s in model.systems:
+        x = result.cm(s.name)[:, 0, :]  # (nt, 3) slab dofs
+        spring = -(x @ s.K.T)[:, 0]  # the columns' x force [N]
+        columns = float(np.sum(0.5 * (spring[1:] + spring[:-1]) * np.diff(result.t)))
+        v = result.cm(s.name, velocity=True)[:, 0, 0]
+        out.append(float(s.mass[0] * (v[-1] - v[0]) - columns))
+    return out
+
+
 def modal_from_physical(model, slab_values: dict) -> np.ndarray:
     """Stacked modal vector q = Phi^T M x from slab DOFs {(building, storey): (u, v, phi)} (others 0)."""
     out = np.zeros(model.n)
