@@ -39,7 +39,7 @@ from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_expon
 #: law-specific parameters: the coefficient c [N (s/m)^alpha] and the exponent alpha [-]
 COEFFICIENT, EXPONENT = 3, 4
 #: the rate [m/s] below which the damping tangent of alpha < 1 is taken at this rate (OpenSees' minVel)
-MIN_RATE = 1e-20
+MIN_RATE = 1e-100
 
 
 @njit

@@ -71,7 +71,7 @@ def _residual(laws, lo, hi, links, h, S, now, out, ws):
         floor = abs(d[a]) + abs(ws.dl[a])
         for b in range(lo, hi):
             acc += S[a, b] * f1[b]
-            floor += abs(S[a, b] * f1[b]) + 2.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
+            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
         x[a - lo] = acc
         worst = max(worst, abs(acc) - 4.0 * EPS * floor)
     return worst, same
