@@ -79,13 +79,15 @@ def _residual(laws, lo, hi, links, h, S, now, out, ws):
 
 @njit
 def _newton_step(lo, hi, links, S, out, ws):
-    """The Newton step at the iterate ``ws.d`` (residual in ``ws.x[:m]``): ``ws.dd`` [m] (the step is
-    -dd) and the same step in the forces, q [N] in ``ws.x[2m:3m]``, such that dd = S q: q = f - y -
-    D J^-1 R, y (``ws.x[3m:4m]``) the forces the iterate implies (d = dl - S y).
+    """The Newton step at the iterate ``ws.d``, solved in the forces: q [N] (``ws.x[2m:3m]``) with
+    (I + D S) q = f - y, D = diag(k_t - k0), y (``ws.x[3m:4m]``) the forces the iterate implies
+    (d = dl - S y), and its deformations dd = S q [m] (``ws.dd``; the step is -dd). This is the
+    step -(I + S D)^-1 R of the residual R = S (f - y), taken in the variable that stays well scaled
+    where a link's tangent is huge (a dashpot near rest): there the step in the deformations is
+    R / (S k_t), which formed as R - S D J^-1 R would lose all its digits when S k_t nears 1 / eps.
 
-    The Jacobian J = I + S D, D = diag(k_t - k0), differs from I only in the columns of the links off
-    their initial branch (the active set a): (I + S_aa D_a) x_a = R_a is solved, and every row
-    follows as dd = R - S[:, a] D_a x_a."""
+    Only the links off their initial branch (the active set a, D_a != 0) couple: q is f - y on the
+    others, and on them (D_a^-1 + S_aa) q_a = D_a^-1 (f - y)_a - S_a,rest (f - y)_rest."""
     m = hi - lo
     k0, kt, J, x, act, dd, f1 = links.k0, ws.kt, ws.J, ws.x, ws.act, ws.dd, out.f
     for a in range(lo, hi):
@@ -95,21 +97,25 @@ def _newton_step(lo, hi, links, S, out, ws):
         if kt[a] != k0[a]:
             act[na] = a
             na += 1
-    for i in range(na):
-        for c in range(na):
-            J[i, c] = S[act[i], act[c]] * (kt[act[c]] - k0[act[c]])
-        J[i, i] += 1.0
     rhs = x[m : m + na]  # the active rows' right-hand side, after the residuals
     for i in range(na):
-        rhs[i] = x[act[i] - lo]
+        a = act[i]
+        flex = 1.0 / (kt[a] - k0[a])
+        acc = x[2 * m + a - lo] * flex
+        for b in range(lo, hi):
+            if kt[b] == k0[b]:
+                acc -= S[a, b] * x[2 * m + b - lo]
+        rhs[i] = acc
+        for c in range(na):
+            J[i, c] = S[a, act[c]]
+        J[i, i] += flex
     solve_in_place(J, rhs, na)
     for i in range(na):
-        rhs[i] *= kt[act[i]] - k0[act[i]]  # D_a x_a
-        x[2 * m + act[i] - lo] -= rhs[i]
+        x[2 * m + act[i] - lo] = rhs[i]
     for a in range(lo, hi):
-        acc = x[a - lo]
-        for i in range(na):
-            acc -= S[a, act[i]] * rhs[i]
+        acc = 0.0
+        for b in range(lo, hi):
+            acc += S[a, b] * x[2 * m + b - lo]
         dd[a] = acc
 
 
