@@ -508,11 +508,22 @@ def test_building_with_nonlinear_viscous_dampers_converges_at_first_order(alpha,
 def test_building_with_friction_like_dampers_converges_at_every_step():
     """alpha = 0.2, almost a friction damper (at 1e-12 m/s it still carries 1 % of c), at 10, 5 and
     2.5 ms: every step's Newton converges (the step from rest locks all three dampers, at rates
-    of 1e-13 to 1e-10 m/s, where the force differs by much between neighbouring floats of the deformations:
-    the residual is met to that precision) and the energy account closes to rounding. The response
-    settles slower than at first order (measured differences between halvings 12 %, 1.5 % and 2.0 %
-    of the peak from 10 ms on, 0.5 % from 1.25 to 0.625 ms): the runs at 5 and 2.5 ms agree within
-    3 % of the peak."""
+    of 1e-13 to 1e-10 m/s, where the force differs by much between neighbouring floats of the
+    deformations: the residual is met to that precision) and the energy account closes to rounding.
+    The response settles slower than at first order (measured differences between halvings 12 %,
+    1.5 % and 2.0 % of the peak from 10 ms on, 0.5 % from 1.25 to 0.625 ms): the runs at 5 and
+    2.5 ms agree within 3 % of the peak."""
     runs = _viscous_runs(0.2, (0.01, 0.005, 0.0025))
     peak = np.abs(runs[2]).max()
     assert np.abs(runs[1] - runs[2]).max() <= 0.03 * peak
+
+
+def test_building_with_alpha_one_tenth_dampers_converges_at_every_step():
+    """alpha = 0.1 (at 1e-12 m/s the force is 6 % of c): the links' Newton converges at every step at
+    10, 5 and 2.5 ms, its step taken in the forces (in the deformations it is R / (S k_t), with
+    S k_t up to 1e15 at the locked first step: formed as a difference it kept no digit), and the
+    energy account closes to rounding (:func:`_viscous_runs` checks it). Accuracy is not asserted:
+    the differences between halvings are 29 %, 24 %, 14 % and 3 % of the peak from 10 ms to
+    0.625 ms (measured), a response that asks for dt of 1 ms or less."""
+    runs = _viscous_runs(0.1, (0.01, 0.005, 0.0025))
+    assert all(np.all(np.isfinite(r)) for r in runs)

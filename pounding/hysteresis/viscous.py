@@ -13,7 +13,7 @@ exact), a floor that only guards v = 0 exactly: any other rate the engine gives 
 two floats over h, at least ulp(u) / h, and the tangent there is the true one, which the stepping's
 Newton needs to tell how precisely a step ending near rest can be solved (the force differs by
 c (ulp(u) / h)^alpha between neighbouring floats of u). That Newton converges for alpha down to
-0.2 at the steps users take (10, 5, 2.5 ms; measured in tests/test_damper_laws.py): its line search
+0.1 at the steps users take (10, 5, 2.5 ms; measured in tests/test_damper_laws.py): its line search
 is on the convex potential whose gradient its residual is
 (:func:`pounding.framework.engine.spring_core.solve_group`), which a tangent in error cannot defeat.
 
