@@ -223,10 +223,13 @@ def solve_group(laws, j, links, h, S, now, out, ws):
     in t, so Phi needs no evaluation and the laws no potential: the full step is taken when
     phi'(1) <= ETA |phi'(0)| (then Phi fell by at least ETA |phi'(0)|, by convexity), else the
     minimum along it is bracketed in (0, 1) (:func:`_line_minimum`). No law's kind is asked: a law
-    whose force falls with its deformation (phi'(0) >= 0) gets the full Newton step.
+    whose force falls with its deformation (phi'(0) >= 0) gets the full Newton step. The step is
+    solved in the forces (:func:`_newton_step`), and the residual is met to tol beyond the precision
+    the deformations' floats allow (:func:`_residual`); a step that moves no deformation, or a
+    bracket with no float inside, ends the iteration there.
 
     Returns the laws' evaluations after the predictor's (one per Newton step and per step of the
-    line search), or -1 when that exceeds 4 MAX_ITER without converging.
+    line search), or -1 when that exceeds NEWTON_CAP without converging.
     """
     lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
     m = hi - lo
