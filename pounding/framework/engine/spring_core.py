@@ -55,8 +55,10 @@ def _residual(laws, lo, hi, links, h, S, now, out, ws):
     Jacobian's row times those ulps, sum_b |S_ab (k_t - k0)_b| eps max(|d_b|, |u0_b|): negligible
     for springs and linear dampers (below 1e-16 of the deformations), but not for a dashpot
     near rest, whose tangent alpha c |v|^(alpha - 1) / h grows without bound (its solution lies
-    between two floats whose forces differ by much). Four times their sum, twice the ulps: the
-    residual at the nearest float meets it."""
+    between two floats whose forces differ by much). The floor is 4 eps of the terms plus 32 ulps
+    through the Jacobian's row: the nearest float is not reachable (the iterates' steps are rounded
+    too), and with 8 ulps the step from rest of a building with alpha = 0.2 dampers cycled among
+    neighbouring floats (measured); a tolerance of a few ulps of the deformations, not of the step."""
     law, params, k0, f, f1, d, x = links.law, links.params, links.k0, now.f, out.f, ws.d, ws.x
     same = True
     for a in range(lo, hi):
