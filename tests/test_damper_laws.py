@@ -81,7 +81,7 @@ def test_linear_damper_dissipates_pi_c_w_d2_per_cycle_to_the_mean_rate_error():
         assert 0.0 < exact - per_cycle <= exact * (W * h) ** 2 / 12
 
 
-@pytest.mark.parametrize("alpha", [0.35, 0.5, 1.5])
+@pytest.mark.parametrize("alpha", [0.2, 0.35, 0.5, 1.5])
 def test_nonlinear_damper_energy_per_cycle_is_the_gamma_function_closed_form(alpha):
     """u = D sin(w t), F = c |v|^alpha sgn(v): per cycle lambda(alpha) c w^alpha D^(1+alpha), with
     lambda = 2^(2+alpha) Gamma(1+alpha/2)^2 / Gamma(2+alpha) (the integral of |cos|^(1+alpha)).
@@ -470,27 +470,60 @@ def test_a_step_of_no_length_keeps_every_links_force_and_state():
     assert r == 5.0e4 and np.array_equal(trial, state)
 
 
-def test_building_with_nonlinear_viscous_dampers_converges_at_first_order():
-    """The building with a nonlinear viscous damper F = c |v|^0.45 sgn(v) in every storey (c =
-    3.0e6 N (s/m)^0.45), whose force has an infinite slope at rest: the links' Newton converges at
-    every step (its line search; plain Newton cycled below an exponent of about 0.7, and OpenSees'
-    Newton on its ``Viscous`` material at 0.4 fails on this model at the sixth step), 4 s of El
-    Centro at 10, 5 and 2.5 ms.
-
-    * The energy account closes to rounding (8 eps of the input per step);
-    * the floor displacements converge at first order, as with linear dampers (a damper's force is
-      that of the step's mean rate, half a step late): the differences between successive halvings
-      fall by 2, to within 25 % (the ratio in [1.5, 2.5])."""
+def _viscous_runs(alpha, steps):
+    """The damped building with F = c |v|^alpha sgn(v) dampers (c = 3.0e6 N (s/m)^alpha), 4 s of El
+    Centro at each step of ``steps`` [s]: each run's energy account is checked to close to rounding
+    (8 eps of the input per step), and its roof-to-ground centre displacements (n, 3) at the 10 ms
+    grid's instants returned."""
     from pounding.framework.post.inelastic_run import run_inelastic
 
-    law = {"name": "viscous", "coefficient": 3.0e6, "exponent": 0.45}
+    law = {"name": "viscous", "coefficient": 3.0e6, "exponent": alpha}
     runs = []
-    for dt in (0.01, 0.005, 0.0025):
+    for dt in steps:
         result = run_inelastic(_damped_building(dt, duration=4.0, law=law))
         b = result.buildings[0]
-        steps = len(result.t) - 1
-        assert abs(b.energy["relative_error"]) <= 8 * EPS * steps
-        runs.append(b.cm()[:: int(round(0.01 / dt)), :, 0])  # at the 10 ms grid's instants
+        assert abs(b.energy["relative_error"]) <= 8 * EPS * (len(result.t) - 1)
+        runs.append(b.cm()[:: int(round(0.01 / dt)), :, 0])
+    return runs
+
+
+@pytest.mark.parametrize("alpha, steps", [(0.45, (0.01, 0.005, 0.0025)), (0.3, (0.005, 0.0025, 0.00125))])
+def test_building_with_nonlinear_viscous_dampers_converges_at_first_order(alpha, steps):
+    """The building with a nonlinear viscous damper F = c |v|^alpha sgn(v) in every storey, whose
+    force has an infinite slope at rest: the links' Newton converges at every step (its line search
+    on the convex potential whose gradient the residual is; the earlier halving on the squared
+    residual cycled below alpha = 0.45, and OpenSees' Newton on its ``Viscous`` material at 0.4
+    fails on this model at the sixth step), and the energy account closes to rounding.
+
+    The floor displacements converge at first order, as with linear dampers (a damper's force is
+    that of the step's mean rate, half a step late): the differences between successive halvings
+    fall by 2, to within 25 % (the ratio in [1.5, 2.5]; measured 1.9 for alpha = 0.45 from 10 ms, 2.16
+    for alpha = 0.3 from 5 ms: from 10 ms it is 2.8, not yet in the asymptotic range)."""
+    runs = _viscous_runs(alpha, steps)
     d1 = np.abs(runs[0] - runs[1]).max()
     d2 = np.abs(runs[1] - runs[2]).max()
     assert 1.5 <= d1 / d2 <= 2.5
+
+
+def test_building_with_friction_like_dampers_converges_at_every_step():
+    """alpha = 0.2, almost a friction damper (at 1e-12 m/s it still carries 1 % of c), at 10, 5 and
+    2.5 ms: every step's Newton converges (the step from rest locks all three dampers, at rates
+    of 1e-13 to 1e-10 m/s, where the force differs by much between neighbouring floats of the
+    deformations: the residual is met to that precision) and the energy account closes to rounding.
+    The response settles slower than at first order (measured differences between halvings 12 %,
+    1.5 % and 2.0 % of the peak from 10 ms on, 0.5 % from 1.25 to 0.625 ms): the runs at 5 and
+    2.5 ms agree within 3 % of the peak."""
+    runs = _viscous_runs(0.2, (0.01, 0.005, 0.0025))
+    peak = np.abs(runs[2]).max()
+    assert np.abs(runs[1] - runs[2]).max() <= 0.03 * peak
+
+
+def test_building_with_alpha_one_tenth_dampers_converges_at_every_step():
+    """alpha = 0.1 (at 1e-12 m/s the force is 6 % of c): the links' Newton converges at every step at
+    10, 5 and 2.5 ms, its step taken in the forces (in the deformations it is R / (S k_t), with
+    S k_t up to 1e15 at the locked first step: formed as a difference it kept no digit), and the
+    energy account closes to rounding (:func:`_viscous_runs` checks it). Accuracy is not asserted:
+    the differences between halvings are 29 %, 24 %, 14 % and 3 % of the peak from 10 ms to
+    0.625 ms (measured), a response that asks for dt of 1 ms or less."""
+    runs = _viscous_runs(0.1, (0.01, 0.005, 0.0025))
+    assert all(np.all(np.isfinite(r)) for r in runs)

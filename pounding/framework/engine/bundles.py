@@ -245,7 +245,7 @@ class NewtonWork(NamedTuple):
     d: np.ndarray  #: (ns,) the end deformations being solved [m]
     kt: np.ndarray  #: (ns,) the step's tangents [N/m]
     J: np.ndarray  #: (m, m) the active links' Jacobian
-    x: np.ndarray  #: (2 m,) residuals, then the active rows' right-hand side
+    x: np.ndarray  #: (4 m,) residuals, the active rows' right-hand side, the step in the forces, the forces the iterate implies
     act: np.ndarray  #: (m,) int64, the active links (off their initial branch)
     d0: np.ndarray  #: (ns,) the last accepted iterate [m] (the backtracking's start)
     dd: np.ndarray  #: (ns,) the Newton step from it [m]

@@ -44,6 +44,161 @@ from pounding.framework.engine.links import law_update
 
 
 @njit
+def _residual(laws, lo, hi, links, h, S, now, out, ws):
+    """The laws of the group's links (ns links lo..hi-1, m = hi - lo) at the trial end deformations
+    ``ws.d``: remainders into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``, and
+    the residual R = d - dl + S f (m,) [m] into ``ws.x[:m]``. Returns the largest |R| [m] beyond the
+    precision the deformations allow, and whether every remainder is the committed one.
+
+    That precision: a row's residual is rounded to eps of its terms (|d|, |dl|, |S f|), and a change
+    of one ulp in the deformations (or the committed ones the rates are taken from) moves it by the
+    Jacobian's row times those ulps, sum_b |S_ab (k_t - k0)_b| eps max(|d_b|, |u0_b|): negligible
+    for springs and linear dampers (below 1e-16 of the deformations), but not for a dashpot
+    near rest, whose tangent alpha c |v|^(alpha - 1) / h grows without bound (its solution lies
+    between two floats whose forces differ by much). The floor is 4 eps of the terms plus 32 ulps
+    through the Jacobian's row: the nearest float is not reachable (the iterates' steps are rounded
+    too), and with 8 ulps the step from rest of a building with alpha = 0.2 dampers cycled among
+    neighbouring floats (measured); a tolerance of a few ulps of the deformations, not of the step."""
+    law, params, k0, f, f1, d, x = links.law, links.params, links.k0, now.f, out.f, ws.d, ws.x
+    same = True
+    for a in range(lo, hi):
+        r, k = law_update(laws, law[a], d[a], h, now.state, params, out.state, a)
+        f1[a] = r - k0[a] * d[a]
+        ws.kt[a] = k
+        if f1[a] != f[a]:
+            same = False
+    worst = 0.0
+    for a in range(lo, hi):
+        acc = d[a] - ws.dl[a]
+        floor = abs(d[a]) + abs(ws.dl[a])
+        for b in range(lo, hi):
+            acc += S[a, b] * f1[b]
+            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
+        x[a - lo] = acc
+        worst = max(worst, abs(acc) - 4.0 * EPS * floor)
+    return worst, same
+
+
+@njit
+def _newton_step(lo, hi, links, S, out, ws):
+    """The Newton step at the iterate ``ws.d``, solved in the forces: q [N] (``ws.x[2m:3m]``) with
+    (I + D S) q = f - y, D = diag(k_t - k0), y (``ws.x[3m:4m]``) the forces the iterate implies
+    (d = dl - S y), and its deformations dd = S q [m] (``ws.dd``; the step is -dd). This is the
+    step -(I + S D)^-1 R of the residual R = S (f - y), taken in the variable that stays well scaled
+    where a link's tangent is huge (a dashpot near rest): there the step in the deformations is
+    R / (S k_t), which formed as R - S D J^-1 R would lose all its digits when S k_t nears 1 / eps.
+
+    Only the links off their initial branch (the active set a, D_a != 0) couple: q is f - y on the
+    others, and on them (D_a^-1 + S_aa) q_a = D_a^-1 (f - y)_a - S_a,rest (f - y)_rest."""
+    m = hi - lo
+    k0, kt, J, x, act, dd, f1 = links.k0, ws.kt, ws.J, ws.x, ws.act, ws.dd, out.f
+    for a in range(lo, hi):
+        x[2 * m + a - lo] = f1[a] - x[3 * m + a - lo]
+    na = 0
+    for a in range(lo, hi):
+        if kt[a] != k0[a]:
+            act[na] = a
+            na += 1
+    rhs = x[m : m + na]  # the active rows' right-hand side, after the residuals
+    for i in range(na):
+        a = act[i]
+        flex = 1.0 / (kt[a] - k0[a])
+        acc = x[2 * m + a - lo] * flex
+        for b in range(lo, hi):
+            if kt[b] == k0[b]:
+                acc -= S[a, b] * x[2 * m + b - lo]
+        rhs[i] = acc
+        for c in range(na):
+            J[i, c] = S[a, act[c]]
+        J[i, i] += flex
+    solve_in_place(J, rhs, na)
+    for i in range(na):
+        x[2 * m + act[i] - lo] = rhs[i]
+    for a in range(lo, hi):
+        acc = 0.0
+        for b in range(lo, hi):
+            acc += S[a, b] * x[2 * m + b - lo]
+        dd[a] = acc
+
+
+@njit
+def _slope(m, x):
+    """phi'(t) = -q . R [N m]: the slope of the group's potential along the Newton step (see
+    :func:`solve_group`), from q (``x[2m:3m]``) and the residual at the share t of the step (``x[:m]``)."""
+    acc = 0.0
+    for i in range(m):
+        acc -= x[2 * m + i] * x[i]
+    return acc
+
+
+@njit
+def _go_to(lo, hi, t, ws):
+    """ws.d <- d0 - t dd: the share t of the Newton step from the accepted iterate d0. Returns whether
+    that moved any link."""
+    moved = False
+    for a in range(lo, hi):
+        u = ws.d0[a] - t * ws.dd[a]
+        if u != ws.d[a]:
+            moved = True
+        ws.d[a] = u
+    return moved
+
+
+@njit
+def _between(lo, hi, a, t, b, ws):
+    """Whether the share t of the Newton step gives some link a deformation other than those of the
+    shares a and b: when it does not, no float lies between the two iterates."""
+    for k in range(lo, hi):
+        u = ws.d0[k] - t * ws.dd[k]
+        if u != ws.d0[k] - a * ws.dd[k] and u != ws.d0[k] - b * ws.dd[k]:
+            return True
+    return False
+
+
+@njit
+def _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it):
+    """The minimum of the potential along the Newton step when the full step went past it
+    (phi'(0) = s0 < 0 < phi'(1) = s1): the Illinois variant of regula falsi on the nondecreasing
+    phi', to |phi'(t)| <= ETA |phi'(0)| or a residual within tol. Leaves the laws evaluated at the
+    iterate it takes. Returns (t, largest |R|, evaluations so far); t = 0 when no float lies between
+    the accepted iterate and the bracket's other end: the iterate is the solution to the
+    deformations' precision (a dashpot near rest: its force jumps by c (ulp(u) / h)^alpha between
+    neighbouring floats)."""
+    m = hi - lo
+    a, sa, b, sb = 0.0, s0, 1.0, s1
+    side = 0
+    worst = np.inf
+    while it <= NEWTON_CAP:
+        t = a - sa * (b - a) / (sb - sa)
+        if not a < t < b:
+            t = 0.5 * (a + b)
+        if not _between(lo, hi, a, t, b, ws):
+            t = a  # no float between the ends: the end before the minimum
+            _go_to(lo, hi, t, ws)
+            worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+            return t, worst, it + 1
+        _go_to(lo, hi, t, ws)
+        worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+        it += 1
+        if worst <= tol:
+            return t, worst, it
+        st = _slope(m, ws.x)
+        if abs(st) <= ETA * -s0:
+            return t, worst, it
+        if st < 0.0:
+            a, sa = t, st
+            if side < 0:
+                sb *= 0.5  # Illinois: the end kept twice has its slope halved
+            side = -1
+        else:
+            b, sb = t, st
+            if side > 0:
+                sa *= 0.5
+            side = 1
+    return 1.0, worst, it
+
+
+@njit
 def solve_group(laws, j, links, h, S, now, out, ws):
     """Newton on ``u + S f(u) = dl`` for the links of group j (one building, or the buildings links join), for a step of h [s].
 
@@ -55,88 +210,65 @@ def solve_group(laws, j, links, h, S, now, out, ws):
     ``ws.kt`` (the step's, dr/du + dr/dv / h) and the group's rows of ``out.f`` (end remainders)
     and ``out.state`` (trial states).
 
-    The Jacobian I + S diag(k_t - k0) differs from I only in the columns of the links off their
-    initial branch (the active set a): (I + S_aa D_a) x_a = res_a is solved, and every row follows
-    as res - S[:, a] D_a x_a. A step that does not lower the squared residual is halved back
-    (a line search along it, to 2^-30 of it): the Newton step is a descent direction of the
-    squared residual, and a dashpot whose force grows as |v|^alpha with alpha < 1 (an infinite
-    slope at rest) makes plain Newton overshoot, and cycle for alpha <= 1/2.
+    Globalisation. S is symmetric positive semi-definite (G diag(B1) G^T), and on the iterates
+    d = dl - S y (y the forces they imply) the residual is S (f(d) - y), S times the gradient of
 
-    Returns the iterations taken (halvings included), or -1 when it did not converge in 4 MAX_ITER.
+        Phi(d) = 1/2 (d - dl)^T S^+ (d - dl) + sum_a F_a(d_a),    F_a' = f_a,
+
+    convex where every law's force is nondecreasing in its deformation over the step (then its
+    remainder's slope k_t - k0 >= -k0, and S diag(k0) < 1: the module docstring of
+    :mod:`pounding.framework.engine.inelastic`). The Newton step -dd, dd = (I + S D)^-1 R, is -S q
+    with q = (I + D S)^-1 (f - y), Newton's step on Phi, a descent direction of Phi for any tangents
+    D >= 0, exact or not (a dashpot's, taken at its smallest rate near rest), where descent of the
+    squared residual fails (its halving stalled and the iteration cycled for a dashpot with alpha
+    below about 0.45). Along the step the slope of Phi is phi'(t) = -q . R(d - t dd), nondecreasing
+    in t, so Phi needs no evaluation and the laws no potential: the full step is taken when
+    phi'(1) <= ETA |phi'(0)| (then Phi fell by at least ETA |phi'(0)|, by convexity), else the
+    minimum along it is bracketed in (0, 1) (:func:`_line_minimum`). No law's kind is asked: a law
+    whose force falls with its deformation (phi'(0) >= 0) gets the full Newton step. The step is
+    solved in the forces (:func:`_newton_step`), and the residual is met to tol beyond the precision
+    the deformations' floats allow (:func:`_residual`); a step that moves no deformation, or a
+    bracket with no float inside, ends the iteration there.
+
+    Returns the laws' evaluations after the predictor's (one per Newton step and per step of the
+    line search), or -1 when that exceeds NEWTON_CAP without converging.
     """
     lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
-    law, params, k0 = links.law, links.params, links.k0
-    f, state, trial, f1 = now.f, now.state, out.state, out.f
-    dl, sf, d, kt, J, x, act, d0, dd = ws.dl, ws.sf, ws.d, ws.kt, ws.J, ws.x, ws.act, ws.d0, ws.dd
+    m = hi - lo
+    d, d0, dd, dl, sf, x = ws.d, ws.d0, ws.dd, ws.dl, ws.sf, ws.x
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
-    merit0 = np.inf  # the accepted iterate's squared residual
-    lam = 1.0  # the share of the Newton step taken from it
-    for it in range(4 * MAX_ITER + 1):  # (a halving of the step counts as an iteration)
-        same = True
-        for a in range(lo, hi):
-            r, k = law_update(laws, law[a], d[a], h, state, params, trial, a)
-            f1[a] = r - k0[a] * d[a]
-            kt[a] = k
-            if f1[a] != f[a]:
-                same = False
-        if it == 0 and same:
-            return 0  # nothing changed: the predictor solves the step
-        worst = 0.0
-        merit = 0.0
-        for a in range(lo, hi):
-            acc = d[a] - dl[a]
-            for b in range(lo, hi):
-                acc += S[a, b] * f1[b]
-            x[a - lo] = acc
-            worst = max(worst, abs(acc))
-            merit += acc * acc
-        if worst <= tol:
-            return it
-        if merit >= merit0 and lam > MIN_STEP:
-            # the full step did not lower the residual: back along it (a dashpot whose force grows as
-            # |v|^alpha, alpha < 1, has an infinite slope at rest, where plain Newton overshoots and,
-            # for alpha <= 1/2, cycles; the Newton step is a descent direction of the squared
-            # residual, so a short enough part of it lowers it)
-            lam *= 0.5
-            for a in range(lo, hi):
-                d[a] = d0[a] - lam * dd[a]
-            continue
-        merit0 = merit
-        lam = 1.0
+        x[3 * m + a - lo] = now.f[a]  # the forces that imply it: d = dl - S y
+    worst, same = _residual(laws, lo, hi, links, h, S, now, out, ws)
+    if same:
+        return 0  # nothing changed: the predictor solves the step
+    it = 0
+    while worst > tol:
+        if it >= NEWTON_CAP:
+            return -1
+        _newton_step(lo, hi, links, S, out, ws)
+        s0 = _slope(m, x)
         for a in range(lo, hi):
             d0[a] = d[a]
-        na = 0
+        if not _go_to(lo, hi, 1.0, ws):
+            return it  # a step below the deformations' precision: the iterate is the solution to it
+        worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+        it += 1
+        t = 1.0
+        if worst > tol and s0 < 0.0:
+            s1 = _slope(m, x)
+            if s1 > ETA * -s0:  # past the minimum along the step
+                t, worst, it = _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it)
+                if t == 0.0:
+                    return it
         for a in range(lo, hi):
-            if kt[a] != k0[a]:
-                act[na] = a
-                na += 1
-        if na == 0:
-            for a in range(lo, hi):
-                dd[a] = x[a - lo]
-                d[a] -= dd[a]
-            continue
-        for i in range(na):
-            for c in range(na):
-                J[i, c] = S[act[i], act[c]] * (kt[act[c]] - k0[act[c]])
-            J[i, i] += 1.0
-        y = x[hi - lo : hi - lo + na]  # the active rows' right-hand side, after the residuals
-        for i in range(na):
-            y[i] = x[act[i] - lo]
-        solve_in_place(J, y, na)
-        for i in range(na):
-            y[i] *= kt[act[i]] - k0[act[i]]
-        for a in range(lo, hi):
-            acc = x[a - lo]
-            for i in range(na):
-                acc -= S[a, act[i]] * y[i]
-            dd[a] = acc
-            d[a] -= acc
-    return -1
+            x[3 * m + a - lo] += t * x[2 * m + a - lo]  # the implied forces follow the step
+    return it
 
 
-#: the smallest share of a Newton step the links' line search takes (2^-30) before it takes the step anyway
-MIN_STEP = 2.0**-30
+#: the share of the Newton step's initial slope of the potential left at the iterate the links' line
+#: search takes (a strong Wolfe curvature condition)
+ETA = 0.5
 
 
 @njit
@@ -242,7 +374,7 @@ def newton_work(bounds):
     """Fresh :class:`NewtonWork` for the links of groups ``bounds`` (:attr:`Links.bounds`)."""
     ns = bounds[-1]
     m = _largest_group(bounds)
-    return NewtonWork(np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(2 * m),
+    return NewtonWork(np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(4 * m),
                       np.empty(m, dtype=np.int64), np.empty(ns), np.empty(ns))
 
 
@@ -568,3 +700,9 @@ def _commit_links(links, out, kt, now, lrec):
                 state[s, c] = trial[s, c]
             if abs(trial[s, 0]) > peak[s]:
                 peak[s] = abs(trial[s, 0])
+
+#: the unit roundoff [-]
+EPS = float(np.finfo(np.float64).eps)
+
+#: the laws' evaluations a group's Newton may take in a step before it is declared diverged
+NEWTON_CAP = 40 * MAX_ITER

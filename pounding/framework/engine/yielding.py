@@ -46,8 +46,8 @@ from pounding.framework.engine.bundles import HeldPairs, LinkPass, LinkRecord, L
 from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
 
 #: what a diverged Newton of the links suggests: a smaller step, or, for a damper whose force rises
-#: with an infinite slope at rest (a viscous exponent below about 0.7), its brace (docs/modelling.md)
-NEWTON_HINT = ("try a smaller dt; a viscous damper with an exponent below about 0.45 converges modelled with its brace "
+#: with an infinite slope at rest (a viscous exponent below 0.1), its brace (docs/modelling.md)
+NEWTON_HINT = ("try a smaller dt; a viscous damper with an exponent below 0.1 converges modelled with its brace "
                "stiffness as `maxwell`")
 
 
