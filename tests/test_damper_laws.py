@@ -156,7 +156,9 @@ def test_maxwell_steady_loop_has_the_storage_and_loss_moduli():
     energy being periodic) is the trapezoid's sum of F du over the samples: of the loss part
     D^2 E'' sum cos(w h / 2) cos(w t_mid) 2 sin(w h / 2) cos(w t_mid) = pi E'' D^2 sinc(w h)
     (the storage part sums to zero), to the same rounding. Five cycles first: the transient decays as exp(-t / tau) =
-    exp(-250)."""
+    exp(-250). Rounding of the fit: the least-squares moduli carry 16 m eps of the larger one (m = n
+    samples, the fit's conditioning 1), relative to the smaller one; the energy, a sum of n steps'
+    dissipation compared with pi E'' D^2 sinc(w h), carries E'''s share of it and n eps more."""
     n = 100
     tau = C / K
     law = Maxwell(stiffness=K, coefficient=C)
@@ -166,11 +168,12 @@ def test_maxwell_steady_loop_has_the_storage_and_loss_moduli():
     A = np.column_stack([np.sin(W * t[last]), np.cos(W * t[last])]) * D
     (e1, e2), *_ = np.linalg.lstsq(A, force[last], rcond=None)
     omega = 2.0 / h * math.tan(W * h / 2)
-    for rate, tol in ((omega, 1e-12), (W, (W * h) ** 2 / 3)):
+    fit = 16 * n * EPS * max(abs(e1), abs(e2)) / min(abs(e1), abs(e2))
+    for rate, tol in ((omega, fit), (W, (W * h) ** 2 / 3)):
         x = rate * tau
         assert e1 == pytest.approx(K * x * x / (1 + x * x), rel=tol)
         assert e2 == pytest.approx(K * x / (1 + x * x), rel=tol)
-    assert states[6 * n, 2] - states[5 * n, 2] == pytest.approx(math.pi * e2 * D**2 * sinc(W * h), rel=1e-12)
+    assert states[6 * n, 2] - states[5 * n, 2] == pytest.approx(math.pi * e2 * D**2 * sinc(W * h), rel=fit + n * EPS)
 
 
 def test_a_step_that_does_not_move_the_link():
