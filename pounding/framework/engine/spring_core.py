@@ -44,11 +44,28 @@ from pounding.framework.engine.links import law_update
 
 
 @njit
-def _residual(laws, lo, hi, links, h, S, now, out, ws):
+def _evaluate(laws, lo, hi, links, h, now, out, ws):
+    """The laws of the group's links (lo..hi-1) at the trial end deformations ``ws.d``: remainders
+    into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``. Returns whether every
+    remainder is the committed one (at the predictor: the step is solved, no residual to form)."""
+    law, params, k0, f, f1, d = links.law, links.params, links.k0, now.f, out.f, ws.d
+    same = True
+    for a in range(lo, hi):
+        r, k = law_update(laws, law[a], d[a], h, now.state, params, out.state, a)
+        f1[a] = r - k0[a] * d[a]
+        ws.kt[a] = k
+        if f1[a] != f[a]:
+            same = False
+    return same
+
+
+@njit
+def _rows(lo, hi, links, S, now, out, ws, tol):
     """The laws of the group's links (ns links lo..hi-1, m = hi - lo) at the trial end deformations
     ``ws.d``: remainders into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``, and
     the residual R = d - dl + S f (m,) [m] into ``ws.x[:m]``. Returns the largest |R| [m] beyond the
-    precision the deformations allow, and whether every remainder is the committed one.
+    precision the deformations allow where a row's |R| exceeds ``tol`` (the rows within it are
+    converged whatever their floor: the iteration only compares the result with tol).
 
     That precision: a row's residual is rounded to eps of its terms (|d|, |dl|, |S f|), and a change
     of one ulp in the deformations (or the committed ones the rates are taken from) moves it by the
@@ -59,24 +76,29 @@ def _residual(laws, lo, hi, links, h, S, now, out, ws):
     through the Jacobian's row: the nearest float is not reachable (the iterates' steps are rounded
     too), and with 8 ulps the step from rest of a building with alpha = 0.2 dampers cycled among
     neighbouring floats (measured); a tolerance of a few ulps of the deformations, not of the step."""
-    law, params, k0, f, f1, d, x = links.law, links.params, links.k0, now.f, out.f, ws.d, ws.x
-    same = True
-    for a in range(lo, hi):
-        r, k = law_update(laws, law[a], d[a], h, now.state, params, out.state, a)
-        f1[a] = r - k0[a] * d[a]
-        ws.kt[a] = k
-        if f1[a] != f[a]:
-            same = False
+    k0, f1, d, x = links.k0, out.f, ws.d, ws.x
     worst = 0.0
     for a in range(lo, hi):
         acc = d[a] - ws.dl[a]
-        floor = abs(d[a]) + abs(ws.dl[a])
         for b in range(lo, hi):
             acc += S[a, b] * f1[b]
-            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
         x[a - lo] = acc
+        if abs(acc) <= tol:
+            worst = max(worst, abs(acc))
+            continue
+        floor = abs(d[a]) + abs(ws.dl[a])
+        for b in range(lo, hi):
+            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
         worst = max(worst, abs(acc) - 4.0 * EPS * floor)
-    return worst, same
+    return worst
+
+
+@njit
+def _residual(laws, lo, hi, links, h, S, now, out, ws, tol):
+    """The laws at ``ws.d`` (:func:`_evaluate`) and the residual's rows (:func:`_rows`): the largest
+    |R| beyond its precision [m]."""
+    _evaluate(laws, lo, hi, links, h, now, out, ws)
+    return _rows(lo, hi, links, S, now, out, ws, tol)
 
 
 @njit
@@ -175,10 +197,10 @@ def _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it):
         if not _between(lo, hi, a, t, b, ws):
             t = a  # no float between the ends: the end before the minimum
             _go_to(lo, hi, t, ws)
-            worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+            worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
             return t, worst, it + 1
         _go_to(lo, hi, t, ws)
-        worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
         it += 1
         if worst <= tol:
             return t, worst, it
@@ -235,13 +257,13 @@ def solve_group(laws, j, links, h, S, now, out, ws):
     """
     lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
     m = hi - lo
-    d, d0, dd, dl, sf, x = ws.d, ws.d0, ws.dd, ws.dl, ws.sf, ws.x
+    d, d0, dl, sf, x = ws.d, ws.d0, ws.dl, ws.sf, ws.x
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
         x[3 * m + a - lo] = now.f[a]  # the forces that imply it: d = dl - S y
-    worst, same = _residual(laws, lo, hi, links, h, S, now, out, ws)
-    if same:
+    if _evaluate(laws, lo, hi, links, h, now, out, ws):
         return 0  # nothing changed: the predictor solves the step
+    worst = _rows(lo, hi, links, S, now, out, ws, tol)
     it = 0
     while worst > tol:
         if it >= NEWTON_CAP:
@@ -252,7 +274,7 @@ def solve_group(laws, j, links, h, S, now, out, ws):
             d0[a] = d[a]
         if not _go_to(lo, hi, 1.0, ws):
             return it  # a step below the deformations' precision: the iterate is the solution to it
-        worst, _ = _residual(laws, lo, hi, links, h, S, now, out, ws)
+        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
         it += 1
         t = 1.0
         if worst > tol and s0 < 0.0:
