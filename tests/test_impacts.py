@@ -737,7 +737,7 @@ _RESTITUTION_CASES = [
     pytest.param("point", 1.0, "anagnostopoulos", id="single point, k=1"),
     pytest.param("point", 0.5, "no_tension", id="single point, k=0.5, calibrated dashpot"),
     pytest.param("face", 1.0, "anagnostopoulos", id="face to face, k=1"),
-    # face to face: the two ends share one dashpot matrix (Penalty.dashpots); with a dashpot per
+    # face to face: the two ends share one dashpot matrix (penalty.dashpot_matrix); with a dashpot per
     # end sized by its own 1/W_jj this case rebounded with the wrong k
     pytest.param("face", 0.5, "no_tension", id="face to face, k=0.5, calibrated dashpot"),
 ]

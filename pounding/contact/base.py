@@ -406,6 +406,21 @@ def solve_small(S, rhs):
     return V @ c
 
 
+
+@njit
+def keep_pushing(idx, sol, lam, active):
+    """One pass of a unilateral active-set solve: lam (m,) <- the solution ``sol`` (na,) on the
+    active points ``idx`` (na,) and 0 elsewhere; the points whose force would pull (sol < 0) leave
+    ``active`` (m,). Returns True when none pulls (the pass solved the contact)."""
+    lam[:] = 0.0
+    ok = True
+    for r in range(idx.shape[0]):
+        lam[idx[r]] = sol[r]
+        if sol[r] < 0.0:
+            active[idx[r]] = False
+            ok = False
+    return ok
+
 #: the most simultaneous features whose active sets :func:`newton_group` enumerates (as
 #: :func:`newton_lcp`, 2^m candidate sets); beyond it, principal pivoting (:func:`newton_pivot`)
 ENUMERATE_MAX = 8

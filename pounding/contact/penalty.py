@@ -31,7 +31,7 @@ from typing import ClassVar
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.contact.base import ContactLaw, ContactState
+from pounding.contact.base import ContactLaw, ContactState, keep_pushing
 from pounding.errors import InputError
 
 
@@ -100,11 +100,6 @@ class Penalty(ContactLaw):
         """Spring of every point (m,) [N/m]: k_p at each."""
         return np.full(len(contact.gap), self.stiffness)
 
-    def dashpots(self, W: np.ndarray, k: np.ndarray) -> np.ndarray:
-        """Dashpot matrix (m, m) [N s/m] of points with Delassus matrix W (m, m) and springs k (m,)
-        [N/m] (:func:`dashpot_matrix` with this law's damping ratio)."""
-        return dashpot_matrix(np.ascontiguousarray(W, dtype=float), np.ascontiguousarray(k, dtype=float), float(self.damping_ratio))
-
 
 @njit
 def dashpot_matrix(W, k, xi):
@@ -159,15 +154,7 @@ def penalty_forces(W, S_q, S_v, gap, rate, k, xi):
                 Wa[i, j], Sq[i, j], Sv[i, j] = W[idx[i], idx[j]], S_q[idx[i], idx[j]], S_v[idx[i], idx[j]]
         C = dashpot_matrix(Wa, ka, xi)
         K = np.eye(n) + np.expand_dims(ka, 1) * Sq + C @ Sv
-        sol = np.linalg.solve(K, -ka * ga - C @ ra)
-        lam[:] = 0.0
-        pulls = False
-        for i in range(n):
-            lam[idx[i]] = sol[i]
-            if sol[i] < 0.0:
-                active[idx[i]] = False
-                pulls = True
-        if not pulls:
+        if keep_pushing(idx, np.linalg.solve(K, -ka * ga - C @ ra), lam, active):
             break
     return np.maximum(lam, 0.0)
 

@@ -33,7 +33,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.contact.base import newton_lcp, solve_small
+from pounding.contact.base import keep_pushing, newton_lcp, solve_small
 from pounding.compiler import njit
 from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
@@ -65,15 +65,7 @@ def rigid_forces(gap, S):
             rhs[r] = -gap[idx[r]]
             for s in range(na):
                 sub[r, s] = S[idx[r], idx[s]]
-        sol = solve_small(sub, rhs)
-        lam[:] = 0.0
-        ok = True
-        for r in range(na):
-            lam[idx[r]] = sol[r]
-            if sol[r] < 0:
-                active[idx[r]] = False
-                ok = False
-        if ok:
+        if keep_pushing(idx, solve_small(sub, rhs), lam, active):
             return lam
     return np.maximum(lam, 0.0)
 
