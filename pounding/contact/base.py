@@ -407,7 +407,7 @@ def solve_small(S, rhs):
 
 
 
-@njit
+@njit(borrowed=True)
 def keep_pushing(idx, sol, lam, active):
     """One pass of a unilateral active-set solve: lam (m,) <- the solution ``sol`` (na,) on the
     active points ``idx`` (na,) and 0 elsewhere; the points whose force would pull (sol < 0) leave

@@ -290,7 +290,7 @@ def turned(r, phi):
     return np.stack([cm1 * r[:, 0] - sn * r[:, 1], sn * r[:, 0] + cm1 * r[:, 1]], axis=-1)
 
 
-@njit
+@njit(borrowed=True)
 def turn(phi):
     """(cos(phi) - 1, sin(phi)) of a turn phi [rad], the first as -2 sin^2(phi / 2): a point's move
     (R(phi) - I) r without the cancellation of cos(phi) - 1 at the small turns of a building
@@ -299,7 +299,7 @@ def turn(phi):
     return -2.0 * h * h, math.sin(phi)
 
 
-@njit
+@njit(borrowed=True)
 def axis_separation(A, cA, uA, vA, phiA, B, cB, uB, vB, phiB, nx, ny):
     """Separation [m] of two displaced slabs along the unit axis (nx, ny), from A towards B.
 
@@ -330,7 +330,7 @@ def axis_separation(A, cA, uA, vA, phiA, B, cB, uB, vB, phiB, nx, ny):
     return bottom - top
 
 
-@njit
+@njit(borrowed=True)
 def clearance_bound(d_rest, u1, v1, phi1, R1, u2, v2, phi2, R2):
     """Cheap lower bound on the signed gap, to skip geometry work.
 
@@ -369,7 +369,7 @@ def clearance_bound(d_rest, u1, v1, phi1, R1, u2, v2, phi2, R2):
     return d_rest - math.hypot(u1 - u2, v1 - v2) - abs(phi1) * R1 - abs(phi2) * R2
 
 
-@njit
+@njit(borrowed=True)
 def _tolerance(A, B):
     s = 1.0
     for i in range(A.shape[0]):
@@ -379,7 +379,7 @@ def _tolerance(A, B):
     return EPS_REL * s
 
 
-@njit
+@njit(borrowed=True)
 def _closest_on_segment(px, py, ax, ay, bx, by):
     """Distance from P to segment ab, the parameter t in [0, 1] and the closest point."""
     dx = bx - ax
@@ -397,7 +397,7 @@ def _closest_on_segment(px, py, ax, ay, bx, by):
     return math.hypot(px - qx, py - qy), t, qx, qy
 
 
-@njit
+@njit(borrowed=True)
 def _edge_normal(P, j):
     """Outward unit normal of edge j of the counter-clockwise polygon P."""
     j1 = j + 1 if j + 1 < P.shape[0] else 0
@@ -409,13 +409,13 @@ def _edge_normal(P, j):
     return dy / L, -dx / L
 
 
-@njit
+@njit(borrowed=True)
 def _edge_length(P, j):
     j1 = j + 1 if j + 1 < P.shape[0] else 0
     return math.hypot(P[j1, 0] - P[j, 0], P[j1, 1] - P[j, 1])
 
 
-@njit
+@njit(borrowed=True)
 def _classify(px, py, P, eps):
     """Where P lies relative to polygon P, and the nearest boundary point.
 
@@ -467,7 +467,7 @@ def _bboxes_overlap(A, B, eps):
     )
 
 
-@njit
+@njit(borrowed=True)
 def _edge(P, i):
     """Edge i of polygon P: its start (ax, ay), its vector (dx, dy) and its length L [m]."""
     i1 = i + 1 if i + 1 < P.shape[0] else 0
@@ -478,7 +478,7 @@ def _edge(P, i):
     return ax, ay, dx, dy, math.hypot(dx, dy)
 
 
-@njit
+@njit(borrowed=True)
 def _ends_across(ax, ay, dx, dy, L, T, j):
     """Edge j of polygon T seen from the edge starting at (ax, ay) along (dx, dy) of length L: its
     ends' offsets from (ax, ay), (wx0, wy0) and (wx1, wy1), and their signed distances h0, h1 [m]
@@ -572,7 +572,7 @@ def _entering_edges(T, nT, eT):
     return flags
 
 
-@njit
+@njit(borrowed=True)
 def _nearest_on_edges(px, py, T, flags):
     """Nearest point to P on the flagged (whole) edges of T: (dist, edge, t, qx, qy)."""
     k = T.shape[0]
@@ -595,7 +595,7 @@ def _nearest_on_edges(px, py, T, flags):
     return best, bj, bt, bqx, bqy
 
 
-@njit
+@njit(borrowed=True)
 def _target_normal(T, j, t, px, py, qx, qy, pen, eps):
     """Unit normal at the contact, pointing from target T towards the striker.
 
@@ -632,7 +632,7 @@ _F_PX, _F_PY, _F_QX, _F_QY, _F_NX, _F_NY, _F_GAP, _F_T = 0, 1, 2, 3, 4, 5, 6, 7
 _I_WHO, _I_IDX, _I_OWN, _I_EDGE, _I_OVTX, _I_PEN = 0, 1, 2, 3, 4, 5
 
 
-@njit
+@njit(borrowed=True)
 def _strike(S, T, who, eps, F, I, c):
     """Rows for the vertices of striker S against target T, non-penetrating values.
 
@@ -658,7 +658,7 @@ def _strike(S, T, who, eps, F, I, c):
     return c, any_inside
 
 
-@njit
+@njit(borrowed=True)
 def _penetrate(S, T, r0, nS, eS, s0, s1, nT, flagsT, eps, F, I):
     """Resolve which vertex rows r0.. of S penetrate T and give them their depth.
 
@@ -696,7 +696,7 @@ def _penetrate(S, T, r0, nS, eS, s0, s1, nT, flagsT, eps, F, I):
     return npen
 
 
-@njit
+@njit(borrowed=True)
 def _midpoints(S, T, who, nS, eS, s0, s1, nT, flagsT, eps, F, I, c):
     """Rows for the midpoints of crossing-bounded pieces of S's boundary inside T."""
     k = S.shape[0]
@@ -825,7 +825,7 @@ def signed_gap(A, B):
     return g
 
 
-@njit
+@njit(borrowed=True)
 def _apart_gap(A, B, eps):
     """:func:`signed_gap` of two polygons that are apart, or -inf when they may touch or overlap.
 
@@ -841,7 +841,7 @@ def _apart_gap(A, B, eps):
     return g
 
 
-@njit
+@njit(borrowed=True)
 def _vertices_outside(S, T, eps, g):
     """min(g, the distance of every vertex of S to T's boundary) when each lies outside T by more
     than eps (:func:`_classify`), else -inf (also when g is -inf already)."""
@@ -856,7 +856,7 @@ def _vertices_outside(S, T, eps, g):
     return g
 
 
-@njit
+@njit(borrowed=True)
 def _edges_may_cross(A, B, eps):
     """False only if no edge of A meets an edge of B. Two segments that meet straddle each other's
     lines and overlap in their projections on either; each test allows ``eps`` (well above the
@@ -941,7 +941,7 @@ def face_ends(A, B, rest: float, ang_tol: float = FACE_ANGLE) -> tuple[np.ndarra
     return ends_a, ends_b
 
 
-@njit
+@njit(borrowed=True)
 def _on_partner(I, r, partner, nT):
     """True if candidate r's point Q lies on the target's edge ``partner`` (closed)."""
     if I[r, _I_EDGE] == partner:

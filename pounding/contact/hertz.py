@@ -47,7 +47,7 @@ def hertz_contact_duration(k_h: float, n: float, m_eff: float, v0: float) -> flo
     return 2.0 * delta_max / v0 * shape
 
 
-@njit
+@njit(borrowed=True)
 def hertz_force(delta, rate, approach_rate, params):
     """Hertz force of one contact: (F [N], dF/d delta [N/m], dF/d rate = 0).
 

@@ -59,7 +59,7 @@ def lankarani_nikravesh_damping(e: float) -> float:
 DAMPING_RULES = {"ye": ye_damping, "lankarani_nikravesh": lankarani_nikravesh_damping}
 
 
-@njit
+@njit(borrowed=True)
 def hertzdamp_force(delta, rate, approach_rate, params):
     """Hertzdamp force of one contact: (F [N], dF/d delta [N/m], dF/d rate [N s/m]).
 

@@ -74,7 +74,7 @@ def kelvin_contact_duration(k: float, m_eff: float, xi: float, tension: bool) ->
     return math.log((1.0 + 2.0 * xi * s2) / (1.0 + 2.0 * xi * s1)) / ((s1 - s2) * omega)
 
 
-@njit
+@njit(borrowed=True)
 def kelvin_force(delta, rate, approach_rate, params):
     """Kelvin force of one contact: (F [N], dF/d delta [N/m], dF/d rate [N s/m]).
 

@@ -226,7 +226,7 @@ def contact_forces(law: PointLaw, contact) -> np.ndarray:
                  point_shares(contact), np.ascontiguousarray(contact.S_q, dtype=float), np.ascontiguousarray(contact.S_v, dtype=float))
 
 
-@njit
+@njit(borrowed=True)
 def point_force(kernels, shifts, starts, delta, rate, approach_rate, params):
     """(force [N], d/d delta [N/m], d/d rate [N s/m]) of one point: the kernels in parallel, kernel
     j at the penetration ``delta - shifts[j]`` [m] with ``params[starts[j]:starts[j + 1]]``
@@ -242,7 +242,7 @@ def point_force(kernels, shifts, starts, delta, rate, approach_rate, params):
     return f, fd, fr
 
 
-@njit
+@njit(borrowed=True)
 def _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, lam, out):
     """out (4, m) <- the residual lam - share F(delta0 - S_q lam, rate0 - S_v lam), and F, dF/d delta,
     dF/d rate at each point; returns max |residual|."""

@@ -29,7 +29,7 @@ from pounding.hysteresis.base import HysteresisLaw
 PLASTIC = 3
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Trial force [N], tangent [N/m] and damping tangent [N s/m] (zero: rate-independent) of link s
     at deformation u [m] and rate v [m/s] from its committed state ``state[s]`` = (u, r, dissipated,
@@ -61,7 +61,7 @@ def update(u, v, state, params, new_state, s):
     return r, tangent, 0.0
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: elastic r^2/(2 k0) plus hardening H u_p^2 / 2, H = b k0 / (1 - b)."""
     k0 = params[0]

@@ -48,7 +48,7 @@ from pounding.hysteresis.base import HysteresisLaw
 Z = 3
 
 
-@njit
+@njit(borrowed=True)
 def _power(a, n):
     """a**n and a**(n - 1) for a >= 0, n >= 1, without pow() for the common n = 1, 2."""
     if n == 2.0:
@@ -61,7 +61,7 @@ def _power(a, n):
     return p1 * a, p1
 
 
-@njit
+@njit(borrowed=True)
 def _residual(z, z0, du_y, n, beta, gamma):
     s = 1.0 if du_y * z > 0.0 else -1.0  # OpenSees' signum: -1 at 0
     psi = gamma + beta * s
@@ -73,7 +73,7 @@ def _residual(z, z0, du_y, n, beta, gamma):
     return f, d, psi
 
 
-@njit
+@njit(borrowed=True)
 def solve_z(z0, du_y, n, beta, gamma):
     """z1 of the backward-Euler step for the increment du / u_y = du_y, and df/dz1 and psi there."""
     f, d, psi = _residual(z0, z0, du_y, n, beta, gamma)
@@ -104,7 +104,7 @@ def solve_z(z0, du_y, n, beta, gamma):
     return z, d, psi
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Trial force [N], tangent [N/m] and damping tangent [N s/m] (zero: rate-independent) of link s
     at deformation u [m] and rate v [m/s] from its committed state ``state[s]`` = (u, r, dissipated,
@@ -131,7 +131,7 @@ def update(u, v, state, params, new_state, s):
     return r, tangent, 0.0
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: b k0 u^2 / 2 + (1 - b) Fy u_y z^2 / 2."""
     k0 = params[0]

@@ -11,7 +11,7 @@ from pounding.compiler import njit
 from pounding.hysteresis._values import NoYieldLaw, positive
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Force k u [N], tangent k [N/m], damping tangent 0 of link s at deformation u [m] (v unused);
     ``params[s]`` = (k, 0, 0). Writes ``new_state[s]`` = (u, k u, dissipated unchanged)."""
@@ -23,7 +23,7 @@ def update(u, v, state, params, new_state, s):
     return r, k, 0.0
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: k u^2 / 2."""
     return 0.5 * params[0] * state[0] * state[0]

@@ -68,7 +68,7 @@ WEIGHT, MU_FAST, MU_SLOW, TRANSITION, K_PENDULUM, K_SLIDER = 3, 4, 5, 6, 7, 8
 DEFAULT_YIELD_DISPLACEMENT = 2.5e-4
 
 
-@njit
+@njit(borrowed=True)
 def friction_force(params, s, rate):
     """Friction bound Q = mu(rate) W [N] of link s at the sliding rate ``rate`` [m/s]."""
     mu_fast = params[s, MU_FAST]
@@ -79,7 +79,7 @@ def friction_force(params, s, rate):
     return mu * params[s, WEIGHT]
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Trial force [N], tangent [N/m] and damping tangent [N s/m] (zero: the friction is taken at
     the committed step's rate) of link s at deformation u [m] and rate v [m/s] from its committed
@@ -122,7 +122,7 @@ def update(u, v, state, params, new_state, s):
     return r, tangent, 0.0
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: the pendulum's k_R u^2 / 2 plus the slider's q^2 / (2 k_i), q = k_i (u - u_s)."""
     u = state[0]

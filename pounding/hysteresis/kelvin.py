@@ -20,7 +20,7 @@ from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_expon
 from pounding.hysteresis.viscous import COEFFICIENT, EXPONENT, dashpot
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Force [N], tangent k [N/m] and damping tangent [N s/m] of link s at deformation u [m] reached
     at the mean rate v [m/s]; ``params[s]`` = (k, 0, 0, c, alpha). Writes ``new_state[s]``."""
@@ -33,7 +33,7 @@ def update(u, v, state, params, new_state, s):
     return r, k, damping
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: the spring's k u^2 / 2."""
     return 0.5 * params[0] * state[0] * state[0]

@@ -48,7 +48,7 @@ from pounding.hysteresis._values import EXPONENT_SCHEMA, NoYieldLaw, check_expon
 SPRING, COEFFICIENT, EXPONENT = 3, 4, 5
 
 
-@njit
+@njit(borrowed=True)
 def _rate(f, c, alpha):
     """The dashpot's rate g(F) = sgn(F) (|F| / c)^(1/alpha) [m/s] and g'(F) [m/(N s)] at the force f [N]."""
     if alpha == 1.0:
@@ -61,7 +61,7 @@ def _rate(f, c, alpha):
     return (g if f > 0.0 else -g), p / (alpha * c)
 
 
-@njit
+@njit(borrowed=True)
 def mean_force(f0, du, h, k, c, alpha):
     """Fm of the midpoint step (module docstring) and g(Fm), g'(Fm), for the force f0 [N] at the start,
     the motion du [m] over h [s] > 0."""
@@ -92,7 +92,7 @@ def mean_force(f0, du, h, k, c, alpha):
     return fm, g, dg
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Force [N], the step's tangent dF/du [N/m] and damping tangent 0 of link s at deformation u [m]
     reached at the mean rate v [m/s] from its committed state ``state[s]`` = (u, F, dissipated);
@@ -116,7 +116,7 @@ def update(u, v, state, params, new_state, s):
     return r, tangent, 0.0
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: the spring's F^2 / (2 K)."""
     return 0.5 * state[1] * state[1] / params[SPRING]

@@ -48,7 +48,7 @@ COEFFICIENT, EXPONENT = 3, 4
 MIN_RATE = 1e-100
 
 
-@njit
+@njit(borrowed=True)
 def dashpot(c, alpha, v):
     """Force c |v|^alpha sgn(v) [N] and damping tangent alpha c max(|v|, MIN_RATE)^(alpha - 1) [N s/m]
     of a dashpot at the rate v [m/s]."""
@@ -61,7 +61,7 @@ def dashpot(c, alpha, v):
     return force, alpha * c * max(a, MIN_RATE) ** (alpha - 1.0)
 
 
-@njit
+@njit(borrowed=True)
 def update(u, v, state, params, new_state, s):
     """Force [N], tangent 0 [N/m] and damping tangent [N s/m] of link s at deformation u [m] reached
     at the mean rate v [m/s] from its committed state ``state[s]`` = (u, r, dissipated);
@@ -73,7 +73,7 @@ def update(u, v, state, params, new_state, s):
     return r, 0.0, damping
 
 
-@njit
+@njit(borrowed=True)
 def stored_energy(state, params):
     """Recoverable energy [J]: none."""
     return 0.0

@@ -33,7 +33,7 @@ _SPLIT = 0.5  # omega dt at which the closed form takes over from expm (as pound
 _TERMS = 20  # Taylor terms after the first (as pounding.solvers.exact and exact_work)
 
 
-@njit
+@njit(borrowed=True)
 def _matmul4(X, Y, out):
     for i in range(X.shape[0]):
         for j in range(Y.shape[1]):
@@ -43,7 +43,7 @@ def _matmul4(X, Y, out):
             out[i, j] = acc
 
 
-@njit
+@njit(borrowed=True)
 def _congruence4(W, X, tmp, out):
     """out = X^T W X (4, 4), with tmp = W X: the energy form W carried through the map X."""
     _matmul4(W, X, tmp)
@@ -55,7 +55,7 @@ def _congruence4(W, X, tmp, out):
             out[r, c] = acc
 
 
-@njit
+@njit(borrowed=True)
 def _times_f(P, X, out, rows):
     """out[:rows] = (P X)[:rows] for X with the pattern of the augmented oscillator matrix [[0, x01, 0,
     0], [x10, x11, x12, 0], [0, 0, 0, x23], [0, 0, 0, 0]] (its other entries are zero): 5 products a

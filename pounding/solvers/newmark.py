@@ -95,7 +95,7 @@ def alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, *, beta, gamma, alpha_m=0.0,
     return q1, vp + gamma * dt * a1, a1
 
 
-@njit
+@njit(borrowed=True)
 def _alpha_scalar(q, qd, qdd, p0, p1, c, k, dt, beta, gamma, alpha_m, alpha_f, out, r):
     """:func:`alpha_step` for one mode (c = 2 zeta omega, k = omega^2), written with its operations in
     its order: out[0..2, r] <- (q1, q'1, q''1)."""

@@ -39,7 +39,7 @@ SLAB_A = np.int64(0)
 SLAB_B = np.int64(9)
 
 
-@njit
+@njit(borrowed=True)
 def slab_state(rows, off, n_modes, building, storey, z, out, o):
     """out[o:o + 9] <- one slab's (u, v, phi), their rates and their accelerations from the modal
     state z (n, 3), in one pass over its modes: nine independent sums, each in mode order as
@@ -71,7 +71,7 @@ def slab_state(rows, off, n_modes, building, storey, z, out, o):
     out[o + 6], out[o + 7], out[o + 8] = a0, a1, a2
 
 
-@njit
+@njit(borrowed=True)
 def _point_bounds(k, o, R):
     """(speed, acceleration) bounds of any point of a slab with state k[o:o + 9] (:func:`slab_state`):
     |(u', v')| + R |phi'| [m/s] and |(u'', v'')| + R |phi''| + R phi'^2 [m/s^2]; also |phi'| [rad/s]."""
@@ -80,7 +80,7 @@ def _point_bounds(k, o, R):
     return speed, acc, abs(k[o + 5])
 
 
-@njit
+@njit(borrowed=True)
 def pair_kinematics(z, p, geo, out):
     """out (18,) <- :func:`slab_state` of pair p's slab a (out[:9]) and slab b (out[9:]) at z (n, 3)."""
     pa, pb, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
@@ -88,7 +88,7 @@ def pair_kinematics(z, p, geo, out):
     slab_state(rows, off, n_modes, pb[p, 0], pb[p, 1], z, out, SLAB_B)
 
 
-@njit
+@njit(borrowed=True)
 def motion_from(k0, k1, Ra, Rb):
     """Bounds (V [m/s], A [m/s^2]) on the relative speed and acceleration of a pair's points over a
     step, from its slab states k0, k1 (18,) at the step's ends (:func:`pair_kinematics`; the module
@@ -129,7 +129,7 @@ def rate_at_gap(q, v, p, g, tol, n, geo):
     return gap[j], r
 
 
-@njit
+@njit(borrowed=True)
 def graze_bound(g0, r0, g1, r1, A, h):
     """Lower bound [m] on the gap over a step of h [s] from its end values g0, g1 [m], rates
     r0, r1 [m/s] and |g''| <= A [m/s^2]: the smallest max(f0, f1) of the module docstring."""
@@ -152,7 +152,7 @@ def suspect(z0, z1, p, h, eps, tol, geo):
     return suspect_step(z0, z1, p, h, eps, tol, geo, np.int64(-1), np.empty((0, 3)), np.empty((0, 7)))  # (an int64, not a literal: one specialization)
 
 
-@njit
+@njit(borrowed=True)
 def moved_bound(ref, da, db, Ra, Rb):
     """Lower bound [m] on the signed gap of a pair whose gap was ref[0] >= 0 [m] with its slabs at
     (u, v, phi) = ref[1:4], ref[4:7], now at da, db (3,): :func:`~pounding.contact.geometry.clearance_bound`
@@ -305,7 +305,7 @@ ILLINOIS_ITERATIONS = 200
 LEAVE_HALVINGS = 60
 
 
-@njit
+@njit(borrowed=True)
 def illinois_point(lo, hi, flo, fhi):
     """The next trial point [s] of regula falsi on the bracket [lo, hi] with f(lo) = flo > 0 > fhi = f(hi)
     (the secant's zero; the midpoint where the secant is flat or leaves the bracket).
@@ -319,7 +319,7 @@ def illinois_point(lo, hi, flo, fhi):
     return x
 
 
-@njit
+@njit(borrowed=True)
 def illinois_bracket(lo, hi, flo, fhi, side, x, fx):
     """The bracket (lo, hi, flo, fhi, side) after f(x) = fx at the trial point x, with the Illinois rule:
     the end kept twice in a row has its value halved (side: 1.0 when lo moved last, -1.0 when hi did,
@@ -338,7 +338,7 @@ def illinois_bracket(lo, hi, flo, fhi, side, x, fx):
     return lo, hi, flo, fhi, side
 
 
-@njit
+@njit(borrowed=True)
 def newton_bracket(lo, hi, x, fx, slope):
     """One step of the zero finders' Newton polish: the bracket [lo, hi] narrowed by f(x) = fx, and
     the next point x - fx / slope with the interpolant's slope [m/s]; (lo, hi, next x, True), or

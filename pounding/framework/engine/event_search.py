@@ -49,7 +49,7 @@ _UNCHECKED = np.bool_(False)
 _CHECKED = np.bool_(True)
 
 
-@njit
+@njit(borrowed=True)
 def interp(x, xp, fp):
     """numpy's ``interp(x, xp, fp, left=0, right=0)`` for one point x and increasing xp (m,), with its
     arithmetic: the sample itself at a sample, else slope (x - xp[j]) + fp[j] with slope =

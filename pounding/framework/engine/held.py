@@ -263,14 +263,15 @@ def slide_bound(dq, plist, geo):
     the slab's radius); summed over the pair's two slabs, this also bounds where a contact between
     them can slide to (a face-to-face end passing from a vertex of one slab to one of the other)."""
     d = np.empty(3)
+    pa, pb, rows, off, n_modes, radii = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes, geo.radii
     out = 0.0
     for j in range(plist.shape[0]):
         p = plist[j]
         bound = 0.0
         for side in range(2):
-            building, storey = (geo.pa[p, 0], geo.pa[p, 1]) if side == 0 else (geo.pb[p, 0], geo.pb[p, 1])
-            slab_dofs(geo.rows, geo.off, geo.n_modes, building, storey, dq, d)
-            bound += np.hypot(d[0], d[1]) + geo.radii[geo.off[building] + storey] * abs(d[2])
+            building, storey = (pa[p, 0], pa[p, 1]) if side == 0 else (pb[p, 0], pb[p, 1])
+            slab_dofs(rows, off, n_modes, building, storey, dq, d)
+            bound += np.hypot(d[0], d[1]) + radii[off[building] + storey] * abs(d[2])
         out = max(out, bound)
     return out
 
@@ -289,7 +290,7 @@ def same_contact(pair1, Q1, pair0, Q0, touching0, reach):
     return out
 
 
-@njit
+@njit(borrowed=True)
 def book_velocity_change(E, bidx, v_old, v_new):
     """Book the kinetic-energy change of a velocity jump v_old -> v_new (n,) as contact work,
     E[:, 2] of each mode's building [J] (mass-normalised modes: 1/2 v^2 per mode)."""
@@ -353,7 +354,7 @@ def stop_closing(z, W, v_min):
     return dv
 
 
-@njit
+@njit(borrowed=True)
 def touch_gap(tol):
     """The gap [m] up to which a point of a held pair touches, with the crossing locator: the held
     contact's own resolution, 1e-3 of the tolerance tol [m] (held_step's end passes stop when every
@@ -395,6 +396,7 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
     with the links' loads not in f0, f1 (the contact forces only).
     """
     links, now, out = spr.links, spr.now, spr.out
+    g_now, state = now.g, now.state  # (a bundle's array read in a loop costs a reference count each time)
     n = z.shape[0]
     ns = now.f.shape[0]
     e0 = np.empty(n)
@@ -402,13 +404,13 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
     g = np.empty(n)
     prev = np.empty(ns)
     for i in range(n):
-        e0[i] = p0[i] - now.g[i]
+        e0[i] = p0[i] - g_now[i]
     q1 = np.empty(n)
     for w in RELAXATION:
         for i in range(n):
-            g[i] = now.g[i]
+            g[i] = g_now[i]
         for s in range(ns):
-            prev[s] = now.state[s, 0]
+            prev[s] = state[s, 0]
         for _ in range(4 * MAX_ITER):
             for i in range(n):
                 e1[i] = p1[i] - g[i]
@@ -451,7 +453,8 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     A, B = tr.A, tr.B
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
-    E = rec.E
+    E, every, peak, slab_building = rec.E, rec.every, rec.peak, modes.slab_building
+    rows, n_modes = geo.rows, geo.n_modes
     tol, overlap, v_min = settings.tol, settings.overlap, settings.v_min
     n = z.shape[0]
     P = geo.pa.shape[0]
@@ -527,14 +530,15 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
             z[i, 1] = z1[i, 1]
             z[i, 2] = z1[i, 2]
             fc[i] = f1[i]
-        if rec.every > 1:
-            update_peaks(geo.rows, z0, z1, dt, geo.n_modes, modes.slab_building, rec.peak)
+        if every > 1:
+            update_peaks(rows, z0, z1, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
-        if run is not None and (k + 1) % rec.every == 0:
-            row = (k + 1) // rec.every
-            for s in range(now.f.shape[0]):
+        if run is not None and (k + 1) % every == 0:
+            row = (k + 1) // every
+            hist, state = lrec.hist, now.state
+            for s in range(state.shape[0]):
                 for c in range(3):
-                    lrec.hist[c, row, s] = now.state[s, c]
+                    hist[c, row, s] = state[s, c]
         # release the held pairs that opened beyond the tolerance
         q = z[:, 0].copy()
         any_held = False
@@ -577,19 +581,20 @@ def _book_links(tr, modes, h, ag0, ag1, p0, p1, z0, z1, f0, f1, E, run, out, buf
     _accumulate_forces(tr, modes, h, ag0, ag1, z0, z1, ftot0, ftot1, E)
     spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, g, g1, w)
     _add_per_building(w, bidx, per)
+    work, joined_work = lrec.work, lrec.joined_work
     for b in range(per.shape[0]):
         E[b, 2] += per[b]
-        lrec.work[b] += per[b]
+        work[b] += per[b]
     if _has_joins(run.links):  # the links between slabs' part of it, by the same rule
         joined_load(run.now.f, run.links, gx0)
         joined_load(out.f, run.links, gx1)
         spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, gx0, gx1, w)
         _add_per_building(w, bidx, per)
         for b in range(per.shape[0]):
-            lrec.joined_work[b] += per[b]
+            joined_work[b] += per[b]
 
 
-@njit
+@njit(borrowed=True)
 def _add_per_building(w, bidx, per):
     """per (nb,) <- the sum of w (n,) over each building's modes (bidx), in mode order (numpy's bincount)."""
     for b in range(per.shape[0]):
@@ -598,14 +603,15 @@ def _add_per_building(w, bidx, per):
         per[bidx[i]] += w[i]
 
 
-@njit
+@njit(borrowed=True)
 def _commit_held_links(now, out, peak):
     """Commit a held step's trial links ``out`` into ``now`` as ``Yielding.commit`` does: remainders,
     states, their modal load, and the running peaks |deformation| ``peak`` (ns,)."""
-    for s in range(now.f.shape[0]):
-        now.f[s] = out.f[s]
-        for c in range(now.state.shape[1]):
-            now.state[s, c] = out.state[s, c]
-        peak[s] = max(peak[s], abs(out.state[s, 0]))
-    for i in range(now.g.shape[0]):
-        now.g[i] = out.g[i]
+    f, state, g, f1, trial, g1 = now.f, now.state, now.g, out.f, out.state, out.g
+    for s in range(f.shape[0]):
+        f[s] = f1[s]
+        for c in range(state.shape[1]):
+            state[s, c] = trial[s, c]
+        peak[s] = max(peak[s], abs(trial[s, 0]))
+    for i in range(g.shape[0]):
+        g[i] = g1[i]

@@ -168,7 +168,7 @@ def spring_set(building: Building, index: int = 0) -> SpringSet:
     )
 
 
-@njit
+@njit(borrowed=True)
 def solve_in_place(J, x, m):
     """x[:m] <- J[:m, :m]^-1 x[:m] by Gaussian elimination with partial pivoting, overwriting J.
 

@@ -31,7 +31,7 @@ from pounding.framework.engine.pairs import building_groups, closing, slab_polyg
 from pounding.framework.engine.peaks import cubic_abs_max
 
 
-@njit
+@njit(borrowed=True)
 def _slab_dofs(rows, q, out):
     # rows (3, n) of Phi for one slab, restricted to its building's modes
     for r in range(3):
@@ -94,6 +94,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     pair_a, pair_b, rows, off, n_modes = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes
     verts, nvert, centres, radii, rest_gap, axis = geo.verts, geo.nvert, geo.centres, geo.radii, geo.rest, geo.axis
     tol, overlap, v_min, restitution = settings.tol, settings.overlap, settings.v_min, settings.restitution
+    E, every, peak, slab_building = rec.E, rec.every, rec.peak, modes.slab_building
     n = z.shape[0]
     z0 = np.empty((n, 3))
     da = np.empty(3)
@@ -172,9 +173,9 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     # keep checking the other pairs: one of them may overlap in this same step
                     status = Status.CONTACT
                     hit = p
-        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
-        if rec.every > 1:  # before any impulse at the step's end: the step's own end velocities
-            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, rec.peak)
+        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, xw)
+        if every > 1:  # before any impulse at the step's end: the step's own end velocities
+            update_peaks(rows, z0, z, dt, n_modes, slab_building, peak)
         held = False
         if rules is not None:  # (nested: numba prunes a branch on the None test alone)
             if status == Status.CONTACT:
@@ -194,22 +195,23 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
     """:func:`advance` without slab pairs (contact off): grid steps k0 -> k1 with the same
     arithmetic and records, and no contact code compiled or loaded (``geo`` gives only the slabs'
     Phi rows, for their peaks). Returns (k1, DONE, -1)."""
-    A, B = tr.A, tr.B
+    A, B, L = tr.A, tr.B, modes.L
     dt, ag = ground.dt, ground.ag
+    E, every, peak, slab_building, rows, n_modes = rec.E, rec.every, rec.peak, modes.slab_building, geo.rows, geo.n_modes
     n = z.shape[0]
     z0 = np.empty((n, 3))
     no_force = np.zeros(n)
     xw = np.empty(4)
     for k in range(k0, k1):
-        _free_step(A, B, modes.L, ag[k], ag[k + 1], z0, z)
-        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, rec.E, xw)
-        if rec.every > 1:
-            update_peaks(geo.rows, z0, z, dt, geo.n_modes, modes.slab_building, rec.peak)
+        _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
+        _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, xw)
+        if every > 1:
+            update_peaks(rows, z0, z, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
     return k1, Status.DONE, -1
 
 
-@njit
+@njit(borrowed=True)
 def _free_step(A, B, L, ag0, ag1, z0, z):
     """One step of every mode: z0 <- z, then z = A z0 + B[:, :, 0] p0 + B[:, :, 1] p1 with the
     modal ground loads p0, p1 at the step's ends (ag0, ag1 (c,))."""
@@ -225,7 +227,7 @@ def _free_step(A, B, L, ag0, ag1, z0, z):
             z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
 
 
-@njit
+@njit(borrowed=True)
 def modal_load(L, i, ag):
     """Modal ground-motion load of mode i, p_i = -sum_j L[i, j] ag[j], for L (n, c) and ag (c,).
 
@@ -310,9 +312,10 @@ def impulses_at(law, t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     if log.last_t[0] != t:
         ne = log.n_events[0]
         log.t[ne] = t
+        lq, lv = log.q, log.v
         for i in range(n):
-            log.q[ne, i] = z[i, 0]
-            log.v[ne, i] = z[i, 1]
+            lq[ne, i] = z[i, 0]
+            lv[ne, i] = z[i, 1]
         log.n_events[0] += 1
         log.last_t[0] = t
     for g in range(kept.shape[0]):
@@ -324,8 +327,9 @@ def impulses_at(law, t, ag, z, fc, modes, settings, dt, log, geo, candidates):
         for i in range(n):
             z[i, 1] += dv[i]
     if settings.after_eq:
+        L, c2, om2 = modes.L, modes.c2, modes.om2
         for i in range(n):
-            z[i, 2] = modal_load(modes.L, i, ag) + fc[i] - modes.c2[i] * z[i, 1] - modes.om2[i] * z[i, 0]
+            z[i, 2] = modal_load(L, i, ag) + fc[i] - c2[i] * z[i, 1] - om2[i] * z[i, 0]
     held = False
     for j in range(m):
         if I_all[j] > 0:
@@ -431,13 +435,14 @@ def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
                 peak[s, j] = y
 
 
-@njit
+@njit(borrowed=True)
 def _record(z, k, rec):
-    if k % rec.every == 0:
-        j = k // rec.every
+    every, Q, V = rec.every, rec.Q, rec.V
+    if k % every == 0:
+        j = k // every
         for i in range(z.shape[0]):
-            rec.Q[j, i] = z[i, 0]
-            rec.V[j, i] = z[i, 1]
+            Q[j, i] = z[i, 0]
+            V[j, i] = z[i, 1]
 
 
 @njit
@@ -454,7 +459,7 @@ def _accumulate_forces(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E):
     _accumulate(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E, np.empty(4))
 
 
-@njit
+@njit(borrowed=True)
 def _accumulate(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E, x):
     """:func:`_accumulate_forces` with a work array x (4,) given (the stretches allocate it once)."""
     GA, GB, gc, gw, WA1, WA2, WM = tr.GA, tr.GB, tr.gc, tr.gw, tr.WA1, tr.WA2, tr.WM
@@ -497,7 +502,7 @@ def _accumulate(tr, modes, dt, ag0, ag1, z0, z, f0, f1, E, x):
                 E[bidx[i], 2] += dt * gw[j] * vj * fj
 
 
-@njit
+@njit(borrowed=True)
 def _load_sum(x, L, i, ag0, ag1):
     """x (p_i(0) + p_i(1)) written as sum_j (x L[i, j]) (-ag0[j] + -ag1[j]) (with one component,
     to the bit the trapezoidal rule's x L (p0 + p1))."""
@@ -507,7 +512,7 @@ def _load_sum(x, L, i, ag0, ag1):
     return s
 
 
-@njit
+@njit(borrowed=True)
 def _load_between(L, i, ag0, ag1, c):
     """p_i at the fraction c of a step, sum_j L[i, j] (p0_j + c (p1_j - p0_j)) with p = -ag."""
     s = L[i, 0] * (-ag0[0] + c * (-ag1[0] - -ag0[0]))

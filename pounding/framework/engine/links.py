@@ -40,7 +40,7 @@ def law_tuple(laws: tuple) -> LawTuple:
     return kernel_tuple(cls.update for cls in laws)
 
 
-@njit
+@njit(borrowed=True)
 def law_update(laws, j, u, h, state, params, new_state, s):
     """Force [N] and tangent [N/m] of link s, whose law is ``laws[j]``, at the trial deformation u [m]
     reached over a step of h [s] from its committed state ``state[s]``.

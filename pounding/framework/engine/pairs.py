@@ -38,7 +38,7 @@ from pounding.compiler import njit
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
 
 
-@njit
+@njit(borrowed=True)
 def slab_dofs(rows, off, n_modes, building, storey, x, out):
     """out (3,) <- (u, v, phi) of one slab [m, m, rad] (or their rates) from stacked modal x (n,)."""
     s = off[building] + storey
@@ -385,7 +385,7 @@ def building_groups(plist, geo):
     return label
 
 
-@njit
+@njit(borrowed=True)
 def _root(parent, i):
     while parent[i] != i:
         i = parent[i]

@@ -43,27 +43,10 @@ from pounding.framework.engine.pairs import dofs_gap
 from pounding.framework.engine.links import law_update
 
 
-@njit
-def _evaluate(laws, lo, hi, links, h, now, out, ws):
-    """The laws of the group's links (lo..hi-1) at the trial end deformations ``ws.d``: remainders
-    into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``. Returns whether every
-    remainder is the committed one (at the predictor: the step is solved, no residual to form)."""
-    law, params, k0, f, f1, d = links.law, links.params, links.k0, now.f, out.f, ws.d
-    same = True
-    for a in range(lo, hi):
-        r, k = law_update(laws, law[a], d[a], h, now.state, params, out.state, a)
-        f1[a] = r - k0[a] * d[a]
-        ws.kt[a] = k
-        if f1[a] != f[a]:
-            same = False
-    return same
-
-
-@njit
+@njit(borrowed=True)
 def _rows(lo, hi, links, S, now, out, ws, tol):
-    """The laws of the group's links (ns links lo..hi-1, m = hi - lo) at the trial end deformations
-    ``ws.d``: remainders into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``, and
-    the residual R = d - dl + S f (m,) [m] into ``ws.x[:m]``. Returns the largest |R| [m] beyond the
+    """The residual R = d - dl + S f (m,) [m] of the group's links (lo..hi-1, m = hi - lo) into
+    ``ws.x[:m]``, at the trial end deformations ``ws.d`` with the laws evaluated there. Returns the largest |R| [m] beyond the
     precision the deformations allow where a row's |R| exceeds ``tol`` (the rows within it are
     converged whatever their floor: the iteration only compares the result with tol).
 
@@ -76,32 +59,24 @@ def _rows(lo, hi, links, S, now, out, ws, tol):
     through the Jacobian's row: the nearest float is not reachable (the iterates' steps are rounded
     too), and with 8 ulps the step from rest of a building with alpha = 0.2 dampers cycled among
     neighbouring floats (measured); a tolerance of a few ulps of the deformations, not of the step."""
-    k0, f1, d, x = links.k0, out.f, ws.d, ws.x
+    k0, f1, d, x, dl, kt, u0 = links.k0, out.f, ws.d, ws.x, ws.dl, ws.kt, now.state[:, 0]
     worst = 0.0
     for a in range(lo, hi):
-        acc = d[a] - ws.dl[a]
+        acc = d[a] - dl[a]
         for b in range(lo, hi):
             acc += S[a, b] * f1[b]
         x[a - lo] = acc
         if abs(acc) <= tol:
             worst = max(worst, abs(acc))
             continue
-        floor = abs(d[a]) + abs(ws.dl[a])
+        floor = abs(d[a]) + abs(dl[a])
         for b in range(lo, hi):
-            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (ws.kt[b] - k0[b])) * max(abs(d[b]), abs(now.state[b, 0]))
+            floor += abs(S[a, b] * f1[b]) + 8.0 * abs(S[a, b] * (kt[b] - k0[b])) * max(abs(d[b]), abs(u0[b]))
         worst = max(worst, abs(acc) - 4.0 * EPS * floor)
     return worst
 
 
-@njit
-def _residual(laws, lo, hi, links, h, S, now, out, ws, tol):
-    """The laws at ``ws.d`` (:func:`_evaluate`) and the residual's rows (:func:`_rows`): the largest
-    |R| beyond its precision [m]."""
-    _evaluate(laws, lo, hi, links, h, now, out, ws)
-    return _rows(lo, hi, links, S, now, out, ws, tol)
-
-
-@njit
+@njit(borrowed=True)
 def _newton_step(lo, hi, links, S, out, ws):
     """The Newton step at the iterate ``ws.d``, solved in the forces: q [N] (``ws.x[2m:3m]``) with
     (I + D S) q = f - y, D = diag(k_t - k0), y (``ws.x[3m:4m]``) the forces the iterate implies
@@ -143,7 +118,7 @@ def _newton_step(lo, hi, links, S, out, ws):
         dd[a] = acc
 
 
-@njit
+@njit(borrowed=True)
 def _slope(m, x):
     """phi'(t) = -q . R [N m]: the slope of the group's potential along the Newton step (see
     :func:`solve_group`), from q (``x[2m:3m]``) and the residual at the share t of the step (``x[:m]``)."""
@@ -153,74 +128,33 @@ def _slope(m, x):
     return acc
 
 
-@njit
+@njit(borrowed=True)
 def _go_to(lo, hi, t, ws):
     """ws.d <- d0 - t dd: the share t of the Newton step from the accepted iterate d0. Returns whether
     that moved any link."""
+    d, d0, dd = ws.d, ws.d0, ws.dd
     moved = False
     for a in range(lo, hi):
-        u = ws.d0[a] - t * ws.dd[a]
-        if u != ws.d[a]:
+        u = d0[a] - t * dd[a]
+        if u != d[a]:
             moved = True
-        ws.d[a] = u
+        d[a] = u
     return moved
 
 
-@njit
+@njit(borrowed=True)
 def _between(lo, hi, a, t, b, ws):
     """Whether the share t of the Newton step gives some link a deformation other than those of the
     shares a and b: when it does not, no float lies between the two iterates."""
+    d0, dd = ws.d0, ws.dd
     for k in range(lo, hi):
-        u = ws.d0[k] - t * ws.dd[k]
-        if u != ws.d0[k] - a * ws.dd[k] and u != ws.d0[k] - b * ws.dd[k]:
+        u = d0[k] - t * dd[k]
+        if u != d0[k] - a * dd[k] and u != d0[k] - b * dd[k]:
             return True
     return False
 
 
-@njit
-def _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it):
-    """The minimum of the potential along the Newton step when the full step went past it
-    (phi'(0) = s0 < 0 < phi'(1) = s1): the Illinois variant of regula falsi on the nondecreasing
-    phi', to |phi'(t)| <= ETA |phi'(0)| or a residual within tol. Leaves the laws evaluated at the
-    iterate it takes. Returns (t, largest |R|, evaluations so far); t = 0 when no float lies between
-    the accepted iterate and the bracket's other end: the iterate is the solution to the
-    deformations' precision (a dashpot near rest: its force jumps by c (ulp(u) / h)^alpha between
-    neighbouring floats)."""
-    m = hi - lo
-    a, sa, b, sb = 0.0, s0, 1.0, s1
-    side = 0
-    worst = np.inf
-    while it <= NEWTON_CAP:
-        t = a - sa * (b - a) / (sb - sa)
-        if not a < t < b:
-            t = 0.5 * (a + b)
-        if not _between(lo, hi, a, t, b, ws):
-            t = a  # no float between the ends: the end before the minimum
-            _go_to(lo, hi, t, ws)
-            worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
-            return t, worst, it + 1
-        _go_to(lo, hi, t, ws)
-        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
-        it += 1
-        if worst <= tol:
-            return t, worst, it
-        st = _slope(m, ws.x)
-        if abs(st) <= ETA * -s0:
-            return t, worst, it
-        if st < 0.0:
-            a, sa = t, st
-            if side < 0:
-                sb *= 0.5  # Illinois: the end kept twice has its slope halved
-            side = -1
-        else:
-            b, sb = t, st
-            if side > 0:
-                sa *= 0.5
-            side = 1
-    return 1.0, worst, it
-
-
-@njit
+@njit(borrowed=True)
 def solve_group(laws, j, links, h, S, now, out, ws):
     """Newton on ``u + S f(u) = dl`` for the links of group j (one building, or the buildings links join), for a step of h [s].
 
@@ -246,26 +180,103 @@ def solve_group(laws, j, links, h, S, now, out, ws):
     below about 0.45). Along the step the slope of Phi is phi'(t) = -q . R(d - t dd), nondecreasing
     in t, so Phi needs no evaluation and the laws no potential: the full step is taken when
     phi'(1) <= ETA |phi'(0)| (then Phi fell by at least ETA |phi'(0)|, by convexity), else the
-    minimum along it is bracketed in (0, 1) (:func:`_line_minimum`). No law's kind is asked: a law
+    minimum along it is bracketed in (0, 1) and found by the Illinois variant of regula falsi on the
+    nondecreasing phi', to |phi'(t)| <= ETA |phi'(0)| or a residual within tol. No law's kind is asked: a law
     whose force falls with its deformation (phi'(0) >= 0) gets the full Newton step. The step is
     solved in the forces (:func:`_newton_step`), and the residual is met to tol beyond the precision
-    the deformations' floats allow (:func:`_residual`); a step that moves no deformation, or a
+    the deformations' floats allow (:func:`_rows`); a step that moves no deformation, or a
     bracket with no float inside, ends the iteration there.
+
+    The predictor, where almost every step ends, is this function; the iteration past it is
+    :func:`_iterate`, and both evaluate the laws with :func:`_evaluate`.
 
     Returns the laws' evaluations after the predictor's (one per Newton step and per step of the
     line search), or -1 when that exceeds NEWTON_CAP without converging.
     """
-    lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
-    m = hi - lo
-    d, d0, dl, sf, x = ws.d, ws.d0, ws.dl, ws.sf, ws.x
+    lo, hi = links.bounds[j], links.bounds[j + 1]
+    d, dl, sf = ws.d, ws.dl, ws.sf
     for a in range(lo, hi):  # predictor: the start remainders kept through the step
         d[a] = dl[a] - sf[a]
-        x[3 * m + a - lo] = now.f[a]  # the forces that imply it: d = dl - S y
     if _evaluate(laws, lo, hi, links, h, now, out, ws):
         return 0  # nothing changed: the predictor solves the step
-    worst = _rows(lo, hi, links, S, now, out, ws, tol)
-    it = 0
-    while worst > tol:
+    return _iterate(laws, j, links, h, S, now, out, ws)
+
+
+@njit(borrowed=True)
+def _evaluate(laws, lo, hi, links, h, now, out, ws):
+    """The laws of the group's links (lo..hi-1) at the trial end deformations ``ws.d``: remainders
+    into ``out.f``, trial states into ``out.state``, tangents into ``ws.kt``. Returns whether every
+    remainder is the committed one (at the predictor: the step is solved, no residual to form)."""
+    law, params, k0, f, f1, d = links.law, links.params, links.k0, now.f, out.f, ws.d
+    state, trial, kt = now.state, out.state, ws.kt
+    same = True
+    for a in range(lo, hi):
+        r, k = law_update(laws, law[a], d[a], h, state, params, trial, a)
+        f1[a] = r - k0[a] * d[a]
+        kt[a] = k
+        if f1[a] != f[a]:
+            same = False
+    return same
+
+
+@njit(borrowed=True)
+def _iterate(laws, j, links, h, S, now, out, ws):
+    """:func:`solve_group` past a predictor that moved some law (the laws evaluated there): the
+    globalised Newton iteration. Returns the evaluations it took, or -1."""
+    lo, hi, tol = links.bounds[j], links.bounds[j + 1], links.tol[j]
+    m = hi - lo
+    f, d, d0, x = now.f, ws.d, ws.d0, ws.x
+    for a in range(lo, hi):
+        x[3 * m + a - lo] = f[a]  # the forces that imply the predictor: d = dl - S y
+    it = 0  # evaluations after the predictor's
+    stage = PREDICTOR
+    t = 1.0  # the share of the Newton step at the iterate
+    s0 = 0.0  # phi'(0) of the Newton step
+    ta, sa, tb, sb, side = 0.0, 0.0, 1.0, 0.0, 0  # the line search's bracket and its last kept end
+    while True:  # the laws are evaluated at the iterate d
+        worst = _rows(lo, hi, links, S, now, out, ws, tol)
+        if stage == NEWTON:  # the full step: taken, or past the minimum along it
+            t = 1.0
+            if worst > tol and s0 < 0.0:
+                s1 = _slope(m, x)
+                if s1 > ETA * -s0:
+                    stage, ta, sa, tb, sb, side = SEARCH, 0.0, s0, 1.0, s1, 0
+        elif stage == SEARCH:
+            st = _slope(m, x) if worst > tol else 0.0
+            if worst <= tol or abs(st) <= ETA * -s0:
+                stage = NEWTON  # the iterate is taken
+            elif st < 0.0:
+                ta, sa = t, st
+                if side < 0:
+                    sb *= 0.5  # Illinois: the end kept twice has its slope halved
+                side = -1
+            else:
+                tb, sb = t, st
+                if side > 0:
+                    sa *= 0.5
+                side = 1
+        elif stage == LAST:  # the bracket's lower end, with no float inside the bracket
+            if ta == 0.0:
+                return it  # the accepted iterate is the solution to the deformations' precision
+            t = ta
+        if stage == SEARCH:  # the next trial inside the bracket
+            if it > NEWTON_CAP:
+                return -1
+            t = ta - sa * (tb - ta) / (sb - sa)
+            if not ta < t < tb:
+                t = 0.5 * (ta + tb)
+            if not _between(lo, hi, ta, t, tb, ws):
+                t = ta  # no float between the ends: the end before the minimum
+                stage = LAST
+            _go_to(lo, hi, t, ws)
+            it += 1
+            _evaluate(laws, lo, hi, links, h, now, out, ws)
+            continue
+        if stage != PREDICTOR:
+            for a in range(lo, hi):
+                x[3 * m + a - lo] += t * x[2 * m + a - lo]  # the implied forces follow the step
+        if worst <= tol:
+            return it
         if it >= NEWTON_CAP:
             return -1
         _newton_step(lo, hi, links, S, out, ws)
@@ -274,18 +285,13 @@ def solve_group(laws, j, links, h, S, now, out, ws):
             d0[a] = d[a]
         if not _go_to(lo, hi, 1.0, ws):
             return it  # a step below the deformations' precision: the iterate is the solution to it
-        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
         it += 1
-        t = 1.0
-        if worst > tol and s0 < 0.0:
-            s1 = _slope(m, x)
-            if s1 > ETA * -s0:  # past the minimum along the step
-                t, worst, it = _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it)
-                if t == 0.0:
-                    return it
-        for a in range(lo, hi):
-            x[3 * m + a - lo] += t * x[2 * m + a - lo]  # the implied forces follow the step
-    return it
+        stage = NEWTON
+        _evaluate(laws, lo, hi, links, h, now, out, ws)
+
+
+#: the stages of :func:`solve_group`'s loop: what the iterate just evaluated is
+PREDICTOR, NEWTON, SEARCH, LAST = 0, 1, 2, 3
 
 
 #: the share of the Newton step's initial slope of the potential left at the iterate the links' line
@@ -293,7 +299,7 @@ def solve_group(laws, j, links, h, S, now, out, ws):
 ETA = 0.5
 
 
-@njit
+@njit(borrowed=True)
 def compliance_load(f, S, bounds, sf):
     """sf (ns,) <- S f per group (S block diagonal by group)."""
     for j in range(bounds.shape[0] - 1):
@@ -304,7 +310,7 @@ def compliance_load(f, S, bounds, sf):
             sf[a] = acc
 
 
-@njit
+@njit(borrowed=True)
 def step_compliance(links, B1, S):
     """S (ns, ns) <- the compliance [m/N] of a step of the links ``links`` (:class:`Links`): G diag(B1) G^T
     per Newton group, zero between groups (uncoupled), B1 (n,) = B[:, 0, 1] the step's end-load map
@@ -333,7 +339,7 @@ def compliance(links, B1):
     return S
 
 
-@njit
+@njit(borrowed=True)
 def deformations(q, G, bounds, gmodes, out):
     """out (ns,) <- G q per group: the links' deformations [m] from the stacked modal vector q (n,)."""
     for j in range(bounds.shape[0] - 1):
@@ -345,7 +351,7 @@ def deformations(q, G, bounds, gmodes, out):
             out[s] = acc
 
 
-@njit
+@njit(borrowed=True)
 def end_load(f1, G, bounds, gmodes, g):
     """g (n,) <- the modal load G^T f1 of the remainders f1 (ns,), zero on modes without links."""
     for i in range(g.shape[0]):
@@ -359,7 +365,7 @@ def end_load(f1, G, bounds, gmodes, g):
             g[m0 + i] = acc
 
 
-@njit
+@njit(borrowed=True)
 def joined_load(f, links, g):
     """g (n,) <- the modal load of the remainders f (ns,) of the links between slabs only
     (``links.joins``): the part of :func:`end_load` whose work is booked to the buildings' ``links`` term."""
@@ -375,15 +381,16 @@ def joined_load(f, links, g):
             g[m0 + i] = acc
 
 
-@njit
+@njit(borrowed=True)
 def _has_joins(links):
-    for s in range(links.joins.shape[0]):
-        if links.joins[s] != 0.0:
+    joins = links.joins
+    for s in range(joins.shape[0]):
+        if joins[s] != 0.0:
             return True
     return False
 
 
-@njit
+@njit(borrowed=True)
 def _largest_group(bounds):
     m = 0
     for j in range(bounds.shape[0] - 1):
@@ -400,7 +407,7 @@ def newton_work(bounds):
                       np.empty(m, dtype=np.int64), np.empty(ns), np.empty(ns))
 
 
-@njit
+@njit(borrowed=True)
 def _solve_springs(laws, links, S, h, q_lin, now, out, ws, counts):
     """Every group's Newton (:func:`solve_group`) with ``ws.sf`` = S f given (the stretch keeps it
     until f changes) and the work buffers ``ws`` (:class:`NewtonWork`). Adds every group's
@@ -450,24 +457,24 @@ def fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
     plain one). Otherwise prev takes the new deformations and g (n,) the next end load, in place:
     out.g (w = 1), or g + w (out.g - g) (under-relaxed, w < 1). Returns True when converged."""
     forces_at(laws, links, h, q1, now, out)
-    d, bounds = out.state, links.bounds
+    d, bounds, tol, g1 = out.state, links.bounds, links.tol, out.g
     done = True
     for j in range(bounds.shape[0] - 1):
         worst = 0.0
         for s in range(bounds[j], bounds[j + 1]):
             worst = max(worst, abs(d[s, 0] - prev[s]))
-        if worst > w * links.tol[j]:
+        if worst > w * tol[j]:
             done = False
     if done:
         return True
     for s in range(prev.shape[0]):
         prev[s] = d[s, 0]
     for i in range(g.shape[0]):
-        g[i] = out.g[i] if w == 1.0 else g[i] + w * (out.g[i] - g[i])
+        g[i] = g1[i] if w == 1.0 else g[i] + w * (g1[i] - g[i])
     return False
 
 
-@njit
+@njit(borrowed=True)
 def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
     """out (n,) <- work [J] in a step of h [s] of a modal load w linear in it (w0 at its start, w1
     at its end), on the integrator's trajectory (``tr``, the :class:`Transition`) driven by the
@@ -501,7 +508,7 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
             out[i] = acc
 
 
-@njit
+@njit(borrowed=True)
 def _step_with_links(laws, A, B, z0, p0, p1, h, links, S, now, out, ws, counts, qlin, z):
     """z (n, 3) <- a step of h [s] from z0 (n, 3) with links: the integrator's linear step (A (n, 3, 3),
     B (n, 3, 2)) with the modal loads p0 (the start's, the links' -g0 in it) and p1 (n,) at its ends,
@@ -526,8 +533,9 @@ def _step_with_links(laws, A, B, z0, p0, p1, h, links, S, now, out, ws, counts, 
     if changed:
         end_load(f1, links.G, links.bounds, links.gmodes, g1)
     else:  # the same remainders: the same end load, bit for bit
+        g0 = now.g
         for i in range(n):
-            g1[i] = now.g[i]
+            g1[i] = g0[i]
     for i in range(n):
         for r in range(3):
             z[i, r] = z[i, r] - B[i, r, 1] * g1[i]
@@ -584,7 +592,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
     every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
-    rows, n_modes = geo.rows, geo.n_modes
+    rows, n_modes, slab_building = geo.rows, geo.n_modes, modes.slab_building
     pa, pb, off, radii, rest = geo.pa, geo.pb, geo.off, geo.radii, geo.rest
     links, S, now, lrec = run.links, run.S, run.now, run.record
     bounds = links.bounds
@@ -690,7 +698,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             compliance_load(f1, S, bounds, ws.sf)
         _commit_links(links, out, ws.kt, now, lrec)
         if every > 1:
-            update_peaks(rows, z0, z, dt, n_modes, modes.slab_building, slab_peak)
+            update_peaks(rows, z0, z, dt, n_modes, slab_building, slab_peak)
         if (k + 1) % every == 0:
             j = (k + 1) // every
             for i in range(n):
@@ -703,7 +711,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     return k1, Status.DONE, -1
 
 
-@njit
+@njit(borrowed=True)
 def _commit_links(links, out, kt, now, lrec):
     """Commit a step's trial links ``out`` (:class:`LinkTrial`: remainders, trial states) and their
     tangents kt (ns,) into ``now``; count the tangent changes (a link yields or unloads: its tangent

@@ -30,7 +30,7 @@ S_TOL = 1e-9  # relative tolerance on the edge parameter of a ray hit
 # =============================================================================
 
 
-@njit
+@njit(borrowed=True)
 def _cast_into(P, Q, d0, d1, f, base, delta, s):
     """Rays from the vertices of polygon P (m, 2) along (d0, d1) onto the edges of polygon Q (n, 2)
     (edge j from vertex j to j + 1): ``delta[base + i n + j]`` <- the ray length [m] at which vertex
@@ -53,7 +53,7 @@ def _cast_into(P, Q, d0, d1, f, base, delta, s):
             delta[f, k] = (w0 * e1 - w1 * e0) / den if ok and -S_TOL <= sij <= 1.0 + S_TOL else np.nan
 
 
-@njit
+@njit(borrowed=True)
 def _last_touch(A, B, d, delta, who, vertex, edge, s, scratch, sscratch):
     """Per frame f of A (F, k, 2) and B (F, l, 2): the largest translation ``delta[f]`` [m] of B
     along d at which the two touch (-inf where none), and which vertex of which polygon then lies
