@@ -251,3 +251,22 @@ def test_warm_up_if_needed_returns_at_once_when_marked(tmp_path, monkeypatch):
     (tmp_path / "pounding-warmed.json").write_text("{}\n")
     monkeypatch.setattr(subprocess, "Popen", lambda *a, **k: pytest.fail("a warm-up process was started"))
     assert warmup.warm(if_needed=True, quiet=True)["skipped"] is True
+
+
+@needs_numba
+def test_borrowed_functions_compile_without_reference_counts_and_cannot_allocate():
+    """@njit(borrowed=True): numba's reference counts off (_nrt=False), and the promise that keeps
+    that safe, no array allocated or returned, checked by numba when it types the function."""
+    import numba
+
+    from pounding.framework.engine import spring_core
+
+    assert spring_core.solve_group.borrowed
+    assert spring_core.solve_group.dispatcher.targetoptions["_nrt"] is False
+    assert not spring_core.stretch.borrowed  # it allocates its work buffers
+
+    def allocates(n):
+        return np.empty(n)[0]
+
+    with pytest.raises(numba.core.errors.TypingError):
+        numba.njit(_nrt=False)(allocates)(3)
