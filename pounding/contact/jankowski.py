@@ -44,7 +44,7 @@ def jankowski_damping_ratio(e: float) -> float:
     return 9.0 * math.sqrt(5.0) / 2.0 * (1.0 - e * e) / (e * (e * (9.0 * math.pi - 16.0) + 16.0))
 
 
-@njit
+@njit(borrowed=True)
 def jankowski_force(delta, rate, approach_rate, params):
     """Jankowski force of one contact: (F [N], dF/d delta [N/m], dF/d rate [N s/m]).
 

@@ -352,7 +352,7 @@ def newton_bracket(lo, hi, x, fx, slope):
     return lo, hi, x - fx / slope, True
 
 
-@njit
+@njit(borrowed=True)
 def bounded_minimum(q0, v0, q1, v1, h, a, b, xatol, plist, geo):
     """(x [s], value [m]) of the smallest :func:`hermite_gap` on [a, b]: Brent's bounded minimiser
     (golden sections and parabolic steps; Forsythe, Malcolm & Moler 1977, ``fmin``), in the form of

@@ -65,7 +65,7 @@ __all__ = ["cubic_abs_max", "hermite_extremes", "Segments", "segments", "abs_pea
 
 
 # --------------------------------------------------------------------------- closed forms in a step
-@njit
+@njit(borrowed=True)
 def cubic_abs_max(y0, y1, m0, m1):
     """max |y(s)| over s in [0, 1] of the cubic Hermite y with y(0) = y0, y(1) = y1, dy/ds = m0, m1.
 
@@ -108,7 +108,7 @@ def hermite_extremes(y0, y1, m0, m1, signed: bool = False):
     return best.reshape(shape), where.reshape(shape)
 
 
-@njit
+@njit(borrowed=True)
 def _hermite_extremes_flat(y0, y1, m0, m1, signed, best, where):
     """best, where (m,) <- the extreme of |y| (with ``signed``: of y) of the cubic Hermite of every
     element over s in [0, 1] and its fraction s: the step ends and the roots in (0, 1) of y'(s) = m0 +

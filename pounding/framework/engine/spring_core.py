@@ -46,9 +46,10 @@ from pounding.framework.engine.links import law_update
 @njit(borrowed=True)
 def _rows(lo, hi, links, S, now, out, ws, tol):
     """The residual R = d - dl + S f (m,) [m] of the group's links (lo..hi-1, m = hi - lo) into
-    ``ws.x[:m]``, at the trial end deformations ``ws.d`` with the laws evaluated there. Returns the largest |R| [m] beyond the
-    precision the deformations allow where a row's |R| exceeds ``tol`` (the rows within it are
-    converged whatever their floor: the iteration only compares the result with tol).
+    ``ws.x[:m]``, at the trial end deformations ``ws.d`` with the laws evaluated there. Returns the
+    largest |R| [m] beyond the precision the deformations allow where a row's |R| exceeds ``tol``
+    (the rows within it are converged whatever their floor: the iteration only compares the result
+    with tol).
 
     That precision: a row's residual is rounded to eps of its terms (|d|, |dl|, |S f|), and a change
     of one ulp in the deformations (or the committed ones the rates are taken from) moves it by the
