@@ -38,7 +38,10 @@ Contract for an implementer
    lives in rows of arrays for all links, and the output in a buffer, so that
    the stepping loop neither allocates nor takes views per link and iteration (a
    view costs reference counting in numba: measured 100 ns per spring and step,
-   15x the bilinear update itself).
+   15x the bilinear update itself). Declared ``@njit(borrowed=True)``
+   (:func:`pounding.compiler.njit`), as the built-in laws are, it is compiled
+   without numba's reference counts on its array arguments; numba refuses to
+   compile it so if it allocates.
 5. The first three state slots are common to every law: ``state[0]`` the
    deformation u [m], ``state[1]`` the force r [N], ``state[2]`` the energy the
    law has dissipated since the start [J] along its own path from the committed
