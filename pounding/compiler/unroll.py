@@ -4,7 +4,8 @@ A compiled function that calls "the law of this link" or "the laws of this conta
 compiled kernels as a tuple and visits it with numba's ``literal_unroll``
 (:mod:`pounding.framework.engine.links` for the links' laws, :mod:`pounding.contact.pointwise` for
 the point laws of contact). numba types a compiled function passed as an argument by the function
-itself, so the caller is compiled once per tuple of laws (each law inlined where it is called) and
+itself, so the caller is compiled once per tuple of laws (each law a direct call, no function
+pointer) and
 a law is one module and one registration: nothing is generated or rewritten.
 
 What this module gives such a module:

@@ -13,12 +13,12 @@ Why a tuple
 -----------
 numba types a compiled function passed as an argument by the function itself, so the stepping is
 compiled once per tuple of laws a run holds (one specialization per scene's set of laws, each law
-inlined where it is called, as if it were written there), and a law is one module and one
+a direct call that the compiler may inline), and a law is one module and one
 registration: nothing is generated or rewritten (:mod:`pounding.compiler.unroll`: the tuple's type
 worked out once, and ``literal_unroll``, which visits its members whatever their types and calls
 the one whose position is the link's index). numba's first-class function types (one type for
 every law of one signature) would compile the stepping once for all laws, but call each law
-through a pointer, which cannot be inlined, for every link and Newton iteration of every step. The
+through a pointer, which is never inlined, for every link and Newton iteration of every step. The
 compiled stepping is cached on disk under its argument types; the identity numba gives a compiled
 function in a type is fixed from its module, name and source (:func:`pounding.compiler._fix_identity`),
 so the cache is found again by the next process, and a law whose source changed is compiled afresh.

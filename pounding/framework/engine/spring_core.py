@@ -156,6 +156,58 @@ def _between(lo, hi, a, t, b, ws):
 
 
 @njit(borrowed=True)
+def _residual(laws, lo, hi, links, h, S, now, out, ws, tol):
+    """The laws at ``ws.d`` (:func:`_evaluate`) and the residual's rows (:func:`_rows`): the largest
+    |R| beyond its precision [m]."""
+    _evaluate(laws, lo, hi, links, h, now, out, ws)
+    return _rows(lo, hi, links, S, now, out, ws, tol)
+
+
+@njit(borrowed=True)
+def _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it):
+    """The minimum of the potential along the Newton step when the full step went past it
+    (phi'(0) = s0 < 0 < phi'(1) = s1): the Illinois variant of regula falsi on the nondecreasing
+    phi', to |phi'(t)| <= ETA |phi'(0)| or a residual within tol. Leaves the laws evaluated at the
+    iterate it takes. Returns (t, largest |R|, evaluations so far). When no float lies between the
+    bracket's ends, t is its lower end; t = 0 then means the accepted iterate is the solution to
+    the deformations' precision (a dashpot near rest: its force jumps by c (ulp(u) / h)^alpha
+    between neighbouring floats)."""
+    m = hi - lo
+    x = ws.x
+    a, sa, b, sb = 0.0, s0, 1.0, s1
+    side = 0
+    worst = np.inf
+    while it <= NEWTON_CAP:
+        t = a - sa * (b - a) / (sb - sa)
+        if not a < t < b:
+            t = 0.5 * (a + b)
+        if not _between(lo, hi, a, t, b, ws):
+            t = a  # no float between the ends: the end before the minimum
+            _go_to(lo, hi, t, ws)
+            worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
+            return t, worst, it + 1
+        _go_to(lo, hi, t, ws)
+        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
+        it += 1
+        if worst <= tol:
+            return t, worst, it
+        st = _slope(m, x)
+        if abs(st) <= ETA * -s0:
+            return t, worst, it
+        if st < 0.0:
+            a, sa = t, st
+            if side < 0:
+                sb *= 0.5  # Illinois: the end kept twice has its slope halved
+            side = -1
+        else:
+            b, sb = t, st
+            if side > 0:
+                sa *= 0.5
+            side = 1
+    return 1.0, worst, it
+
+
+@njit(borrowed=True)
 def solve_group(laws, j, links, h, S, now, out, ws):
     """Newton on ``u + S f(u) = dl`` for the links of group j (one building, or the buildings links join), for a step of h [s].
 
@@ -181,11 +233,10 @@ def solve_group(laws, j, links, h, S, now, out, ws):
     below about 0.45). Along the step the slope of Phi is phi'(t) = -q . R(d - t dd), nondecreasing
     in t, so Phi needs no evaluation and the laws no potential: the full step is taken when
     phi'(1) <= ETA |phi'(0)| (then Phi fell by at least ETA |phi'(0)|, by convexity), else the
-    minimum along it is bracketed in (0, 1) and found by the Illinois variant of regula falsi on the
-    nondecreasing phi', to |phi'(t)| <= ETA |phi'(0)| or a residual within tol. No law's kind is asked: a law
+    minimum along it is bracketed in (0, 1) (:func:`_line_minimum`). No law's kind is asked: a law
     whose force falls with its deformation (phi'(0) >= 0) gets the full Newton step. The step is
     solved in the forces (:func:`_newton_step`), and the residual is met to tol beyond the precision
-    the deformations' floats allow (:func:`_rows`); a step that moves no deformation, or a
+    the deformations' floats allow (:func:`_residual`); a step that moves no deformation, or a
     bracket with no float inside, ends the iteration there.
 
     The predictor, where almost every step ends, is this function; the iteration past it is
@@ -229,55 +280,9 @@ def _iterate(laws, j, links, h, S, now, out, ws):
     f, d, d0, x = now.f, ws.d, ws.d0, ws.x
     for a in range(lo, hi):
         x[3 * m + a - lo] = f[a]  # the forces that imply the predictor: d = dl - S y
-    it = 0  # evaluations after the predictor's
-    stage = PREDICTOR
-    t = 1.0  # the share of the Newton step at the iterate
-    s0 = 0.0  # phi'(0) of the Newton step
-    ta, sa, tb, sb, side = 0.0, 0.0, 1.0, 0.0, 0  # the line search's bracket and its last kept end
-    while True:  # the laws are evaluated at the iterate d
-        worst = _rows(lo, hi, links, S, now, out, ws, tol)
-        if stage == NEWTON:  # the full step: taken, or past the minimum along it
-            t = 1.0
-            if worst > tol and s0 < 0.0:
-                s1 = _slope(m, x)
-                if s1 > ETA * -s0:
-                    stage, ta, sa, tb, sb, side = SEARCH, 0.0, s0, 1.0, s1, 0
-        elif stage == SEARCH:
-            st = _slope(m, x) if worst > tol else 0.0
-            if worst <= tol or abs(st) <= ETA * -s0:
-                stage = NEWTON  # the iterate is taken
-            elif st < 0.0:
-                ta, sa = t, st
-                if side < 0:
-                    sb *= 0.5  # Illinois: the end kept twice has its slope halved
-                side = -1
-            else:
-                tb, sb = t, st
-                if side > 0:
-                    sa *= 0.5
-                side = 1
-        elif stage == LAST:  # the bracket's lower end, with no float inside the bracket
-            if ta == 0.0:
-                return it  # the accepted iterate is the solution to the deformations' precision
-            t = ta
-        if stage == SEARCH:  # the next trial inside the bracket
-            if it > NEWTON_CAP:
-                return -1
-            t = ta - sa * (tb - ta) / (sb - sa)
-            if not ta < t < tb:
-                t = 0.5 * (ta + tb)
-            if not _between(lo, hi, ta, t, tb, ws):
-                t = ta  # no float between the ends: the end before the minimum
-                stage = LAST
-            _go_to(lo, hi, t, ws)
-            it += 1
-            _evaluate(laws, lo, hi, links, h, now, out, ws)
-            continue
-        if stage != PREDICTOR:
-            for a in range(lo, hi):
-                x[3 * m + a - lo] += t * x[2 * m + a - lo]  # the implied forces follow the step
-        if worst <= tol:
-            return it
+    worst = _rows(lo, hi, links, S, now, out, ws, tol)
+    it = 0
+    while worst > tol:
         if it >= NEWTON_CAP:
             return -1
         _newton_step(lo, hi, links, S, out, ws)
@@ -286,13 +291,18 @@ def _iterate(laws, j, links, h, S, now, out, ws):
             d0[a] = d[a]
         if not _go_to(lo, hi, 1.0, ws):
             return it  # a step below the deformations' precision: the iterate is the solution to it
+        worst = _residual(laws, lo, hi, links, h, S, now, out, ws, tol)
         it += 1
-        stage = NEWTON
-        _evaluate(laws, lo, hi, links, h, now, out, ws)
-
-
-#: the stages of :func:`solve_group`'s loop: what the iterate just evaluated is
-PREDICTOR, NEWTON, SEARCH, LAST = 0, 1, 2, 3
+        t = 1.0
+        if worst > tol and s0 < 0.0:
+            s1 = _slope(m, x)
+            if s1 > ETA * -s0:  # past the minimum along the step
+                t, worst, it = _line_minimum(laws, lo, hi, links, h, S, now, out, ws, s0, s1, tol, it)
+                if t == 0.0:
+                    return it
+        for a in range(lo, hi):
+            x[3 * m + a - lo] += t * x[2 * m + a - lo]  # the implied forces follow the step
+    return it
 
 
 #: the share of the Newton step's initial slope of the potential left at the iterate the links' line
