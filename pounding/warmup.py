@@ -181,7 +181,9 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
     -------
     dict
         ``wall_s`` [s], ``jobs``, ``tasks`` (task name -> wall time [s] of its process),
-        ``skipped`` (True when ``if_needed`` found the cache warm).
+        ``skipped`` (True when ``if_needed`` found the cache warm), and after a warm-up
+        ``pruned``: the cache folders of earlier versions it removed and the bytes freed
+        (:func:`pounding.compiler.cache.prune_stale`; none with ``NUMBA_CACHE_DIR`` set).
     """
     import compileall
     import json
@@ -233,6 +235,13 @@ def warm(jobs: int | None = None, *, if_needed: bool = False, quiet: bool = Fals
     except OSError:  # pragma: no cover - a read-only cache: the runs compile as they go
         pass
     say(f"pounding: compiled in {wall:.1f} s")
+    if not os.environ.get("NUMBA_CACHE_DIR"):  # (a cache folder the user chose is theirs)
+        from pounding.compiler.cache import prune_stale
+
+        removed, freed = prune_stale()
+        info["pruned"] = {"folders": removed, "bytes": freed}
+        if removed:
+            say(f"pounding: removed {removed} cache folder{'s' if removed > 1 else ''} of earlier versions ({freed / 1e6:.0f} MB)")
     return info
 
 

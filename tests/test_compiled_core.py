@@ -79,6 +79,58 @@ def test_cache_key_ignores_files_written_into_the_cache(tmp_path, monkeypatch):
     assert cache.cache_key() == k0
 
 
+def _cache_folder(base, name, files, age_s):
+    """A cache folder ``base/name`` holding ``files`` (relative paths), last changed ``age_s`` ago."""
+    import os
+    import time
+
+    folder = base / name
+    for rel in files:
+        path = folder / rel
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(b"x" * 100)
+    stamp = time.time() - age_s
+    for path in [folder, *folder.rglob("*")]:
+        os.utime(path, (stamp, stamp))
+    return folder
+
+
+def test_only_the_caches_of_earlier_versions_that_the_package_wrote_are_stale(tmp_path):
+    """A warm-up removes the cache folders of earlier versions of the compiled modules (about 80 MB
+    each): numba's and the extension module's, named by another key, holding only what they write
+    and idle for a while. The current version's folder, a folder holding anything else (a user's
+    file), one changed recently (a process of the earlier version may still be running) and any
+    other name are kept."""
+    key, old = "0123456789ab", 3600.0
+    keep = [
+        _cache_folder(tmp_path, "numba-" + key, ["engine_1/f.nbi"], old),
+        _cache_folder(tmp_path, "numba-bbbbbbbbbbbb", ["engine_1/f.nbi", "notes.txt"], old),
+        _cache_folder(tmp_path, "numba-cccccccccccc", ["engine_1/f.nbi", "engine_1/f.nbc"], 10.0),
+        _cache_folder(tmp_path, "numba-old", ["engine_1/f.nbi"], old),
+        _cache_folder(tmp_path, "other-aaaaaaaaaaaa", ["engine_1/f.nbi"], old),
+    ]
+    stale = [
+        _cache_folder(tmp_path, "aot-dddddddddddd", ["manifest.json", "pounding_core.cpython-311-x86_64-linux-gnu.so"], old),
+        _cache_folder(tmp_path, "numba-aaaaaaaaaaaa", ["engine_1/f.nbi", "engine_1/f.nbc", "warmed.json"], old),
+    ]
+    assert cache.PRUNE_AFTER_S < old
+    assert cache.stale_folders(tmp_path, key) == sorted(stale)
+    assert all(folder.exists() for folder in keep + stale)  # finding them removes nothing
+
+
+def test_pruning_removes_the_stale_folders_and_reports_what_it_freed(tmp_path, monkeypatch):
+    """:func:`~pounding.compiler.cache.prune_stale` removes exactly the stale folders of every cache base
+    and counts their bytes."""
+    key = "0123456789ab"
+    monkeypatch.setattr(cache, "cache_key", lambda: key)
+    monkeypatch.setattr(cache, "cache_bases", lambda: (tmp_path / "a", tmp_path / "b"))
+    current = _cache_folder(tmp_path / "a", "numba-" + key, ["engine_1/f.nbi"], 3600.0)
+    old_a = _cache_folder(tmp_path / "a", "numba-aaaaaaaaaaaa", ["engine_1/f.nbi", "engine_1/f.nbc"], 3600.0)
+    old_b = _cache_folder(tmp_path / "b", "aot-bbbbbbbbbbbb", ["manifest.json"], 3600.0)
+    assert cache.prune_stale() == (2, 300)
+    assert current.exists() and not old_a.exists() and not old_b.exists()
+
+
 def test_loading_a_scene_and_info_import_no_numba():
     """Loading a scene (with its rest-gap check) and assembling its buildings for ``pounding info``
     import no numba and compile nothing: the rest gaps run interpreted."""

@@ -82,14 +82,13 @@ def _source_stamp() -> tuple:
 def cache_dir() -> str | None:
     """numba's cache folder for this exact version of the compiled modules (None: numba's default).
 
-    Folders of earlier versions stay behind (a few MB each, and the extension modules' ``aot-*``
-    beside them); delete ``pounding/__pycache__/numba-*`` and ``aot-*``
-    to reclaim them."""
+    Folders of earlier versions (about 80 MB each, and the extension modules' ``aot-*`` beside
+    them) are removed by the warm-up that fills a new one (:func:`prune_stale`)."""
     try:
         key = cache_key()
     except OSError:  # pragma: no cover - a frozen or zipped install
         return None
-    for base in (PACKAGE_ROOT / "__pycache__", Path.home() / ".cache" / "pounding"):
+    for base in cache_bases():
         folder = base / ("numba-" + key)
         try:
             folder.mkdir(parents=True, exist_ok=True)
@@ -99,3 +98,82 @@ def cache_dir() -> str | None:
             continue
     return None
 
+
+
+def cache_bases() -> tuple[Path, Path]:
+    """Where the cache folders may live, in order of preference: beside the package's bytecode,
+    else in the user's cache (a read-only install)."""
+    return PACKAGE_ROOT / "__pycache__", Path.home() / ".cache" / "pounding"
+
+
+#: the name of a cache folder this package writes: numba's, or the extension module's
+#: (:mod:`pounding.compiler.prebuilt`), each keyed on the source (:func:`cache_key`)
+_FOLDER = re.compile(r"^(numba|aot)-([0-9a-f]{12})$")
+#: [s] a folder changed more recently than this may be in use by a process that is still running
+#: (one started before the source changed): it is left for a later warm-up
+PRUNE_AFTER_S = 600.0
+
+
+def _written_by_us(folder: Path) -> bool:
+    """Whether every file under ``folder`` is one a cache of this package writes: numba's index and
+    data files (``*.nbi``, ``*.nbc``) and the warm-up's marker, or the extension module and its
+    manifest. A folder holding anything else is left alone, whatever its name."""
+    from pounding.compiler.prebuilt import _MANIFEST, MODULE
+
+    for path in folder.rglob("*"):
+        if path.is_dir():
+            continue
+        name = path.name
+        if not (name.endswith((".nbi", ".nbc")) or name in ("warmed.json", _MANIFEST) or name.startswith(MODULE + ".")):
+            return False
+    return True
+
+
+def _newest_change(folder: Path) -> float:
+    """The latest modification time [s since the epoch] of the folder or anything in it."""
+    return max([folder.stat().st_mtime] + [p.stat().st_mtime for p in folder.rglob("*")])
+
+
+def stale_folders(base: Path, key: str, *, now: float | None = None) -> list[Path]:
+    """The cache folders in ``base`` of other versions of the compiled modules than ``key``: named as
+    this package names them (``numba-<key>``, ``aot-<key>``), holding only what it writes, and
+    unchanged for :data:`PRUNE_AFTER_S`. Sorted."""
+    import time
+
+    now = time.time() if now is None else now
+    out = []
+    try:
+        entries = sorted(base.iterdir())
+    except OSError:
+        return out
+    for folder in entries:
+        m = _FOLDER.match(folder.name)
+        if m is None or m.group(2) == key or not folder.is_dir() or folder.is_symlink():
+            continue
+        try:
+            if now - _newest_change(folder) >= PRUNE_AFTER_S and _written_by_us(folder):
+                out.append(folder)
+        except OSError:  # vanished or unreadable meanwhile: not ours to judge
+            continue
+    return out
+
+
+def prune_stale() -> tuple[int, int]:
+    """Remove the cache folders of earlier versions (:func:`stale_folders`) in every cache base.
+    Returns (folders removed, bytes freed); a folder that cannot be removed is skipped."""
+    import shutil
+
+    try:
+        key = cache_key()
+    except OSError:  # pragma: no cover - a frozen or zipped install
+        return 0, 0
+    count = freed = 0
+    for base in cache_bases():
+        for folder in stale_folders(base, key):
+            size = sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
+            try:
+                shutil.rmtree(folder)
+            except OSError:
+                continue
+            count, freed = count + 1, freed + size
+    return count, freed
