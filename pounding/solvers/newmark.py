@@ -234,8 +234,10 @@ class Newmark(Integrator):
         return math.inf if margin <= 0.0 else 1.0 / math.sqrt(margin)
 
     def check_dt(self, omega, zeta, dt):
+        if math.isinf(self.omega_crit):  # unconditionally stable: every step length (each event's trial builds one)
+            return
         omega_max = float(np.max(np.asarray(omega, dtype=float), initial=0.0))
-        if math.isinf(self.omega_crit) or omega_max == 0.0:
+        if omega_max == 0.0:
             return
         dt_max = self.omega_crit / omega_max
         if dt > dt_max * (1.0 + 1e-12):  # dt_max itself is accepted, up to rounding

@@ -1204,30 +1204,16 @@ class Driver:
         return bool(acted)
 
     def chatters(self, p: int, t: float) -> bool:
-        """Whether pair p, just struck at t, starts chatter the step cannot resolve (crossing locator).
-
-        After a rebound at opening speed r against a closing relative acceleration a, restitution k
-        gives a Zeno sequence of impacts that accumulates within 2 r / (a (1 - k)) and ends with the
-        points moving together. When that is shorter than a step, the pair is held now (the
-        sequence's limit; the error is bounded by the sequence's duration, below dt); otherwise the
-        impacts are resolved one by one. Points that do not close again (a <= 0), or k = 1, never chatter.
-        """
-        m = self.model
-        q = np.ascontiguousarray(self.z[:, 0])
-        count, *_, W = pg.pair_features(q, p, self.tol, m.n, m.geo)
-        if count == 0:
-            return False
+        """Whether pair p, just struck at t, starts chatter the step cannot resolve (crossing locator):
+        its impact sequence ends within a step (:func:`pounding.framework.engine.held.chatter_duration`,
+        the restitution its pair's law's). Then the pair is held now (the sequence's limit; the
+        error is bounded by the sequence's duration, below dt); otherwise the impacts are resolved
+        one by one."""
         rem = self.springs.g if self.springs is not None else 0.0
-        acc = self.load(t) + self.fc - rem - m.c2 * self.z[:, 1] - m.om2 * q
-        r, a = W[:count] @ self.z[:, 1], -(W[:count] @ acc)  # opening speed; closing acceleration
         k = float(self.laws[self.pair_law[p]].restitution)  # (a wall's own)
-        if k >= 1.0:
-            return False
-        close = a > 0.0
-        if not np.any(close):
-            return False
-        duration = 2.0 * np.maximum(r[close], 0.0) / (a[close] * (1.0 - k))
-        return bool(np.min(duration) < self.dt)
+        duration = hold.chatter_duration(self.z, np.ascontiguousarray(self.load(t) + self.fc - rem, dtype=float), int(p), k,
+                                         float(self.tol), self.model.modes, self.model.geo)
+        return bool(duration < self.dt)
 
     def _law_impulses_at(self, t: float, candidates: np.ndarray) -> bool:
         """The one impulse step (:func:`~pounding.framework.engine.kernel.impulses_at`) at time t

@@ -39,12 +39,39 @@ from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, 
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
 from pounding.framework.engine.inelastic import MAX_ITER
-from pounding.framework.engine.pairs import closing, features_of, pair_gap, slab_dofs
+from pounding.framework.engine.pairs import closing, features_of, pair_features, pair_gap, slab_dofs
 from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work
 
 #: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
 #: and the driver share one specialization
 _DEEP = np.bool_(True)
+
+
+@njit
+def chatter_duration(z, p_ext, p, restitution, tol, modes, geo):
+    """How long [s] the impact sequence pair p starts, just struck, lasts at most (the Zeno bound).
+
+    After a rebound at opening speed r = w . q' against a closing relative acceleration
+    a = -w . q'' (q'' = p_ext - 2 zeta omega q' - omega^2 q, the modal state z (n, 3) and the
+    modal loads other than the structure's own, p_ext (n,)), restitution k gives impacts that
+    accumulate within 2 r / (a (1 - k)) [s] and end with the points moving together. The shortest
+    over the pair's touching features (within ``tol`` [m]) that close (a > 0); inf where none
+    closes, none touches, or k >= 1 (no sequence ends)."""
+    if restitution >= 1.0:
+        return np.inf
+    n = z.shape[0]
+    count, _, _, _, _, _, _, W = pair_features(z[:, 0].copy(), p, tol, n, geo)
+    c2, om2 = modes.c2, modes.om2
+    best = np.inf
+    for f in range(count):
+        r = 0.0
+        a = 0.0
+        for i in range(n):
+            r += W[f, i] * z[i, 1]
+            a -= W[f, i] * (p_ext[i] - c2[i] * z[i, 1] - om2[i] * z[i, 0])
+        if a > 0.0:
+            best = min(best, 2.0 * max(r, 0.0) / (a * (1.0 - restitution)))
+    return best
 
 
 @njit
