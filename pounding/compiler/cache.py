@@ -106,6 +106,9 @@ def cache_bases() -> tuple[Path, Path]:
     return PACKAGE_ROOT / "__pycache__", Path.home() / ".cache" / "pounding"
 
 
+#: the extension module's name and its manifest's (:mod:`pounding.compiler.prebuilt`, which builds them into ``aot-<key>``)
+EXTENSION_MODULE = "pounding_core"
+EXTENSION_MANIFEST = "manifest.json"
 #: the name of a cache folder this package writes: numba's, or the extension module's
 #: (:mod:`pounding.compiler.prebuilt`), each keyed on the source (:func:`cache_key`)
 _FOLDER = re.compile(r"^(numba|aot)-([0-9a-f]{12})$")
@@ -118,13 +121,11 @@ def _written_by_us(folder: Path) -> bool:
     """Whether every file under ``folder`` is one a cache of this package writes: numba's index and
     data files (``*.nbi``, ``*.nbc``) and the warm-up's marker, or the extension module and its
     manifest. A folder holding anything else is left alone, whatever its name."""
-    from pounding.compiler.prebuilt import _MANIFEST, MODULE
-
     for path in folder.rglob("*"):
         if path.is_dir():
             continue
         name = path.name
-        if not (name.endswith((".nbi", ".nbc")) or name in ("warmed.json", _MANIFEST) or name.startswith(MODULE + ".")):
+        if not (name.endswith((".nbi", ".nbc")) or name in ("warmed.json", EXTENSION_MANIFEST) or name.startswith(EXTENSION_MODULE + ".")):
             return False
     return True
 

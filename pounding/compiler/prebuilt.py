@@ -21,11 +21,11 @@ from pathlib import Path
 
 import numpy as np
 
-#: name of the extension module
-MODULE = "pounding_core"
+from pounding.compiler.cache import EXTENSION_MANIFEST as _MANIFEST
+from pounding.compiler.cache import EXTENSION_MODULE as MODULE  # name of the extension module
+
 #: the manifest's format (a build of another format is not loaded)
 FORMAT = 2
-_MANIFEST = "manifest.json"
 _state: dict = {}  # "module": the imported module or None, "exports": {kernel: {fingerprint: export name}}
 _bundles: dict = {}  # id -> (bundle, its key)
 _tokens: dict = {}  # a bundle's full print -> its number
