@@ -45,7 +45,20 @@ def test_first_clause_keeps_asides_and_stops_outside_them():
     assert first_clause("Poisson's ratio, G = E / (2 (1 + nu)).") == "Poisson's ratio, G = E / (2 (1 + nu))"
 
 
-@pytest.mark.parametrize("element", ["frame", "shear_wall"])  # the types whose template loads as printed
+@pytest.mark.parametrize("element", ELEMENTS.builtin_names())
+def test_template_of_every_builtin_element_passes_check(element, tmp_path, capsys):
+    """`pounding template --element NAME` prints a scene that `pounding check` accepts as printed, with
+    no plausibility warning: its elements stand on their slab and the buildings resist x, y and torsion
+    (the help says: save it, edit it, then check)."""
+    from pounding.cli import main
+
+    path = tmp_path / "t.toml"
+    path.write_text(template_text(element))
+    assert main(["check", str(path)]) == 0
+    assert "0 plausibility warnings" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("element", ELEMENTS.builtin_names())
 def test_template_leaves_integrator_and_step_to_the_defaults(element):
     """The template names no integrator and no time step, so a run of it gets what
     integrator_choice picks for its buildings and contact law (and the step chosen from its modes)."""
