@@ -170,6 +170,9 @@ def main(argv: list[str] | None = None) -> int:
     except InputError as exc:
         print(f"pounding: error: {exc}", file=sys.stderr)
         return 2
+    except FloatingPointError as exc:  # an iteration of the analysis diverged: said in one line, nothing written
+        print(f"pounding: error: the analysis stopped: {exc}", file=sys.stderr)
+        return 1
     except KeyboardInterrupt:
         print("pounding: interrupted", file=sys.stderr)
         return 130
@@ -337,6 +340,8 @@ def cmd_run(args) -> int:
     from pounding.commands.scene import silenced
 
     silence = silenced(args)
+    if not args.out and not args.scene.stem:  # ".", "..": no scene file to name the folder after
+        raise InputError(f"{args.scene}: cannot read the scene file: it is a folder; give a .toml scene file")
     out = args.out or args.scene.with_name(args.scene.stem + "_out")
     _, result = analyse(args.scene, out, vtk=args.vtk, vtk_every=args.vtk_every, scale=args.scale, quiet=args.quiet, overrides=overrides,
                         overwrite=args.overwrite, silence=silence)

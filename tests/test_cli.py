@@ -116,3 +116,37 @@ def test_run_with_vtk_writes_a_paraview_series(tmp_path):
     assert all(any(abs(t - g) < 1e-12 for t in times) for g in grid)
     assert all(any(abs(t - i) < 1e-12 for t in times) for i in impact_times)
     assert all((pvd.parent / d.get("file")).is_file() for d in sets)
+
+
+def test_run_of_a_folder_is_a_clear_error_and_writes_nothing(tmp_path):
+    """`pounding run .` names the folder and what was expected (a scene file), exit 2, no output folder."""
+    proc = subprocess.run([sys.executable, "-m", "pounding", "run", "."], capture_output=True, text=True, cwd=tmp_path)
+    assert proc.returncode == 2 and "it is a folder" in proc.stderr and "Traceback" not in proc.stderr
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_plot_with_a_reference_of_other_buildings_is_a_clear_error(run_dirs, tmp_path):
+    """--reference must be a run of the same buildings (the plots overlay it storey by storey): another
+    scene's run is named with both sets of buildings, exit 2, and no plot folder is written."""
+    from pounding.io.scene_doc import template_text
+
+    scene = tmp_path / "t.toml"
+    scene.write_text(template_text())
+    pounding("run", scene, "--out", tmp_path / "other", "--duration", "0.5", "--quiet")
+    proc = pounding("plot", run_dirs / "near", "--reference", tmp_path / "other", "--out", tmp_path / "p", check=False)
+    assert proc.returncode == 2 and "--reference" in proc.stderr and "'left' (3 storeys)" in proc.stderr
+    assert "Traceback" not in proc.stderr and not (tmp_path / "p").exists()
+
+
+def test_an_analysis_that_diverges_is_one_line_and_exit_1(tmp_path, monkeypatch, capsys):
+    """An iteration of the analysis that does not converge (FloatingPointError from the engine) is reported
+    in one line with the engine's own message, exit code 1 (not bad input), without a traceback."""
+    import pounding.cli as cli
+
+    def diverges(*args, **kwargs):
+        raise FloatingPointError("building 'low': the links' Newton iteration did not converge (try a smaller dt)")
+
+    monkeypatch.setattr(cli, "analyse", diverges)
+    assert cli.main(["run", str(PAPER / "pair_gap_0.03.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 1
+    err = capsys.readouterr().err
+    assert err.strip().count("\n") == 0 and "did not converge" in err and err.startswith("pounding: error:")

@@ -49,6 +49,8 @@ def cmd_plot(args) -> int:
     check_target(out, overwrite=args.overwrite)
     scene, result = load_result(args.run)
     reference = load_result(args.reference)[1] if args.reference else None
+    if reference is not None:
+        _check_reference(result, reference, args.reference)
     points = [parse_point(text, scene) for text in args.point] if args.point else None
     springs = [parse_spring(text, result) for text in args.spring] if args.spring else None
     if not 0 <= args.spectra_damping < 1:
@@ -65,6 +67,17 @@ def cmd_plot(args) -> int:
     paths = write_folder(out, "plot", write)
     print("\n".join(str(p) for p in paths))
     return 0
+
+
+def _check_reference(result, reference, where) -> None:
+    """InputError on ``--reference`` unless its run has the same buildings, each with the same storeys
+    (the plots overlay it building by building, storey by storey)."""
+    mine = {s.name: s.n_storeys for s in result.systems}
+    theirs = {s.name: s.n_storeys for s in reference.systems}
+    if mine != theirs:
+        show = lambda d: ", ".join(f"{k!r} ({v} storeys)" for k, v in d.items())  # noqa: E731
+        raise InputError(f"{where}: expected a run of the same buildings to overlay ({show(mine)}), got {show(theirs)}",
+                         field="--reference")
 
 
 def cmd_render(args) -> int:

@@ -213,7 +213,7 @@ NAMED_PLUGIN = {
 }
 
 #: Names of the plausibility checks that ``[analysis] silence`` and ``--silence`` accept.
-PLAUSIBILITY_CHECKS = ("mass_per_area", "period", "soft_storey", "stiff_element", "isolation_damping", "no_common_level")
+PLAUSIBILITY_CHECKS = ("mass_per_area", "period", "soft_storey", "stiff_element", "isolation_damping", "pga", "no_common_level")
 
 ANALYSIS = {
     "type": "object",

@@ -291,7 +291,8 @@ class Yielding:
     @staticmethod
     def fixed_point_error() -> FloatingPointError:
         """What a fixed point that did not converge raises."""
-        return FloatingPointError(f"the yielding springs' fixed-point iteration with contact forces did not converge ({NEWTON_HINT})")
+        return FloatingPointError("the fixed point between the links (yielding storey springs, dampers, links between slabs) "
+                                  f"and the contact forces did not converge ({NEWTON_HINT})")
 
     def held_step(self, z, p0, p1, A, B, h: float, modes, held, contact, start, geo):
         """A held step of h [s] with the links' end remainders by the fixed point around it

@@ -26,6 +26,9 @@ silenced (``[analysis] silence = ["mass_per_area"]`` or ``--silence NAME``).
   while they slide: a viscous force the bearings do not have, often a large share of the input
   energy (Ryan and Polanco 2008, J. Struct. Eng. 134(11); Charney 2008, J. Struct. Eng.
   134(4)). Usual practice damps the superstructure only.
+* ``pga``: the ground motion's peak acceleration above 5 g. The largest ever recorded is about 4.4 g
+  (Iwate-Miyagi 2008, vertical; horizontal peaks stay below 3 g); a value in cm/s2 (gal) typed as g,
+  or a record in cm/s2 read as m/s2, gives hundreds of g.
 * ``no_common_level``: two buildings with no slabs at a common level. Their
   slabs can only strike each other's facades between floors
   (:mod:`pounding.framework.model.facade`), a stronger idealisation than slab against
@@ -54,6 +57,7 @@ class Check:
 MASS_PER_AREA = (150.0, 4000.0)  # [kg/m2], usual 300-2000
 PERIOD_PER_STOREY = (0.01, 0.6)  # [s], usual 0.02-0.3
 SOFT_RATIO = 0.6  # storey stiffness / the storey above's
+PGA_MAX = 5.0  # [g], above any recorded peak (about 4.4 g)
 
 CHECKS = (
     Check("mass_per_area", f"a slab's mass per plan area is outside {MASS_PER_AREA[0]:g}-{MASS_PER_AREA[1]:g} kg/m2 (usual 300-2000)",
@@ -69,6 +73,8 @@ CHECKS = (
           "its initial model (the isolators stuck at their initial stiffness)",
           "the damping of a fixed-base model kept for an isolated one: it acts on the sliding isolators as a viscous force "
           "they do not have; damp the superstructure's modes only (type = \"modal\", a small ratio on the isolated modes)"),
+    Check("pga", f"the ground motion's peak acceleration is above {PGA_MAX:g} g (the largest recorded is about 4.4 g)",
+          "a PGA in cm/s2 (gal) typed as g (`pga = 392` for 0.4 g), or a record in cm/s2 read as m/s2 (give its `units`)"),
     Check("no_common_level", "two buildings have no slabs at a common level: only slab-to-facade impacts between floors are checked between them",
           "unequal storey heights (intended: see *Slabs between a neighbour's floors* in docs/modelling.md), or a slip in a storey height"),
 )
@@ -105,7 +111,20 @@ def findings(scene, silence=()) -> list[Finding]:
             out += _isolation_damping(b)
     if "no_common_level" not in off:
         out += _no_common_level(scene.buildings)
+    if "pga" not in off:
+        out += _pga(scene.ground_motion)
     return out
+
+
+def _pga(motion) -> list[Finding]:
+    from pounding.framework.model.units import G
+
+    peak = float(getattr(motion, "pga", 0.0) or 0.0) / G  # [g] (a scene without a record: nothing to check)
+    if not peak > PGA_MAX:
+        return []
+    return [Finding("pga", f"ground motion: peak acceleration {peak:.4g} g ({peak * G:.4g} m/s2) is beyond any recorded (about 4.4 g): "
+                           f"a PGA in cm/s2 typed as g ({peak:.4g} cm/s2 = {peak / 100.0 / G:.3g} g)? a record in cm/s2 read as m/s2 "
+                           "(give its `units`)?")]
 
 
 def _no_common_level(buildings) -> list[Finding]:
