@@ -165,6 +165,26 @@ def test_misspelt_keywords_say_did_you_mean():
         pounding.write_results(None, "nowhere", scene_txt="")
 
 
+@pytest.mark.parametrize("option, value", [("duration", 0), ("duration", -1.0), ("dt", -0.01), ("dt", float("nan")),
+                                           ("output_every", 0), ("output_every", 1.5), ("energy_tolerance", 0.0)])
+def test_analysis_options_from_python_are_checked_as_the_scene_file_checks_them(option, value):
+    """`with_analysis` refuses what the scene file's schema refuses: an InputError naming analysis.OPTION
+    and what was expected (a zero duration ran the whole record, a negative dt failed inside the integrator)."""
+    from pounding.errors import InputError
+
+    scene = load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml")
+    with pytest.raises(InputError, match=rf"^analysis\.{option}: expected a positive"):
+        scene.with_analysis(**{option: value})
+
+
+def test_shifting_a_building_that_does_not_exist_names_the_buildings():
+    from pounding.errors import InputError
+
+    scene = load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml")
+    with pytest.raises(InputError, match=r"no building 'C'; expected one of 'low', 'high'"):
+        scene.with_building_shifted("C", (1.0, 0.0))
+
+
 def test_sweep_drift_column_is_summary_json_drift(session):
     """One name, one definition: sweep.csv's B_peak_drift_ratio_cm is the largest of summary.json's per-storey
     peak_drift_ratio_cm (the same rows over the same continuous trajectory: equal to rounding, 4 eps)."""

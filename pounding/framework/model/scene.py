@@ -120,6 +120,12 @@ class Building:
         return np.cumsum(self.storey_heights)
 
 
+def _positive_number(value) -> bool:
+    """Whether ``value`` is a finite number > 0 (not a bool)."""
+    return (isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+            and bool(np.isfinite(value)) and value > 0)
+
+
 @dataclass(frozen=True)
 class Analysis:
     """Time-history options ([analysis] table)."""
@@ -140,6 +146,19 @@ class Analysis:
     impact_force: dict[str, Any] = field(default_factory=dict)
     #: names of the plausibility checks not to warn about (:mod:`pounding.framework.post.plausibility`)
     silence: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        # what the scene file's schema checks, checked again for options set from Python (Scene.with_analysis):
+        # a zero duration would otherwise run the whole record, a negative dt fail deep in an integrator
+        for key in ("dt", "duration"):
+            value = getattr(self, key)
+            if value is not None and not _positive_number(value):
+                raise InputError(f"expected a positive number of seconds (or None: chosen for the scene), got {value!r}",
+                                 field=f"analysis.{key}")
+        if isinstance(self.output_every, bool) or not isinstance(self.output_every, (int, np.integer)) or self.output_every < 1:
+            raise InputError(f"expected a positive whole number of steps, got {self.output_every!r}", field="analysis.output_every")
+        if not _positive_number(self.energy_tolerance):
+            raise InputError(f"expected a positive relative error, got {self.energy_tolerance!r}", field="analysis.energy_tolerance")
 
 
 @dataclass(frozen=True)
@@ -319,7 +338,12 @@ class Scene:
         return with_gap(self, gap, direction)
 
     def with_building_shifted(self, name: str, offset: np.ndarray) -> "Scene":
-        """A copy where building ``name`` (slabs and elements) is translated in plan by ``offset`` [m]."""
+        """A copy where building ``name`` (slabs and elements) is translated in plan by ``offset`` [m].
+        Raises :class:`~pounding.errors.InputError` naming the scene's buildings when none is called ``name``."""
+        names = [b.name for b in self.buildings]
+        if name not in names:
+            raise InputError(f"no building {name!r}; expected one of {', '.join(repr(n) for n in names)}",
+                             field="Scene.with_building_shifted")
         offset = np.asarray(offset, dtype=float)
         out = []
         for b in self.buildings:
