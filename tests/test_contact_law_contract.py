@@ -210,6 +210,10 @@ def test_an_impulse_run_reports_its_impacts_as_episodes_of_no_duration(tmp_path)
     assert all(row[col["end [s]"]] == row[col["start [s]"]] and row[col["peak_penetration [m]"]] == 0.0 for row in rows)
     assert sum(row[col["impulse [N s]"]] for row in rows) == pytest.approx(sum(i.impulse for i in r.impacts), rel=1e-12)
     assert sum(row[col["energy_dissipated [J]"]] for row in rows) == pytest.approx(sum(i.energy_loss for i in r.impacts), rel=1e-12)
+    # one peak force for the same impacts: summary.json's is the largest of contacts.csv's (each impact's equivalent force)
+    from pounding.io.results import contacts_summary
+
+    assert contacts_summary(r)["peak_force"] == max(row[col["peak_force [N]"]] for row in rows) > 0.0
 
 
 def test_penalty_and_facade_penalty_run_through_the_contract():

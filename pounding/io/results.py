@@ -85,16 +85,22 @@ def pair_law_names(result: Result) -> list[str]:
     return names
 
 
-def contact_rows(result: Result) -> list[list]:
-    """contacts.csv rows (:data:`CONTACT_COLUMNS`), by start time: storeys 1-based; an impulse law's
-    impact takes the equivalent peak force of ``[analysis.impact_force]``
-    (:func:`pounding.framework.post.response.impact_forces`)."""
+def episodes_with_forces(result: Result) -> list[tuple[ContactEpisode, float]]:
+    """Every contact episode (:meth:`Result.episodes`'s, unsorted) with its peak force [N]: a force law's
+    own, and for an impulse law's impact the equivalent peak force of ``[analysis.impact_force]``
+    (:func:`pounding.framework.post.response.impact_forces`): what contacts.csv and summary.json report."""
     from pounding.framework.post.response import impact_forces
 
     equivalent = impact_forces(result)[0] if result.impacts else []
+    return [(ContactEpisode.of_impact(imp), float(f)) for imp, f in zip(result.impacts, equivalent)] + [
+        (e, e.peak_force) for e in result.contacts]
+
+
+def contact_rows(result: Result) -> list[list]:
+    """contacts.csv rows (:data:`CONTACT_COLUMNS`), by start time: storeys 1-based; each with its peak
+    force (:func:`episodes_with_forces`)."""
     laws = pair_law_names(result)
-    episodes = [(ContactEpisode.of_impact(imp), f) for imp, f in zip(result.impacts, equivalent)]
-    episodes += [(e, e.peak_force) for e in result.contacts]
+    episodes = episodes_with_forces(result)
     merged = result.contact_episodes()
     rows = []
     for e, force in sorted(episodes, key=lambda x: (x[0].start, x[0].pair)):
@@ -136,10 +142,11 @@ def convergence_note() -> dict:
 
 def contacts_summary(result: Result) -> dict:
     """The contact episodes in summary.json: how many, per storey (the pair's first slab's), and their
-    totals (impulse, energy dissipated) and largest peak force and penetration (force laws')."""
+    totals (impulse, energy dissipated), largest peak force (contacts.csv's: :func:`episodes_with_forces`)
+    and largest penetration (force laws')."""
     eps = result.episodes()
     storeys = Counter(result.pairs[e.pair][1] + 1 for e in eps)
-    forces = [e.peak_force for e in eps if np.isfinite(e.peak_force)]
+    forces = [f for _, f in episodes_with_forces(result) if np.isfinite(f)]
     return {
         "n": len(eps),
         "per_storey": {str(k): v for k, v in sorted(storeys.items())},
@@ -154,11 +161,13 @@ def contacts_summary(result: Result) -> dict:
 def walls_summary(result: Result) -> dict:
     """summary.json's ``walls``: per retaining wall, its contacts (impacts of impulse laws, episodes of
     force laws), their total impulse [N s] and dissipated energy [J], its largest contact force [N]
-    (force laws) and the buildings that struck it."""
+    (contacts.csv's: :func:`episodes_with_forces`) and the buildings that struck it."""
     out = {}
+    with_forces = episodes_with_forces(result)
     for wall in dict.fromkeys(w.name for w in result.walls.values()):
-        eps = [e for e in result.episodes() if e.pair in result.walls and result.walls[e.pair].name == wall]
-        forces = [e.peak_force for e in eps if np.isfinite(e.peak_force)]
+        mine = [(e, f) for e, f in with_forces if e.pair in result.walls and result.walls[e.pair].name == wall]
+        eps = [e for e, _ in mine]
+        forces = [f for _, f in mine if np.isfinite(f)]
         out[wall] = {"n_contacts": len(eps), "impulse": float(sum(e.impulse for e in eps)),
                      "energy_dissipated": float(sum(e.energy_dissipated for e in eps)), "peak_force": float(max(forces, default=0.0)),
                      "struck_by": sorted({result.names[result.pairs[e.pair][0]] for e in eps})}
