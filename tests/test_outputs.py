@@ -136,3 +136,19 @@ def test_run_help_names_the_paraview_file_it_writes(tmp_path):
     assert VTK_SERIES in pounding("run", "--help").stdout.replace("\n", " ").replace("  ", " ")
     pounding("run", PAPER, "--out", tmp_path / "o", "--duration", "0.1", "--quiet", "--vtk")
     assert (tmp_path / "o" / VTK_SERIES).is_file()
+
+
+def test_a_new_results_folder_gets_the_users_usual_mode(tmp_path):
+    """The staging folder is private while it fills; the published folder has the mode of any new folder
+    (0o777 less the umask: readable by colleagues under the usual 022), like the files in it."""
+    import os
+    import stat
+
+    from pounding.io.outputs import write_folder
+
+    old = os.umask(0o022)
+    try:
+        write_folder(tmp_path / "run", "run", lambda tmp: [(tmp / "a.txt").write_text("x") and tmp / "a.txt"])
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "run").stat().st_mode) == 0o755

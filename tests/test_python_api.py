@@ -101,6 +101,13 @@ def test_histories_first_storey_drift_is_the_floor_displacement_over_its_height(
     assert ds["time"].attrs["units"] == "s" and "damping" in ds["storey_shear"].attrs["description"]
 
 
+def test_write_scene_makes_its_folder(tmp_path):
+    """write_scene into a folder that does not exist yet makes it, as write_results does, and the scene loads back."""
+    scene = load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml")
+    path = write_scene(scene, tmp_path / "new" / "deeper" / "scene.toml")
+    assert scene_differences(scene, load_scene(path)) == []
+
+
 @pytest.mark.parametrize("path", SCENE_FILES, ids=[str(p.relative_to(ROOT)) for p in SCENE_FILES])
 def test_every_example_scene_round_trips(path, tmp_path):
     """write_scene then load_scene gives the same scene: every number within 8 roundings of its field's largest

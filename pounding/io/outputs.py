@@ -141,6 +141,9 @@ def publish(tmp: Path, target: str | Path, command: str) -> list[Path]:
     new = sorted(str(p.relative_to(tmp)) for p in tmp.rglob("*") if p.is_file() and p.name != MANIFEST)
     if not target.exists():
         _write_manifest(tmp, {command: new})
+        # the staging folder is private while it fills; published, it gets the mode any new folder of the
+        # user gets (0o777 less the umask), so that colleagues read the results as they read the user's other files
+        os.chmod(tmp, 0o777 & ~_umask())
         os.replace(tmp, target)  # one rename: the folder appears complete or not at all
         return [target / p for p in new]
     files = read_manifest(target)
@@ -160,6 +163,13 @@ def publish(tmp: Path, target: str | Path, command: str) -> list[Path]:
     _write_manifest(target, files)
     shutil.rmtree(tmp, ignore_errors=True)
     return [target / p for p in new]
+
+
+def _umask() -> int:
+    """The process's file-mode creation mask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def _remove_own(target: Path, rel: str) -> None:

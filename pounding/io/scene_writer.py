@@ -197,7 +197,7 @@ def write_scene(scene, path: str | Path) -> Path:
     """Write ``scene`` to the TOML file ``path`` and its ground motion beside it (module docstring).
 
     :func:`pounding.io.scene.load_scene` of ``path`` gives a scene equal to ``scene``
-    (:func:`scene_differences` is empty). Returns ``path``.
+    (:func:`scene_differences` is empty). Its folder is made when missing. Returns ``path``.
 
     Raises
     ------
@@ -206,6 +206,7 @@ def write_scene(scene, path: str | Path) -> Path:
     """
     path = Path(path)
     table, records = scene_table(scene, path.stem)
+    path.parent.mkdir(parents=True, exist_ok=True)  # as write_results makes its folder
     for name, data in records.items():
         with open(path.parent / name, "w") as fh:
             fh.write("# time [s], ground acceleration [m/s2], written by pounding\n")
