@@ -87,6 +87,7 @@ def build_parser() -> argparse.ArgumentParser:
                 raise
             continue  # a command module not written yet
         module.add_parser(sub)
+    p.command_parsers = sub.choices  # {command: its parser}: main() reports an option error with the command's usage
     return p
 
 
@@ -155,7 +156,9 @@ def main(argv: list[str] | None = None) -> int:
     warnings.simplefilter("always", AnalysisWarning)
     warnings.showwarning = _show_warning
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extras = parser.parse_known_args(argv)
+    if extras:  # argparse would report them with the top-level usage; the command's own says what it takes
+        parser.command_parsers.get(getattr(args, "command", None), parser).error(f"unrecognized arguments: {' '.join(extras)}")
     if not getattr(args, "func", None):
         parser.print_help()
         return 2

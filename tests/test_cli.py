@@ -150,3 +150,9 @@ def test_an_analysis_that_diverges_is_one_line_and_exit_1(tmp_path, monkeypatch,
     assert cli.main(["run", str(PAPER / "pair_gap_0.03.toml"), "--out", str(tmp_path / "o"), "--quiet"]) == 1
     err = capsys.readouterr().err
     assert err.strip().count("\n") == 0 and "did not converge" in err and err.startswith("pounding: error:")
+
+
+def test_an_unknown_option_is_reported_with_the_commands_own_usage():
+    """`pounding gap SCENE --bogus`: exit 2 with gap's usage line (what gap takes), not the top-level one."""
+    proc = pounding("gap", PAPER / "pair_gap_0.03.toml", "--bogus", check=False)
+    assert proc.returncode == 2 and proc.stderr.startswith("usage: pounding gap ") and "unrecognized arguments: --bogus" in proc.stderr
