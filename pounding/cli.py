@@ -250,7 +250,9 @@ def announce_compiling() -> None:
     """Say on stderr, once and only if it happens, that the numerical core is being compiled."""
     from pounding import compiler
 
-    compiler.on_first_compile(lambda: print("compiling the numerical core (first run only: cached for the next ones, about a minute)...", file=sys.stderr, flush=True))
+    compiler.on_first_compile(lambda: print("compiling the parts of the numerical core this kind of run needs (once: cached for the next runs; "
+                                             "up to a few minutes on two cores; `python -m pounding.warmup --warm` does it ahead) ...",
+                                             file=sys.stderr, flush=True))
 
 
 def human_summary(result, out: Path) -> str:

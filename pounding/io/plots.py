@@ -404,7 +404,8 @@ def plot_energy(result, path, *, scene=None) -> Path:
 
 
 def plot_plan(result, path, *, scene=None) -> Path:
-    """Plan of the slabs (every storey; vertex numbers on the slabs of the pairs), elements, impact points."""
+    """Plan of the slabs (every storey; vertex numbers on the slabs of the pairs), elements, retaining walls
+    (with ``scene``) and impact points."""
     allv = np.vstack([np.asarray(sl.vertices, float) for s in result.systems for sl in s.slabs])
     span = np.ptp(allv, axis=0) + 1e-9
     # the legend sits right of the axes: about 6.3 of the 9 inches are left for the plan, drawn to scale
@@ -434,6 +435,9 @@ def plot_plan(result, path, *, scene=None) -> Path:
                 bld = None
             for el in bld.elements if bld is not None else ():
                 kinds.add(_draw_element_plan(ax, el, c))
+    for w in getattr(scene, "walls", ()) if scene is not None else ():  # retaining walls: their face, as a thick line
+        face = np.asarray(w.face, float)
+        ax.plot(face[:, 0], face[:, 1], color="0.15", lw=3.0, solid_capstyle="butt", label=f"retaining wall {w.name!r} (top {w.top:g} m)")
     if result.impacts:
         pts = np.array([i.point for i in result.impacts])
         ax.scatter(pts[:, 0], pts[:, 1], s=18, color="k", marker="x", lw=0.8, label="impact points", zorder=5)
@@ -446,7 +450,7 @@ def plot_plan(result, path, *, scene=None) -> Path:
         labels.append("frame line, columns (squares)")
     if "wall" in kinds:
         handles.append(Patch(facecolor="0.3", edgecolor="k", hatch="////", lw=0.5))
-        labels.append("wall (hatched bar)")
+        labels.append("shear wall (hatched bar)")
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")

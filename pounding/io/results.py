@@ -386,6 +386,9 @@ def load_result(folder: str | Path):
     from pounding.io.scene import parse_scene
 
     folder = Path(folder)
+    if not folder.is_dir():
+        what = "it is a file" if folder.exists() else "no such folder"
+        raise InputError(f"not a run folder: {what} (write one with `pounding run SCENE --out DIR`)", file=str(folder))
     for name in ("scene.toml", "modal.npz", "summary.json"):
         if not (folder / name).is_file():
             raise InputError(f"not a run folder: {name} is missing (write one with `pounding run SCENE --out DIR`)", file=str(folder))
