@@ -76,6 +76,10 @@ def parse_links(tables: list, buildings: list[Building]) -> tuple[Link, ...]:
         seen[name] = i
         between, storeys = list(table["between"]), [int(s) for s in table["storeys"]]
         points = np.asarray(table["points"], dtype=float)
+        # first: two equal points are one slip, whichever slab they lie on
+        if float(np.hypot(*(points[1] - points[0]))) <= LEVEL_TOL:
+            raise InputError("the two points are the same: the line from the first to the second is the link's direction, "
+                             f"give two points more than {LEVEL_TOL:g} m apart", field=f"{where}.points")
         for j, nm in enumerate(between):
             if nm not in names:
                 raise InputError(f"no building is named {nm!r}; the buildings: {', '.join(map(repr, names))}",
@@ -87,9 +91,6 @@ def parse_links(tables: list, buildings: list[Building]) -> tuple[Link, ...]:
             if distance_to_polygon(slab.vertices, points[j]) > LEVEL_TOL:
                 raise InputError(f"the point ({points[j][0]:g}, {points[j][1]:g}) lies outside the slab of storey {storeys[j]} "
                                  f"of {nm!r}", field=f"{where}.points[{j}]")
-        if float(np.hypot(*(points[1] - points[0]))) <= LEVEL_TOL:
-            raise InputError("the two points are the same: the line from the first to the second is the link's direction, "
-                             f"give two points more than {LEVEL_TOL:g} m apart", field=f"{where}.points")
         if between[0] == between[1] and storeys[0] == storeys[1]:
             raise InputError(f"both ends are on the slab of storey {storeys[0]} of {between[0]!r}: a link joins two slabs",
                              field=f"{where}.storeys")
