@@ -151,18 +151,19 @@ YIELDING = ROOT / "examples" / "inelastic_pair" / "pair_yielding_gap_0.03.toml"
 
 def _walls_scene():
     """benchmarks/bench_walls.py's lead-rubber (bilinear) isolated building beside a fixed-base
-    neighbour, with the moat wall it strikes and is held pressed against."""
+    neighbour, with the moat wall at the benchmark's stress distance (0.10 m), which it strikes and is held
+    pressed against."""
     import copy
     import sys
 
     sys.path.insert(0, str(ROOT / "benchmarks"))
     try:
-        from bench_walls import scene_data
+        from bench_walls import STRESS, scene_data
     finally:
         sys.path.remove(str(ROOT / "benchmarks"))
     from pounding.io.scene import parse_scene
 
-    return parse_scene(copy.deepcopy(scene_data(True, True)))
+    return parse_scene(copy.deepcopy(scene_data(True, True, STRESS)))
 
 
 def _counted(d: Driver) -> dict:

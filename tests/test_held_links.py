@@ -31,9 +31,9 @@ EPS = np.finfo(float).eps
 
 
 def isolated_beside_a_wall(duration: float | None = None) -> dict:
-    """benchmarks/bench_walls.py's scene with lead-rubber isolators and the moat wall; ``duration`` [s]
-    of El Centro (None: the whole record)."""
-    data = bench_walls.scene_data(yielding=True, wall=True)
+    """benchmarks/bench_walls.py's scene with lead-rubber isolators and the moat wall at its stress distance
+    (0.10 m: the base slab rests against it); ``duration`` [s] of El Centro (None: the whole record)."""
+    data = bench_walls.scene_data(yielding=True, wall=True, moat=bench_walls.STRESS)
     if duration is not None:
         data["analysis"]["duration"] = duration
     return data
