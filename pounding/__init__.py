@@ -22,12 +22,9 @@ def __getattr__(name):
     # The version is read from the installed metadata only when asked (--version): reading it
     # costs tens of milliseconds that every other command would pay at start-up.
     if name == "__version__":
-        from importlib.metadata import PackageNotFoundError, version
+        from pounding.version import package_version
 
-        try:
-            return version("pounding")
-        except PackageNotFoundError:  # running from a source tree that is not installed
-            return "0.0.0+src"
+        return package_version()
     raise AttributeError(name)
 
 

@@ -118,17 +118,19 @@ def test_only_the_caches_of_earlier_versions_that_the_package_wrote_are_stale(tm
     assert all(folder.exists() for folder in keep + stale)  # finding them removes nothing
 
 
-def test_pruning_removes_the_stale_folders_and_reports_what_it_freed(tmp_path, monkeypatch):
-    """:func:`~pounding.compiler.cache.prune_stale` removes exactly the stale folders of every cache base
-    and counts their bytes."""
+def test_pruning_removes_the_stale_folders_beside_the_package_only(tmp_path, monkeypatch):
+    """:func:`~pounding.compiler.cache.prune_stale` removes exactly the stale folders beside the package
+    (this install's earlier versions, a half-written numba file among them) and counts their bytes; the
+    user's cache, shared by every install of the user, keeps its folders (other versions still in use)."""
     key = "0123456789ab"
     monkeypatch.setattr(cache, "cache_key", lambda: key)
-    monkeypatch.setattr(cache, "cache_bases", lambda: (tmp_path / "a", tmp_path / "b"))
-    current = _cache_folder(tmp_path / "a", "numba-" + key, ["engine_1/f.nbi"], 3600.0)
-    old_a = _cache_folder(tmp_path / "a", "numba-aaaaaaaaaaaa", ["engine_1/f.nbi", "engine_1/f.nbc"], 3600.0)
-    old_b = _cache_folder(tmp_path / "b", "aot-bbbbbbbbbbbb", ["manifest.json"], 3600.0)
+    monkeypatch.setattr(cache, "cache_bases", lambda: (tmp_path / "package", tmp_path / "user"))
+    current = _cache_folder(tmp_path / "package", "numba-" + key, ["engine_1/f.nbi"], 3600.0)
+    old = _cache_folder(tmp_path / "package", "numba-aaaaaaaaaaaa", ["engine_1/f.nbi", "engine_1/f.nbc.tmp.1f2e"], 3600.0)
+    old_aot = _cache_folder(tmp_path / "package", "aot-aaaaaaaaaaaa", ["manifest.json"], 3600.0)
+    shared = _cache_folder(tmp_path / "user", "aot-bbbbbbbbbbbb", ["manifest.json"], 3600.0)
     assert cache.prune_stale() == (2, 300)
-    assert current.exists() and not old_a.exists() and not old_b.exists()
+    assert current.exists() and shared.exists() and not old.exists() and not old_aot.exists()
 
 
 def test_loading_a_scene_and_info_import_no_numba():

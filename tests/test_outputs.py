@@ -152,3 +152,20 @@ def test_a_new_results_folder_gets_the_users_usual_mode(tmp_path):
     finally:
         os.umask(old)
     assert stat.S_IMODE((tmp_path / "run").stat().st_mode) == 0o755
+
+
+def test_a_new_results_folder_keeps_the_setgid_bit_of_a_shared_folder(tmp_path):
+    """In a group's shared folder (setgid: new files take the folder's group), the published folder keeps
+    the bit a plain mkdir there would get, so the group keeps owning what is written inside it later."""
+    import os
+    import stat
+
+    from pounding.io.outputs import write_folder
+
+    shared = tmp_path / "shared"
+    shared.mkdir()
+    os.chmod(shared, 0o2775)
+    probe = shared / "probe"
+    probe.mkdir()
+    write_folder(shared / "run", "run", lambda tmp: [(tmp / "a.txt").write_text("x") and tmp / "a.txt"])
+    assert stat.S_IMODE((shared / "run").stat().st_mode) & 0o2000 == stat.S_IMODE(probe.stat().st_mode) & 0o2000

@@ -82,8 +82,9 @@ def _source_stamp() -> tuple:
 def cache_dir() -> str | None:
     """numba's cache folder for this exact version of the compiled modules (None: numba's default).
 
-    Folders of earlier versions (about 80 MB each, and the extension modules' ``aot-*`` beside
-    them) are removed by the warm-up that fills a new one (:func:`prune_stale`)."""
+    Folders of earlier versions beside the package (about 80 MB each, and the extension modules'
+    ``aot-*`` beside them) are removed by the warm-up that fills a new one (:func:`prune_stale`);
+    those in the user's cache, shared by every install, are left alone."""
     try:
         key = cache_key()
     except OSError:  # pragma: no cover - a frozen or zipped install
@@ -125,7 +126,8 @@ def _written_by_us(folder: Path) -> bool:
         if path.is_dir():
             continue
         name = path.name
-        if not (name.endswith((".nbi", ".nbc")) or name in ("warmed.json", EXTENSION_MANIFEST) or name.startswith(EXTENSION_MODULE + ".")):
+        if not (name.endswith((".nbi", ".nbc")) or ".nbi.tmp." in name or ".nbc.tmp." in name  # (numba's, half written)
+                or name in ("warmed.json", EXTENSION_MANIFEST) or name.startswith(EXTENSION_MODULE + ".")):
             return False
     return True
 
@@ -160,8 +162,11 @@ def stale_folders(base: Path, key: str, *, now: float | None = None) -> list[Pat
 
 
 def prune_stale() -> tuple[int, int]:
-    """Remove the cache folders of earlier versions (:func:`stale_folders`) in every cache base.
-    Returns (folders removed, bytes freed); a folder that cannot be removed is skipped."""
+    """Remove the cache folders of earlier versions (:func:`stale_folders`) beside this install's
+    package (``pounding/__pycache__``: the versions of this very install, whose source changed), and
+    only there: the user's cache (``~/.cache/pounding``, where a read-only install keeps its cache)
+    is shared by every install of the user, whose folders are other versions still in use.
+    Returns (folders removed, bytes freed); a folder that cannot be measured or removed is skipped."""
     import shutil
 
     try:
@@ -169,12 +174,12 @@ def prune_stale() -> tuple[int, int]:
     except OSError:  # pragma: no cover - a frozen or zipped install
         return 0, 0
     count = freed = 0
-    for base in cache_bases():
-        for folder in stale_folders(base, key):
+    own = cache_bases()[0]
+    for folder in stale_folders(own, key):
+        try:
             size = sum(p.stat().st_size for p in folder.rglob("*") if p.is_file())
-            try:
-                shutil.rmtree(folder)
-            except OSError:
-                continue
-            count, freed = count + 1, freed + size
+            shutil.rmtree(folder)
+        except OSError:  # vanished meanwhile (another warm-up pruning), or not ours to remove
+            continue
+        count, freed = count + 1, freed + size
     return count, freed

@@ -143,7 +143,7 @@ def publish(tmp: Path, target: str | Path, command: str) -> list[Path]:
         _write_manifest(tmp, {command: new})
         # the staging folder is private while it fills; published, it gets the mode any new folder of the
         # user gets (0o777 less the umask), so that colleagues read the results as they read the user's other files
-        os.chmod(tmp, 0o777 & ~_umask())
+        os.chmod(tmp, (tmp.stat().st_mode & 0o7000) | (0o777 & ~_umask()))  # (a setgid bit inherited from the parent stays)
         os.replace(tmp, target)  # one rename: the folder appears complete or not at all
         return [target / p for p in new]
     files = read_manifest(target)
@@ -166,7 +166,15 @@ def publish(tmp: Path, target: str | Path, command: str) -> list[Path]:
 
 
 def _umask() -> int:
-    """The process's file-mode creation mask (read by setting it and setting it back)."""
+    """The process's file-mode creation mask: Linux reports it in /proc/self/status; elsewhere it is
+    read by setting it and setting it back (a moment in which another thread's new files would get 022)."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except OSError:
+        pass
     mask = os.umask(0o022)
     os.umask(mask)
     return mask

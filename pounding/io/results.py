@@ -212,10 +212,10 @@ def summary(result: Result, histories: dict | None = None) -> dict:
     balance = energy_balance(result)
     balance["energy_creating_rule"] = energy_creating_rule(result)
     episodes = episodes_summary(result)
-    import pounding
+    from pounding.version import package_version
 
     return {
-        "pounding_version": pounding.__version__,  # which code computed these numbers
+        "pounding_version": package_version(),  # which code computed these numbers
         "steps": result.steps,
         "runtime_s": result.runtime_s,
         "timings_s": {"solve": result.runtime_s, **{k[:-2]: v for k, v in getattr(result, "timings", {}).items() if k != "solve_s"}},
