@@ -158,7 +158,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args, extras = parser.parse_known_args(argv)
     if extras:  # argparse would report them with the top-level usage; the command's own says what it takes
-        parser.command_parsers.get(getattr(args, "command", None), parser).error(f"unrecognized arguments: {' '.join(extras)}")
+        argv_list = list(sys.argv[1:] if argv is None else argv)
+        command = getattr(args, "command", None)
+        before = command in argv_list and argv_list.index(extras[0]) < argv_list.index(command)  # (an option of pounding itself)
+        owner = parser if before else parser.command_parsers.get(command, parser)
+        owner.error(f"unrecognized arguments: {' '.join(extras)}")
     if not getattr(args, "func", None):
         parser.print_help()
         return 2
@@ -345,7 +349,7 @@ def cmd_run(args) -> int:
     from pounding.commands.scene import silenced
 
     silence = silenced(args)
-    if not args.out and not args.scene.stem:  # ".", "..": no scene file to name the folder after
+    if args.scene.is_dir():  # (".", "..", any folder: no scene file to name the results folder after)
         raise InputError(f"{args.scene}: cannot read the scene file: it is a folder; give a .toml scene file")
     out = args.out or args.scene.with_name(args.scene.stem + "_out")
     _, result = analyse(args.scene, out, vtk=args.vtk, vtk_every=args.vtk_every, scale=args.scale, quiet=args.quiet, overrides=overrides,

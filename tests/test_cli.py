@@ -156,3 +156,9 @@ def test_an_unknown_option_is_reported_with_the_commands_own_usage():
     """`pounding gap SCENE --bogus`: exit 2 with gap's usage line (what gap takes), not the top-level one."""
     proc = pounding("gap", PAPER / "pair_gap_0.03.toml", "--bogus", check=False)
     assert proc.returncode == 2 and proc.stderr.startswith("usage: pounding gap ") and "unrecognized arguments: --bogus" in proc.stderr
+
+
+def test_an_unknown_option_before_the_command_is_reported_with_the_top_level_usage():
+    """`pounding --bogus run SCENE`: the option was given to pounding itself, whose usage says what it takes."""
+    proc = pounding("--bogus", "run", PAPER / "pair_gap_0.03.toml", check=False)
+    assert proc.returncode == 2 and proc.stderr.startswith("usage: pounding [-h]") and "unrecognized arguments: --bogus" in proc.stderr

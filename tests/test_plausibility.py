@@ -47,11 +47,13 @@ def test_mass_in_tonnes_is_flagged_with_the_number_and_the_cause():
 
 def test_a_pga_in_gal_typed_as_g_is_flagged_with_what_it_means():
     """392 cm/s2 (0.4 g) typed as `pga = 392` is beyond any recorded peak (about 4.4 g): one warning, the
-    number in g and m/s2 and the reading in g (392 / 100 / 9.80665 = 0.3997 g); the template's 0.3 g is not flagged."""
+    number in g and m/s2 and both readings in g: the number as cm/s2 (392 / 100 / 9.80665 = 0.3997 g) and a
+    record in cm/s2 read as m/s2 (392 g / 100 = 3.92 g); the template's 0.3 g is not flagged."""
     assert "pga" not in names(plausibility.findings(scene_of(template_text())))
     found = plausibility.findings(scene_of(template_text().replace("pga = 0.3", "pga = 392")))
     assert names(found) == ["pga"]
-    assert "392 g" in str(found[0]) and "= 0.4 g" in str(found[0]) and "[silence with: pga]" in str(found[0])
+    assert "392 g" in str(found[0]) and "= 0.4 g" in str(found[0]) and "= 3.92 g" in str(found[0])
+    assert "[silence with: pga]" in str(found[0])
 
 
 def test_each_check_is_silenced_by_name_in_the_scene_or_the_call():

@@ -438,6 +438,8 @@ def plot_plan(result, path, *, scene=None) -> Path:
     for w in getattr(scene, "walls", ()) if scene is not None else ():  # retaining walls: their face, as a thick line
         face = np.asarray(w.face, float)
         ax.plot(face[:, 0], face[:, 1], color="0.15", lw=3.0, solid_capstyle="butt", label=f"retaining wall {w.name!r} (top {w.top:g} m)")
+        mid = 0.5 * (face[len(face) // 2 - 1] + face[len(face) // 2]) if len(face) % 2 == 0 else face[len(face) // 2]
+        ax.annotate(w.name, mid, xytext=(5, 5), textcoords="offset points", fontsize=8, color="0.15")  # (two walls told apart)
     if result.impacts:
         pts = np.array([i.point for i in result.impacts])
         ax.scatter(pts[:, 0], pts[:, 1], s=18, color="k", marker="x", lw=0.8, label="impact points", zorder=5)

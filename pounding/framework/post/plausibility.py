@@ -124,7 +124,7 @@ def _pga(motion) -> list[Finding]:
         return []
     return [Finding("pga", f"ground motion: peak acceleration {peak:.4g} g ({peak * G:.4g} m/s2) is beyond any recorded (about 4.4 g): "
                            f"a PGA in cm/s2 typed as g ({peak:.4g} cm/s2 = {peak / 100.0 / G:.3g} g)? a record in cm/s2 read as m/s2 "
-                           "(give its `units`)?")]
+                           f"({peak * G:.4g} cm/s2 = {peak / 100.0:.3g} g; give its `units`)?")]
 
 
 def _no_common_level(buildings) -> list[Finding]:
