@@ -262,3 +262,19 @@ def test_a_link_law_without_an_opensees_material_is_one_message_naming_it(tmp_pa
                                          "'friction_pendulum' with velocity-dependent friction"):
         write_script(scene, tmp_path / "model.py")
     assert list(tmp_path.iterdir()) == []
+
+
+def test_a_step_too_coarse_for_the_contact_is_noted_in_the_script():
+    """A scene's own dt that spans a force law's shortest contact in fewer steps than the default takes
+    (the paper's pair with kelvin, k = 1e9, at dt = 0.005 s: about 2.5 steps) gets a note naming the law,
+    the steps and the step that resolves it (OpenSees' Newton failed inside such a contact); the default
+    step gets none."""
+    from pounding.peer.export import opensees_script
+
+    scene = load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml").with_analysis(
+        contact="kelvin", contact_params={"stiffness": 1e9, "restitution": 0.5}, integrator="newmark", integrator_params={})
+    _, notes = opensees_script(scene.with_analysis(dt=0.005))
+    coarse = [n for n in notes if "spans the shortest kelvin contact" in n]
+    assert len(coarse) == 1 and "resolves it" in coarse[0]
+    _, notes = opensees_script(scene.with_analysis(dt=None))
+    assert not any("spans the shortest" in n for n in notes)

@@ -86,7 +86,8 @@ def opensees_script(scene, *, out_of_plane: float = OUT_OF_PLANE) -> tuple[str, 
     from pounding.peer.opensees import transient_analysis
 
     transient_analysis(analysis, integrator, TOLERANCE, MAX_ITERATIONS)
-    dt, steps = _time_grid(scene)
+    dt, steps, note = _time_grid(scene)
+    notes += [note] if note else []
     return _render(scene, ops, analysis, masters, dt, steps, notes, integrator), notes
 
 
@@ -193,23 +194,30 @@ def _integrator(scene) -> tuple[tuple, str | None]:
                                     "acceleration (run pounding with integrator = 'newmark' to compare like with like)")
 
 
-def _time_grid(scene) -> tuple[float, int]:
-    """(dt [s], steps) the tool would use: the scene's, or its default step (pounding.framework.engine.timestep)."""
+def _time_grid(scene) -> tuple[float, int, str | None]:
+    """(dt [s], steps, note) the tool would use: the scene's step, or its default step
+    (pounding.framework.engine.timestep), and a note when the scene's own step spans a force law's
+    shortest contact in fewer steps than the default takes (the tool's run warns of it too; OpenSees'
+    Newton may then fail inside the contact), else None."""
+    from pounding.framework.engine.contact_laws import pair_laws
+    from pounding.framework.engine.contact_step import run_dt
+    from pounding.framework.engine.driver import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
+    from pounding.framework.engine.timestep import STEPS_PER_CONTACT
+    from pounding.framework.model.registry import CONTACT_LAWS
 
     an, gm = scene.analysis, scene.ground_motion
-    if an.dt is not None:
-        dt = float(an.dt)
-    else:  # as the driver chooses: the modes and the shortest contact (pounding.framework.engine.contact_step)
-        from pounding.framework.engine.contact_laws import pair_laws
-        from pounding.framework.engine.contact_step import run_dt
-        from pounding.framework.engine.driver import Model
-        from pounding.framework.model.registry import CONTACT_LAWS
-
-        m = Model(scene)
-        dt = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), chosen_integrator(scene))[0]
+    m = Model(scene)  # as the driver chooses: the modes and the shortest contact (pounding.framework.engine.contact_step)
+    dt, contact = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls),
+                         chosen_integrator(scene))
+    note = None
+    per = contact.duration / dt
+    if per < STEPS_PER_CONTACT * (1.0 - 1e-9):
+        note = (f"dt = {dt:g} s spans the shortest {contact.law} contact ({contact.duration * 1e3:.3g} ms) in {per:.3g} steps "
+                f"(the default step takes {STEPS_PER_CONTACT}): OpenSees' Newton may fail inside such a contact; "
+                f"dt <= {contact.duration / STEPS_PER_CONTACT:.3g} s resolves it (leave [analysis] dt out for the default)")
     duration = float(an.duration or gm.duration)
-    return dt, max(1, int(np.ceil(duration / dt - 1e-9)))
+    return dt, max(1, int(np.ceil(duration / dt - 1e-9))), note
 
 
 # --------------------------------------------------------------------------- the script
