@@ -236,6 +236,16 @@ def test_files_are_written_and_read_back(study):
     assert json.loads((out / "study.json").read_text())["im"] == "PGA"
 
 
+def test_every_file_the_study_writes_is_recorded_as_pounding_s(study):
+    """The study's files are in the folder's manifest under "fragility": another command writing into the
+    folder does not take them for a user's files (only a user's own file would refuse it)."""
+    from pounding.io.outputs import foreign, read_manifest
+
+    out = study.files["runs"].parent
+    written = {str(p.relative_to(out)) for p in out.rglob("*") if p.is_file() and p.name != ".pounding-manifest.json"}
+    assert set(read_manifest(out)["fragility"]) == written and foreign(out) == []
+
+
 def test_resume_runs_only_what_is_missing(study, records, tmp_path):
     """An interrupted study (two rows kept, a third cut mid-line) resumes to the same tables, running only the rest."""
     out = tmp_path / "frag"

@@ -169,3 +169,16 @@ def test_a_new_results_folder_keeps_the_setgid_bit_of_a_shared_folder(tmp_path):
     probe.mkdir()
     write_folder(shared / "run", "run", lambda tmp: [(tmp / "a.txt").write_text("x") and tmp / "a.txt"])
     assert stat.S_IMODE((shared / "run").stat().st_mode) & 0o2000 == stat.S_IMODE(probe.stat().st_mode) & 0o2000
+
+
+def test_a_sweep_rerun_without_plots_removes_its_earlier_plots(tmp_path):
+    """A sweep rerun over its own folder with --no-plots leaves no plot of the earlier grid beside the new table
+    (its own files of the earlier run that it did not write again are stale: removed, as a run's are)."""
+    out = tmp_path / "s"
+    base = ("sweep", PAPER, "--gaps", "0.5,0.4", "--duration", "0.3", "--serial", "--out", out)
+    pounding(*base)
+    drawn = {f for f in files(out) if f.endswith(".png")}
+    assert drawn
+    pounding(*base, "--no-plots")
+    assert not {f for f in files(out) if f.endswith(".png")} and (out / "sweep.csv").is_file()
+    assert not any(f.endswith(".png") for f in outputs.read_manifest(out)["sweep"])

@@ -89,6 +89,19 @@ def record(folder: str | Path, command: str, paths) -> None:
     _write_manifest(folder, files)
 
 
+def settle(folder: str | Path, command: str, paths) -> None:
+    """Record ``paths`` (in ``folder``) as everything ``command`` wrote there, at the end of a command that
+    writes in place (:func:`record` as it went): its files of an earlier run that it did not write this
+    time (the plots of a rerun with ``--no-plots``) are removed, as :func:`publish` removes them."""
+    folder = Path(folder).resolve()
+    files = read_manifest(folder)
+    new = {str(Path(p).resolve().relative_to(folder)) if Path(p).is_absolute() else str(p) for p in paths}
+    for rel in sorted(set(files.get(command, ())) - new):
+        _remove_own(folder, rel)
+    files[command] = sorted(new)
+    _write_manifest(folder, files)
+
+
 def check_target(folder: Path, *, overwrite: bool, option: str = "--out") -> None:
     """Refuse a folder that holds files pounding did not write (unless ``overwrite``) or is a file.
 

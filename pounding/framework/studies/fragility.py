@@ -633,6 +633,11 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
     write_rows(runs_path, rcols, list(old_runs.values()))
     if study.consequence_gaps or cons_path.exists():
         write_rows(cons_path, ccols, list(old_cons.values()))
+    from pounding.io.outputs import MANIFEST, record
+
+    # recorded before the runs: the files of an interrupted study are pounding's (another command writing
+    # into the folder, or a rerun, does not take them for a user's)
+    record(out, "fragility", [sj, runs_path] + ([cons_path] if cons_path.exists() else []))
 
     jobs = []
     shared = {"scene": study.scene} | {f"record:{name}": m for name, m in study.records}
@@ -676,7 +681,7 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
         for a in appenders.values():
             a.close()
         if fresh and not new_runs and not new_cons:
-            for f in (sj, runs_path, cons_path):
+            for f in (sj, runs_path, cons_path, out / MANIFEST):
                 f.unlink(missing_ok=True)
             if not any(out.iterdir()):
                 out.rmdir()
@@ -715,6 +720,7 @@ def run_fragility(scene_path, out, *, records=None, im: str = "pga", levels, gap
 
         paths = plot_fragility(out, ordered, fragility, target, study.levels, f"{study.im} [{study.im_unit}]",
                                plot_gaps=plot_gaps, confidence=confidence)
+    record(out, "fragility", list(files.values()) + list(paths))
     return FragilityResult(ordered, fragility, target, cordered, csum, files, paths, total,
                            len([k for k in order if k in old_runs]), time.perf_counter() - t0, n_workers, study.measure,
                            study.window)

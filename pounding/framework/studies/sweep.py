@@ -661,8 +661,11 @@ def run_sweep(scene_path, out, *, gaps=None, pga_scales=None, records=None, rest
     paths = plot_sweep(ordered, spec["names"], out) if plots else []
     if plots and angles:
         paths += plot_sweep_angles(ordered, out)
-    # names relative to out: the manifest keeps a relative path as given, and out may itself be relative
-    record(out, "sweep", [Path(p).relative_to(out) for p in [out / TABLE_CSV, description, parquet, *paths] if p is not None])
+    # names relative to out: the manifest keeps a relative path as given, and out may itself be relative; what an
+    # earlier sweep wrote here and this one did not (its plots, when this one draws none) is stale and goes
+    from pounding.io.outputs import settle
+
+    settle(out, "sweep", [Path(p).relative_to(out) for p in [out / TABLE_CSV, description, parquet, *paths] if p is not None])
     return SweepResult(ordered, cols, out / TABLE_CSV, parquet, paths, time.perf_counter() - t0, n_workers, spec["intensity"],
                        checks, description)
 
