@@ -29,7 +29,17 @@ def __getattr__(name):
 
 
 __all__ = ["InputError", "__version__", "load_scene", "assemble", "run", "storey_peaks", "impact_table", "histories",
-           "write_results", "load_result", "write_scene"]
+           "write_results", "load_result", "write_scene", "minimum_gap", "sweep", "fragility", "export_opensees"]
+
+
+def _forward(func, options: dict, skip: tuple, name: str):
+    """``func(**options)`` after a misspelt option is named with the closest one (as the command line does)."""
+    import inspect
+
+    from pounding.framework.model.scene import check_keywords
+
+    check_keywords(options, [p for p in inspect.signature(func).parameters if p not in skip], name)
+    return func
 
 
 def load_scene(path):
@@ -100,7 +110,41 @@ def load_result(folder):
 
 
 def write_scene(scene, path):
-    """Write a scene file that loads back equal; see :func:`pounding.io.scene_writer.write_scene`."""
+    """Write a scene file that loads back the same scene; see :func:`pounding.io.scene_writer.write_scene`."""
     from pounding.io.scene_writer import write_scene as _write
 
     return _write(scene, path)
+
+
+def minimum_gap(scene, direction=None, **options):
+    """The smallest clear distance at rest at which no slabs of the scene's two buildings touch, with the
+    code estimates (``pounding gap``); see :func:`pounding.framework.studies.gap.minimum_gap` (options: ``progress``)."""
+    from pounding.framework.studies.gap import minimum_gap as _gap
+
+    return _forward(_gap, options, ("scene", "direction"), "pounding.minimum_gap")(scene, direction, **options)
+
+
+def sweep(scene_path, out, **options):
+    """A grid of runs of one scene file, its table and plots written into ``out`` (``pounding sweep``); see
+    :func:`pounding.framework.studies.sweep.run_sweep` (options: ``gaps``, ``pga_scales``, ``records``,
+    ``restitutions``, ``integrators``, ``angles``, ``serial``, ``workers``, ...)."""
+    from pounding.framework.studies.sweep import run_sweep as _sweep
+
+    return _forward(_sweep, options, ("scene_path", "out"), "pounding.sweep")(scene_path, out, **options)
+
+
+def fragility(scene_path, out, **options):
+    """A pounding-fragility study of one scene file over records and intensity levels, written into ``out``
+    (``pounding fragility``); see :func:`pounding.framework.studies.fragility.run_fragility` (options: ``records``,
+    ``levels``, ``im``, ``gaps``, ``targets``, ``consequence_gaps``, ``serial``, ``workers``, ...)."""
+    from pounding.framework.studies.fragility import run_fragility as _fragility
+
+    return _forward(_fragility, options, ("scene_path", "out"), "pounding.fragility")(scene_path, out, **options)
+
+
+def export_opensees(scene, path, **options):
+    """Write the scene as an OpenSeesPy script (``pounding export opensees``); returns the notes on what
+    OpenSees does not get; see :func:`pounding.peer.export.write_script`."""
+    from pounding.peer.export import write_script as _write
+
+    return _forward(_write, options, ("scene", "out"), "pounding.export_opensees")(scene, path, **options)

@@ -204,3 +204,20 @@ def test_sweep_drift_column_is_summary_json_drift(session):
     for b in scene.buildings:
         expected = max(s["buildings"][b.name]["peak_drift_ratio_cm"])
         assert row[f"{b.name}_peak_drift_ratio_cm"] == pytest.approx(expected, rel=4 * np.finfo(float).eps)
+
+
+def test_the_studies_and_the_export_are_in_the_public_api(tmp_path):
+    """What the command line does is in the Python API: pounding.minimum_gap is `pounding gap`'s answer (the
+    study's own function), pounding.sweep writes sweep.csv with one row per gap, pounding.export_opensees writes
+    the script and returns its notes; a misspelt option names the closest one."""
+    from pounding.framework.studies.gap import minimum_gap
+
+    path = ROOT / "examples" / "paper" / "pair_gap_0.03.toml"
+    scene = load_scene(path).with_analysis(duration=4.0)
+    assert pounding.minimum_gap(scene).min_gap == minimum_gap(scene).min_gap > 0.0
+    swept = pounding.sweep(path, tmp_path / "sweep", gaps=[0.5, 0.4], overrides={"duration": 0.3}, serial=True, plots=False)
+    assert [r["gap"] for r in swept.rows] == [0.5, 0.4] and (tmp_path / "sweep" / "sweep.csv").is_file()
+    notes = pounding.export_opensees(scene, tmp_path / "model.py")
+    assert (tmp_path / "model.py").is_file() and isinstance(notes, list)
+    with pytest.raises(TypeError, match=r"did you mean 'gaps'"):
+        pounding.sweep(path, tmp_path / "other", gapz=[0.5])
