@@ -8,6 +8,7 @@ The Python API (docs/python.md):
 >>> result = pounding.run(scene)                                         # doctest: +SKIP
 >>> pounding.storey_peaks(result)            # pandas DataFrame, units in the names   # doctest: +SKIP
 >>> pounding.impact_table(result)            # one row per impact                     # doctest: +SKIP
+>>> pounding.contact_table(result)           # contacts.csv: episodes of force laws and impacts alike  # doctest: +SKIP
 >>> pounding.histories(result)               # xarray Dataset, time x building x storey x dof   # doctest: +SKIP
 >>> pounding.write_results(result, "out")    # the files `pounding run` writes; `pounding plot out` draws them   # doctest: +SKIP
 >>> pounding.write_scene(scene, "mine.toml") # loads back equal                      # doctest: +SKIP
@@ -28,7 +29,7 @@ def __getattr__(name):
     raise AttributeError(name)
 
 
-__all__ = ["InputError", "__version__", "load_scene", "assemble", "run", "storey_peaks", "impact_table", "histories",
+__all__ = ["InputError", "__version__", "load_scene", "assemble", "run", "storey_peaks", "impact_table", "contact_table", "histories",
            "write_results", "load_result", "write_scene", "minimum_gap", "sweep", "fragility", "export_opensees"]
 
 
@@ -82,6 +83,14 @@ def impact_table(result):
     from pounding.io.frames import impact_table as _impacts
 
     return _impacts(result)
+
+
+def contact_table(result):
+    """The contacts (force laws' episodes and impacts alike, contacts.csv's rows) as a pandas DataFrame;
+    see :func:`pounding.io.frames.contact_table`."""
+    from pounding.io.frames import contact_table as _contacts
+
+    return _contacts(result)
 
 
 def histories(result):

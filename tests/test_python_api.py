@@ -221,3 +221,16 @@ def test_the_studies_and_the_export_are_in_the_public_api(tmp_path):
     assert (tmp_path / "model.py").is_file() and isinstance(notes, list)
     with pytest.raises(TypeError, match=r"did you mean 'gaps'"):
         pounding.sweep(path, tmp_path / "other", gapz=[0.5])
+
+
+def test_contact_table_is_contacts_csv_as_a_dataframe(tmp_path):
+    """pounding.contact_table(result) is contacts.csv read back: the same columns and rows (buildings by name,
+    each impact with its equivalent peak force)."""
+    pd = pytest.importorskip("pandas")
+    result = pounding.run(load_scene(ROOT / "examples" / "paper" / "pair_gap_0.03.toml").with_analysis(duration=4.0))
+    table = pounding.contact_table(result)
+    pounding.write_results(result, tmp_path / "run")
+    written = pd.read_csv(tmp_path / "run" / "contacts.csv")
+    assert list(table.columns) == list(written.columns) and len(table) == len(written) == len(result.impacts) > 0
+    assert set(table["building_a"]) <= {"low", "high"} and (table["peak_force [N]"] > 0).all()
+    assert (table["impulse [N s]"].to_numpy() == written["impulse [N s]"].to_numpy()).all()  # (the csv holds each float exactly)

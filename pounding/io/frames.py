@@ -90,6 +90,18 @@ def impact_table(result):
     return pd.DataFrame(impact_rows(result), columns=IMPACT_COLUMNS)
 
 
+def contact_table(result):
+    """Every contact as a row of a DataFrame: contacts.csv's columns (:data:`pounding.io.results.CONTACT_COLUMNS`):
+    a force law's contact episodes and an impulse law's impacts on one table, the buildings and storeys by
+    name, each with its peak force (an impact's equivalent force) and the 1-based ``episode`` it belongs to
+    (a pair's chatter merged); empty (with the columns) for a run without contact."""
+    import pandas as pd
+
+    from pounding.io.results import CONTACT_COLUMNS, contact_rows
+
+    return pd.DataFrame(contact_rows(result), columns=CONTACT_COLUMNS)
+
+
 def histories(result):
     """The run's histories as an xarray Dataset.
 
