@@ -98,11 +98,16 @@ def vertex_history(result, building, storey: int, vertex: int, component: str = 
 
 
 def _impacts_of_slab(result, b: int, storey: int) -> list:
+    return _of_slab(result.impacts, result, b, storey)
+
+
+def _of_slab(events, result, b: int, storey: int) -> list:
+    """The impacts or force-law contact episodes among ``events`` whose pair holds slab ``storey`` (1-based) of building b."""
     out = []
-    for imp in result.impacts:
-        a, fa, bb, fb, _ = result.pairs[imp.pair]
+    for e in events:
+        a, fa, bb, fb, _ = result.pairs[e.pair]
         if (a, fa) == (b, storey - 1) or (bb, fb) == (b, storey - 1):
-            out.append(imp)
+            out.append(e)
     return out
 
 
@@ -123,6 +128,8 @@ def _draw_history(ax, result, building, storey, vertex, component, reference):
     if imps:
         ti = np.array([i.time for i in imps])
         ax.plot(ti, np.interp(ti, result.t, y), "v", color=COLOURS[1], ms=4, label="impacts on this slab")
+    for k, e in enumerate(_of_slab(result.contacts, result, b, storey)):  # a force law's contacts last: shaded spans
+        ax.axvspan(e.start, e.end, color=COLOURS[1], alpha=0.25, lw=0, label="force contacts on this slab" if k == 0 else None)
     vx, vy = result.systems[b].slabs[storey - 1].vertices[vertex]
     ax.set_title(f"{name}, storey {storey}, vertex {vertex} ({vx:.2f}, {vy:.2f}) m", fontsize=9)
     ax.set_ylabel(f"{component} displ. [mm]")
