@@ -238,6 +238,33 @@ def test_vertex_vertex_contact():
     assert gap[0] == 0.0
 
 
+@pytest.mark.parametrize("turn", [6e-4, -6e-4, 9e-4])  # (within the face angle, 1e-3 rad)
+def test_face_end_normals_are_the_gradients_of_their_gaps(turn):
+    """A face pressed with its slabs turned a little against each other (A's edge and B's edge at an angle
+    ``turn`` [rad], B slid along the face so that one end is A's vertex and the other B's): each end's gap
+    moves, as B moves rigidly by (dx, dy, dphi) about its centre c, by N . (dx, dy) + dphi (Q - c) x N, the
+    row of its own normal N and point Q. That makes a force along N at each end the gradient of a potential
+    of the two gaps (an elastic face contact creates no energy around a closed path). Central differences
+    at h = 1e-7 m (and rad) carry an error of order h^2 times the gap's curvature over 1 m (1e-14) and
+    rounding of order eps / h times the coordinates (2e-9): 1e-7 of the gradient's unit size is asserted."""
+    A = rect(0.0, 0.0, 1.0, 1.0)
+
+    def features(dx, dy, dphi):
+        B = rotate(rect(0.995, 0.2, 1.0, 1.0), turn + dphi, about=(1.495, 0.7)) + np.array([dx, dy])
+        n, Q, N, gap, who, idx, pair = geo.contact_points(A, B, 2e-2)
+        order = np.argsort(Q[:n, 1])  # the ends by height: the same two in every probe
+        return Q[:n][order], N[:n][order], gap[:n][order], who[:n][order], pair[:n][order]
+
+    Q, N, gap, who, pair = features(0.0, 0.0, 0.0)
+    assert len(gap) == 2 and list(pair) == [0, 0] and set(who) == {0, 1} and np.all(gap < 0)
+    c = np.array([1.495, 0.7])
+    h = 1e-7
+    for k, unit in enumerate(np.eye(3)):
+        fd = (features(*(h * unit))[2] - features(*(-h * unit))[2]) / (2 * h)
+        row = N[:, 0] * unit[0] + N[:, 1] * unit[1] + unit[2] * ((Q[:, 0] - c[0]) * N[:, 1] - (Q[:, 1] - c[1]) * N[:, 0])
+        np.testing.assert_allclose(fd, row, rtol=0, atol=1e-7, err_msg=f"dof {k}")
+
+
 def test_face_to_face_reports_overlap_end_points():
     """A = [0,1]^2, B = [1.0005,2]x[0.4,1.6]: faces overlap for y in [0.4, 1]; ends B's vertex 0 and
     A's vertex 2.

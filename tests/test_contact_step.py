@@ -197,12 +197,16 @@ def test_default_step_peaks_are_within_half_a_percent_of_the_converged_run(law):
     converged run is the default step / 4; its own error is estimated by its difference from the
     default step / 2 (the error falls about as dt, so the finer run's error is about that
     difference) and counted against the 0.5 %. The approach speed bound holds: no contact of the
-    converged run closes faster than its pair's bound."""
+    converged run closes faster than its pair's bound. No run breaks a sign of the energy account."""
     base = paper(contact=law, contact_params={}, dt=None, duration=WINDOW)
     default = run(base)
     dt = default.dt
     assert default.info["contact_time"]["steps_per_contact"] >= STEPS_PER_CONTACT and len(default.contacts) >= 2
     half, fine = run(base.with_analysis(dt=dt / 2)), run(base.with_analysis(dt=dt / 4))
+    from pounding.framework.post.energy_account import sign_violations
+
+    # a passive contact creates no energy at any step (an elastic law's face contact included)
+    assert [sign_violations(r) for r in (default, half, fine)] == [[], [], []], law
     for p_def, p_half, p_fine in zip(_peaks(default), _peaks(half), _peaks(fine)):
         scale = p_fine.max(axis=0)  # (2,): the building's largest peak along u and along v
         err = np.abs(p_def - p_fine) / scale

@@ -194,10 +194,13 @@ def test_an_elastic_face_whose_end_lifts_off_creates_no_energy():
     eb = energy_balance(result)
     assert eb["contact_force_work"] <= rounding_bound(result)
     assert eb["ok"] and not [m for m in messages if "contact_force_work" in m]
-    # what work is left is not the shares': the rows' departure from the penetrations' rates and the
-    # steps' quadrature (:func:`_law_dissipation`; the law dissipates nothing)
-    D, G, quadrature = _law_dissipation(result, states)
-    assert D == 0.0 and abs(eb["contact_force_work"]) <= G + quadrature
+    # what work is left is not the shares': the law dissipates nothing (D = 0), the rows are the gradients
+    # of the penetrations (G, their departure, at rounding), and the rest is the step's error: second order,
+    # so halving the step divides it by about 4 (at least 3 asserted: the next order's share; measured 3.5)
+    D, G, _ = _law_dissipation(result, states)
+    assert D == 0.0 and G <= 1e-6 * abs(eb["contact_force_work"]) + 1e-3
+    half, _ = _run(twisting_scene("hertz", dt=DT / 2))
+    assert abs(energy_balance(half)["contact_force_work"]) <= abs(eb["contact_force_work"]) / 3.0
     old, old_messages = _run(twisting_scene(EqualShareHertz))
     assert energy_balance(old)["contact_force_work"] > rounding_bound(old)
     assert not energy_balance(old)["ok"] and [m for m in old_messages if "contact_force_work" in m]
@@ -243,15 +246,19 @@ def test_a_damped_face_loses_what_its_dashpot_dissipates(law):
     """kelvin, hertzdamp and jankowski on the twisting pair (one end of a face lifting off while the other presses):
     the contact work on the pair is <= 0 to the account's rounding, and it is minus the law's own
     dissipation D (the work of the part of each point's force beyond its elastic part, from the recorded
-    states): their difference is the work of the elastic part over closed contacts, zero for the
-    potential sum_i s_i integral F_el up to (i) how far the rates through the modal rows the forces act
-    on depart from the penetrations' own rates (G, from the run's states) and (ii) the quadrature of
-    the powers over the steps (:func:`_law_dissipation`)."""
+    states) up to the work of the elastic part over closed contacts: zero for the potential
+    sum_i s_i integral F_el (the modal rows are the penetrations' gradients: G, how far the rates through
+    them depart from the penetrations' own rates, is at rounding) but for the step's error, second
+    order: halving the step divides the leftover work + D by about 4 or more (at least 3 asserted;
+    measured 4.4 for hertzdamp, 4.7 for jankowski, 8.5 for kelvin)."""
     result, _ = _run(twisting_scene(law))
     states = _pressed_states(result)
     assert _lift_offs(states) >= 1
     work = energy_balance(result)["contact_force_work"]
     assert work <= rounding_bound(result) and energy_balance(result)["ok"]
-    D, G, quadrature = _law_dissipation(result, states)
-    assert D > 0.0 and G < 1e-2 * D
-    assert abs(work + D) <= G + quadrature, (work, D, G, quadrature)
+    D, G, _ = _law_dissipation(result, states)
+    assert D > 0.0 and G < 1e-6 * D
+    half, _ = _run(twisting_scene(law, dt=DT / 2))
+    Dh, _, _ = _law_dissipation(half, _pressed_states(half))
+    left, left_half = abs(work + D), abs(energy_balance(half)["contact_force_work"] + Dh)
+    assert left_half <= left / 3.0, (law, left, left_half)

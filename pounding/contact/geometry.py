@@ -996,8 +996,11 @@ def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
     along A's edge), then point features by increasing gap. Each end of a
     face-to-face overlap is a vertex of A or of B (``who``/``idx`` say which;
     on a tie, A's). Its gap is measured from that vertex to the other edge's
-    line, and both ends share the normal ``normalise(n_A - n_B)`` (the
-    bisector of the two faces' outward normals).
+    line, and its normal is that edge's (-n_B for a vertex of A, n_A for a
+    vertex of B): the gap's own gradient, so that a force along the normal at
+    each end derives from a potential of the two gaps (with a normal shared
+    by both ends, the faces' bisector, the rows missed half the faces'
+    relative turn and a Hertz face contact created energy).
 
     Vertex-to-vertex contact is reported once, as B's vertex striking A, with
     the normal along the line joining the vertices (see ``_target_normal``).
@@ -1068,19 +1071,15 @@ def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
                 g_hi = nax * (B[hi_v, 0] - A[i, 0]) + nay * (B[hi_v, 1] - A[i, 1])
             if abs(g_lo - g0) > tol or abs(g_hi - g0) > tol:
                 continue  # not the touching faces (or too tilted to touch along the whole overlap)
-            nx = nax - nbx
-            ny = nay - nby
-            nn = math.hypot(nx, ny)
-            nx /= nn
-            ny /= nn
             for e in range(2):
                 w = w_lo if e == 0 else w_hi
                 v = v_lo if e == 0 else v_hi
                 P = A if w == 0 else B
                 Q[nf, 0] = P[v, 0]
                 Q[nf, 1] = P[v, 1]
-                N[nf, 0] = nx
-                N[nf, 1] = ny
+                # the normal of the edge the end's vertex strikes, from A towards B (the gap's gradient)
+                N[nf, 0] = -nbx if w == 0 else nax
+                N[nf, 1] = -nby if w == 0 else nay
                 gap[nf] = g_lo if e == 0 else g_hi
                 who[nf] = w
                 idx[nf] = v
