@@ -34,7 +34,8 @@ __all__ = ["InputError", "__version__", "load_scene", "assemble", "run", "storey
 
 
 def _forward(func, options: dict, skip: tuple, name: str):
-    """``func(**options)`` after a misspelt option is named with the closest one (as the command line does)."""
+    """``func``, once every key of ``options`` is one of its parameters (less ``skip``, those given by
+    position): a misspelt option is a TypeError naming the closest one (as the command line does)."""
     import inspect
 
     from pounding.framework.model.scene import check_keywords
@@ -62,13 +63,9 @@ def run(scene, **options):
 
     A misspelt option raises :class:`~pounding.framework.model.scene.KeywordError` (a TypeError) with the closest name.
     """
-    import inspect
-
     from pounding.framework.post.run import run as _run
-    from pounding.framework.model.scene import check_keywords
 
-    check_keywords(options, [p for p in inspect.signature(_run).parameters if p != "scene"], "pounding.run")
-    return _run(scene, **options)
+    return _forward(_run, options, ("scene",), "pounding.run")(scene, **options)
 
 
 def storey_peaks(result):
@@ -102,13 +99,9 @@ def histories(result):
 
 def write_results(result, out, **options):
     """Write a run folder (response.npz, summary.json, impacts.csv, scene.toml...); see :func:`pounding.io.results.write_results`."""
-    import inspect
-
-    from pounding.framework.model.scene import check_keywords
     from pounding.io.results import write_results as _write
 
-    check_keywords(options, [p for p in inspect.signature(_write).parameters if p not in ("result", "out")], "pounding.write_results")
-    return _write(result, out, **options)
+    return _forward(_write, options, ("result", "out"), "pounding.write_results")(result, out, **options)
 
 
 def load_result(folder):

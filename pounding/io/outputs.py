@@ -84,9 +84,13 @@ def record(folder: str | Path, command: str, paths) -> None:
     folder = Path(folder).resolve()
     folder.mkdir(parents=True, exist_ok=True)
     files = read_manifest(folder)
-    rel = {str(Path(p).resolve().relative_to(folder)) if Path(p).is_absolute() else str(p) for p in paths}
-    files[command] = sorted(set(files.get(command, ())) | rel)
+    files[command] = sorted(set(files.get(command, ())) | _relative(folder, paths))
     _write_manifest(folder, files)
+
+
+def _relative(folder: Path, paths) -> set[str]:
+    """The ``paths`` as the manifest keeps them: relative to the (resolved) ``folder``; a relative path as given."""
+    return {str(Path(p).resolve().relative_to(folder)) if Path(p).is_absolute() else str(p) for p in paths}
 
 
 def settle(folder: str | Path, command: str, paths) -> None:
@@ -95,7 +99,7 @@ def settle(folder: str | Path, command: str, paths) -> None:
     time (the plots of a rerun with ``--no-plots``) are removed, as :func:`publish` removes them."""
     folder = Path(folder).resolve()
     files = read_manifest(folder)
-    new = {str(Path(p).resolve().relative_to(folder)) if Path(p).is_absolute() else str(p) for p in paths}
+    new = _relative(folder, paths)
     for rel in sorted(set(files.get(command, ())) - new):
         _remove_own(folder, rel)
     files[command] = sorted(new)

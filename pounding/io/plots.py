@@ -97,10 +97,6 @@ def vertex_history(result, building, storey: int, vertex: int, component: str = 
     return result.vertices(name, velocity=velocity)[:, storey - 1, vertex, c]
 
 
-def _impacts_of_slab(result, b: int, storey: int) -> list:
-    return _of_slab(result.impacts, result, b, storey)
-
-
 def _of_slab(events, result, b: int, storey: int) -> list:
     """The impacts or force-law contact episodes among ``events`` whose pair holds slab ``storey`` (1-based) of building b."""
     out = []
@@ -124,7 +120,7 @@ def _draw_history(ax, result, building, storey, vertex, component, reference):
         yr = vertex_history(reference, name, storey, vertex, component) * 1e3
         ax.plot(reference.t, yr, color="0.55", lw=1.0, ls="--", label="without pounding")
     ax.plot(result.t, y, color=COLOURS[0], lw=1.1, label="with pounding" if reference is not None else name)
-    imps = _impacts_of_slab(result, b, storey)
+    imps = _of_slab(result.impacts, result, b, storey)
     if imps:
         ti = np.array([i.time for i in imps])
         ax.plot(ti, np.interp(ti, result.t, y), "v", color=COLOURS[1], ms=4, label="impacts on this slab")
