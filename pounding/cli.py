@@ -175,7 +175,7 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return int(args.func(args) or 0)
     except InputError as exc:
-        print(f"pounding: error: {exc}", file=sys.stderr)
+        print(f"pounding: error: {_as_option(exc)}", file=sys.stderr)
         return 2
     except FloatingPointError as exc:  # an iteration of the analysis diverged: said in one line, nothing written
         print(f"pounding: error: the analysis stopped: {exc}", file=sys.stderr)
@@ -183,6 +183,18 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("pounding: interrupted", file=sys.stderr)
         return 130
+
+
+#: the arguments the studies name in their errors (their Python names), and the options that give them here
+OPTION_OF = {"direction": "--direction"}
+
+
+def _as_option(exc: InputError) -> InputError:
+    """``exc`` with a study's argument named as the command line's option that gave it (an error about
+    a file keeps its key path)."""
+    if exc.file is None and exc.field in OPTION_OF:
+        return InputError(exc.message, field=OPTION_OF[exc.field])
+    return exc
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):

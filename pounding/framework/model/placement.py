@@ -159,11 +159,11 @@ def direction_vector(value) -> np.ndarray | None:
             try:
                 value = float(text)
             except ValueError:
-                raise InputError(f"expected x, y or an angle in degrees, got {value!r}", field="--direction") from None
+                raise InputError(f"expected x, y or an angle in degrees, got {value!r}", field="direction") from None
     if isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool):
         angle = float(value)
         if not math.isfinite(angle):
-            raise InputError(f"expected a finite angle in degrees, got {value!r}", field="--direction")
+            raise InputError(f"expected a finite angle in degrees, got {value!r}", field="direction")
         quarter, rest = divmod(angle, 90.0)
         if rest == 0.0:
             return np.array(((1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0))[int(quarter) % 4])
@@ -171,7 +171,7 @@ def direction_vector(value) -> np.ndarray | None:
         return np.array((math.cos(a), math.sin(a)))
     v = np.asarray(value, dtype=float)
     if v.shape != (2,) or not np.all(np.isfinite(v)) or np.hypot(*v) == 0.0:
-        raise InputError(f"expected a non-zero plan vector (dx, dy), got {value!r}", field="--direction")
+        raise InputError(f"expected a non-zero plan vector (dx, dy), got {value!r}", field="direction")
     return v / np.hypot(*v)
 
 
@@ -360,7 +360,7 @@ def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]
     if not np.isfinite(hi):
         raise InputError(
             f"moving {b.name!r} along ({d[0]:.6g}, {d[1]:.6g}) never brings its slabs against {a.name!r}'s: "
-            "the buildings do not face each other in that direction", field="--direction")
+            "the buildings do not face each other in that direction", field="direction")
     tol = 1e-9 * max(1.0, float(np.max(np.abs(np.concatenate([s.vertices for s in a.slabs + b.slabs])))))
     if hi <= tol:
         return d, max(0.0, -hi)
@@ -370,7 +370,7 @@ def _oriented(scene: Scene, direction, storeys=None) -> tuple[np.ndarray, float]
     if hi_f <= tol:
         return flipped + 0.0, max(0.0, -hi_f)
     raise InputError(f"the slabs of {a.name!r} and {b.name!r} interlock along ({d[0]:.6g}, {d[1]:.6g}): no translation along it separates them",
-                     field="--direction")
+                     field="direction")
 
 
 def rest_gap(scene: Scene, direction=None) -> tuple[float, np.ndarray]:

@@ -335,11 +335,7 @@ class Scene:
         """
         from pounding.framework.model.placement import with_gap
 
-        try:
-            return with_gap(self, gap, direction)
-        except InputError as exc:  # (its field names the command line's option, --direction)
-            field = "Scene.with_gap(direction)" if exc.field == "--direction" else exc.field
-            raise InputError(exc.message, file=exc.file, field=field) from None
+        return with_gap(self, gap, direction)
 
     def with_building_shifted(self, name: str, offset: np.ndarray) -> "Scene":
         """A copy where building ``name`` (slabs and elements) is translated in plan by ``offset`` [m].

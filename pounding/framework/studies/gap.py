@@ -317,7 +317,7 @@ def gap_from_result(scene: Scene, result, direction=None, *, full: bool = True, 
                 info[key][sl] = inf[key]
         infos.append(info)
     if not np.any(np.isfinite(D)):
-        raise InputError("the slabs never face each other along the direction", field="--direction")
+        raise InputError("the slabs never face each other along the direction", field="direction")
     # true peaks: the translation to contact over the continuous trajectory, refined inside the steps
     # around each storey's governing step (pounding.framework.engine.peaks)
     # (D itself, and the clearance history, stay at the step ends: what a run with contact checks)
