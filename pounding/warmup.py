@@ -148,6 +148,10 @@ def _warm_task(name: str) -> None:
         # the impact search compiled whole with the links' own step inside (event_search.locate)
         driver.locate(0.0, driver.dt, [0], driver.trial(driver.z, 0.0, driver.dt))
         run(yielding.with_analysis(contact="none", contact_params={}, duration=1.0))
+        # the links and a force law's contact solved together (spring_core.contact_fixed_point), with
+        # the point laws' solve and the penalty law's
+        for law in ("kelvin", "penalty"):
+            run(yielding.with_analysis(contact=law, contact_params={}, duration=5.0))
     else:
         raise ValueError(f"unknown warm-up task {name!r}; expected one of {WARM_TASKS}")
 

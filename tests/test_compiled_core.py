@@ -268,7 +268,7 @@ LINKED = PAPER.parents[1] / "linked_pair" / "pair_viscous.toml"
 def test_install_warm_up_covers_the_runs_with_one_specialization_each():
     """The install-time warm-up (``python -m pounding.warmup --warm``) prepares what the runs it is
     for call from Python (the paper pair with pounding, with contact off and with a force law, the
-    paper pair with yielding storeys, and the paper pair linked by viscous dampers) with the very signatures those runs use: each run gives
+    paper pair with yielding storeys, without and with a force law, and the paper pair linked by viscous dampers) with the very signatures those runs use: each run gives
     every compiled function one signature, and every one of them is among the warm-up's. The
     warm-up's own calls from Python (the ``shared`` task, which compiles inner functions ahead for
     the other process) add no specialization that no run uses: a function the warm-up holds with
@@ -284,7 +284,8 @@ def test_install_warm_up_covers_the_runs_with_one_specialization_each():
                      + "".join(f"warmup._warm_task({t!r})\n" for t in warmup.WARM_TASKS) + sigs, env=env)
     runs = {"impulse": (PAPER, "contact='impulse'"), "none": (PAPER, "contact='none', contact_params={}"),
             "kelvin": (PAPER, "contact='kelvin', contact_params={}, duration=5.0"), "yielding": (YIELDING, "duration=5.0"),
-            "linked": (LINKED, "duration=5.0")}
+            "linked": (LINKED, "duration=5.0"),
+            **{f"yielding {law}": (YIELDING, f"contact={law!r}, contact_params={{}}, duration=5.0") for law in ("kelvin", "penalty")}}
     used_by_some: dict[str, set] = {}
     for what, (scene, change) in runs.items():
         used = _python("import json, warnings\nwarnings.simplefilter('ignore')\nfrom pounding import compiler\n"

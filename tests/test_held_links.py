@@ -19,8 +19,7 @@ import numpy as np
 import pytest
 
 from pounding import compiler
-from pounding.framework.engine import held as hold
-from pounding.framework.engine.driver import Driver, Step
+from pounding.framework.engine.driver import Driver
 from pounding.framework.post.energy_account import building_balances
 from pounding.io.scene import parse_scene
 
@@ -47,10 +46,8 @@ class FirstYieldingHeldStep(Driver):
     """The run, stopped at the first held grid step with a contact force in which the isolators'
     remainders change by more than 1e-3 of their yield force (they yield through the step: pressed
     against the wall on their yield plateau they change by rounding only), with that step taken
-    three ways from the same state:
-    ``compiled`` (:meth:`Driver.held_trial`: the compiled fixed point), ``interpreted`` (the same
-    function with the compiler off) and ``python`` (the per-step route the Python step took before:
-    :meth:`Yielding.fixed_point`'s loop calling the held step and the springs from Python)."""
+    twice from the same state: ``compiled`` (:meth:`Driver.held_trial`: the compiled fixed point)
+    and ``interpreted`` (the same function with the compiler off)."""
 
     class Found(Exception):
         pass
@@ -62,23 +59,8 @@ class FirstYieldingHeldStep(Driver):
             return super().advance_held(k0, k0 + 1)
         with compiler.interpreted():
             interpreted = self.held_trial(self.z, t, h)
-        self.steps = {"compiled": compiled, "interpreted": interpreted, "python": self._python_route(t, h)}
+        self.steps = {"compiled": compiled, "interpreted": interpreted}
         raise self.Found
-
-    def _python_route(self, t, h):
-        m, tr, sp = self.model, self.cache(h), self.springs
-        held = np.array(sorted(self.sustained), dtype=np.int64)
-        pair0, gap0, W0, Q0, _ = m.touching(self.z[:, 0], held, self.tol, deep=True)
-        contact = hold.HeldContact(float(self.tol), float(self.touch))
-        p0 = self.load(t) - sp.g
-
-        def solve(g1):
-            z0, z1, f0, f1, _, _, _ = hold.held_step(np.ascontiguousarray(self.z), p0, self.load(t + h) - g1, tr.A, tr.B, h,
-                                                     m.modes, held, contact, (pair0, gap0, W0, Q0), m.geo)
-            return (z0, z1, f0, f1), z1[:, 0]
-
-        (z0, z1, f0, f1), new = sp.fixed_point(solve, h)
-        return Step(z0, z1, f0, f1, new)
 
 
 @pytest.fixture(scope="module")
@@ -88,21 +70,19 @@ def wall_run():
     return driver, driver.run()
 
 
-def test_a_held_yielding_step_is_the_same_compiled_interpreted_and_by_the_python_route():
+def test_a_held_yielding_step_is_the_same_compiled_and_interpreted():
     """The first held step in which the isolators yield (:class:`FirstYieldingHeldStep`), from the same state: the compiled
-    fixed point, the same function interpreted, and the Python route's loop (the held step and the
-    springs' pass called one by one) do the same operations in the same order on the same
-    numbers; they differ by rounding only, and only where the compiled and numpy arithmetic order
-    differ (a matrix product's sums: n ~ 30 terms). Tolerance: 30 n eps of each quantity's
+    fixed point and the same function interpreted do the same operations in the same order on the
+    same numbers; they differ by rounding only, and only where the compiled and numpy arithmetic
+    order differ (a matrix product's sums: n ~ 30 terms). Tolerance: 30 n eps of each quantity's
     largest magnitude (a rounding per term of such sums, the pass's contraction below 1 not
-    amplifying it; measured: bit for bit by the Python route, within one rounding of the largest
-    magnitude interpreted)."""
+    amplifying it; measured: within one rounding of the largest magnitude)."""
     driver = FirstYieldingHeldStep(parse_scene(copy.deepcopy(isolated_beside_a_wall(duration=6.5))))
     with pytest.raises(FirstYieldingHeldStep.Found):
         driver.run()
     ref = driver.steps["compiled"]
     n = ref.z1.shape[0]
-    for name in ("interpreted", "python"):
+    for name in ("interpreted",):
         other = driver.steps[name]
         for a, b in ((ref.z1, other.z1), (ref.f1, other.f1), (ref.sp.f, other.sp.f), (ref.sp.state, other.sp.state), (ref.sp.g, other.sp.g)):
             assert np.max(np.abs(a - b)) <= 30 * n * EPS * np.max(np.abs(a)), name

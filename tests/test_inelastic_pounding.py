@@ -195,7 +195,7 @@ def test_compiled_stretches_between_impacts_give_the_python_path():
 
 
 def test_compiled_stretches_with_penalty_contact_give_the_python_path():
-    """The same pair with penalty contact: the Python step solves the springs by a fixed point around
+    """The same pair with penalty contact: the Python step solves the springs by the fixed point around
     the penalty solve, stopped when the remainders change by less than NEWTON_TOL u_y,min k0, the
     compiled stretch by Newton to a residual below NEWTON_TOL u_y,min. Both are within
     NEWTON_TOL u_y,min of the step's exact end deformations; tolerance: twice that per step over

@@ -55,7 +55,10 @@ a default and its meaning:
    them itself between Python steps; leave it False for any other rule (the driver
    then calls :meth:`~ContactLaw.impulses` at every impact).
 5. Force laws: :meth:`ContactLaw.forces`, which takes one :class:`ContactState`
-   (never more positional arguments: a field added to the bundle breaks no law).
+   (never more positional arguments: a field added to the bundle breaks no law). Optionally
+   :meth:`ContactLaw.forces_solver`, the same solve as a compiled function of the end gaps and
+   rates, which the engine then calls inside its compiled step with yielding links (the default
+   calls :meth:`~ContactLaw.forces` from Python: correct, slower).
 6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
    and approach speed (force laws; the default, inf, suits impulse laws). The default time step
    resolves it.
@@ -282,6 +285,19 @@ class ContactLaw(ABC):
         :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
 
+    def forces_solver(self, contact: ContactState):
+        """:meth:`forces` as a solve the engine can repeat with other end gaps and rates: ``(solve,
+        args)`` with ``solve(args, gap, rate)`` the forces (m,) [N] of ``contact`` whose end gaps and
+        rates without contact forces are ``gap`` [m] and ``rate`` [m/s] (m,), every other field as in
+        ``contact``. With yielding links the engine solves the links and the contact forces of a step
+        together by a fixed point that asks this solve at each pass
+        (:func:`pounding.framework.engine.spring_core.contact_fixed_point`): where ``solve`` is a
+        compiled function (:func:`pounding.compiler.njit`) and ``args`` a tuple of arrays, floats and
+        compiled kernels, that whole step runs compiled. The default asks :meth:`forces` from Python;
+        a law with a compiled solve returns it, and gives :meth:`forces` as that solve at the
+        contact's own gaps and rates (one copy)."""
+        return python_forces, (self, contact)
+
     def point_law(self, m_eff: np.ndarray):
         """The law point by point, for a law built on this one (a bumper's layer and slabs,
         :class:`pounding.contact.bumper.BumperLaw`): ``(law_force, params)``, the compiled kernel
@@ -501,3 +517,11 @@ def newton_pivot(W, b, k):
             return np.maximum(I, 0.0)
         active[flip] = not active[flip]
     return np.maximum(I, 0.0)  # not reached for a positive definite W
+
+
+def python_forces(args, gap, rate) -> np.ndarray:
+    """The forces (m,) [N] of the law and contact state ``args`` = (law, contact) at the end gaps
+    ``gap`` [m] and rates ``rate`` [m/s] (m,): its :meth:`ContactLaw.forces` (the default
+    :meth:`ContactLaw.forces_solver`)."""
+    law, contact = args
+    return np.asarray(law.forces(contact._replace(gap=gap, rate=rate)), dtype=float)

@@ -33,7 +33,7 @@ from typing import ClassVar
 import numpy as np
 
 from pounding.contact.base import ContactLaw
-from pounding.contact.pointwise import contact_forces
+from pounding.contact.pointwise import contact_forces, point_solver
 
 #: block Gauss-Seidel of two laws not given point by point: relative change at which it stops
 SWEEP_RTOL = 1e-12
@@ -106,6 +106,14 @@ class BumperLaw(ContactLaw):
         if joint is not None:
             return contact_forces(joint, contact)
         return self._swept(contact)
+
+    def forces_solver(self, contact):
+        """The compiled solve of both laws point by point where both are given so
+        (:func:`~pounding.contact.pointwise.point_solver`), else :meth:`forces` from Python."""
+        joint = self.point_law(1.0 / np.diag(np.asarray(contact.W, dtype=float)))
+        if joint is not None:
+            return point_solver(joint, contact)
+        return super().forces_solver(contact)
 
     def _swept(self, contact) -> np.ndarray:
         """The two laws' forces by block Gauss-Seidel: the layer on the gap, the slabs' law on the

@@ -91,10 +91,14 @@ class Penalty(ContactLaw):
     def forces(self, contact: ContactState) -> np.ndarray:
         """End-of-step forces (see :meth:`ContactLaw.forces`): lambda = k delta + C delta' on the
         points that push, solved with the step (:func:`penalty_forces`, compiled)."""
+        solve, args = self.forces_solver(contact)
+        return solve(args, np.ascontiguousarray(contact.gap, dtype=float), np.ascontiguousarray(contact.rate, dtype=float))
+
+    def forces_solver(self, contact: ContactState):
+        """(:func:`penalty_solve`, (W, S_q, S_v, springs, xi)): the compiled solve of :meth:`forces`."""
         c = contact
-        return penalty_forces(np.ascontiguousarray(c.W, dtype=float), np.ascontiguousarray(c.S_q, dtype=float),
-                              np.ascontiguousarray(c.S_v, dtype=float), np.ascontiguousarray(c.gap, dtype=float),
-                              np.ascontiguousarray(c.rate, dtype=float), self.point_springs(c), float(self.damping_ratio))
+        return penalty_solve, (np.ascontiguousarray(c.W, dtype=float), np.ascontiguousarray(c.S_q, dtype=float),
+                               np.ascontiguousarray(c.S_v, dtype=float), self.point_springs(c), float(self.damping_ratio))
 
     def point_springs(self, contact: ContactState) -> np.ndarray:
         """Spring of every point (m,) [N/m]: k_p at each."""
@@ -157,6 +161,14 @@ def penalty_forces(W, S_q, S_v, gap, rate, k, xi):
         if keep_pushing(idx, np.linalg.solve(K, -ka * ga - C @ ra), lam, active):
             break
     return np.maximum(lam, 0.0)
+
+
+@njit
+def penalty_solve(args, gap, rate):
+    """:func:`penalty_forces` of the points ``args`` = (W, S_q, S_v, springs, xi) at the end gaps
+    ``gap`` [m] and rates ``rate`` [m/s] (m,) without contact forces (:meth:`Penalty.forces_solver`)."""
+    W, S_q, S_v, k, xi = args
+    return penalty_forces(W, S_q, S_v, gap, rate, k, xi)
 
 
 def no_tension_restitution(xi: float) -> float:

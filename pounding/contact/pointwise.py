@@ -69,7 +69,7 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
-from pounding.compiler import Kernel, njit
+from pounding.compiler import Kernel, interpreted, njit
 from pounding.compiler.unroll import LawTuple, kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw
 from pounding.errors import InputError
@@ -207,6 +207,10 @@ class PointwiseLaw(ContactLaw):
         (:func:`contact_forces`)."""
         return contact_forces(self.point_law(1.0 / np.diag(np.asarray(contact.W, dtype=float))), contact)
 
+    def forces_solver(self, contact):
+        """The solve of :meth:`forces` (:func:`point_solver`)."""
+        return point_solver(self.point_law(1.0 / np.diag(np.asarray(contact.W, dtype=float))), contact)
+
 
 def point_shares(contact) -> np.ndarray:
     """Share (m,) of the law each of the m points of ``contact`` carries (the face rule of the module
@@ -218,12 +222,36 @@ def point_shares(contact) -> np.ndarray:
 
 def contact_forces(law: PointLaw, contact) -> np.ndarray:
     """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact-law
-    contract's state) under ``law``, shared by the face rule: :func:`solve_point_forces`, compiled
-    whole where every kernel is compiled, else the same function run as Python."""
-    solve = solve_point_forces if law.compiled else solve_point_forces.py_func
-    return solve(law.kernels, law.shifts, law.starts, law.params, -np.asarray(contact.gap, dtype=float),
-                 -np.asarray(contact.rate, dtype=float), np.ascontiguousarray(contact.approach, dtype=float),
-                 point_shares(contact), np.ascontiguousarray(contact.S_q, dtype=float), np.ascontiguousarray(contact.S_v, dtype=float))
+    contract's state) under ``law``, shared by the face rule: :func:`solve_point_forces` through
+    :func:`point_solver`."""
+    solve, args = point_solver(law, contact)
+    return solve(args, np.ascontiguousarray(contact.gap, dtype=float), np.ascontiguousarray(contact.rate, dtype=float))
+
+
+def point_solver(law: PointLaw, contact):
+    """``(solve, args)`` of the contact-law contract (:meth:`~pounding.contact.base.ContactLaw.forces_solver`)
+    for the points of ``contact`` under ``law``: :func:`point_solve` with the law's kernels and the
+    points' history, shares and compliances; compiled where every kernel is, else the same function
+    as Python (a third party's kernel written without the compiler)."""
+    args = (law.kernels, law.shifts, law.starts, law.params, np.ascontiguousarray(contact.approach, dtype=float),
+            point_shares(contact), np.ascontiguousarray(contact.S_q, dtype=float), np.ascontiguousarray(contact.S_v, dtype=float))
+    return (point_solve if law.compiled else interpreted_point_solve), args
+
+
+def interpreted_point_solve(args, gap, rate):
+    """:func:`point_solve` with the compiler off (it and every compiled function it calls run as
+    Python): the solve of a law with a kernel only Python knows."""
+    with interpreted():
+        return point_solve(args, gap, rate)
+
+
+@njit
+def point_solve(args, gap, rate):
+    """:func:`solve_point_forces` at the end gaps ``gap`` [m] and rates ``rate`` [m/s] (m,) without
+    contact forces (the penetrations and their rates are their negatives), ``args`` = (kernels,
+    shifts, starts, params, approach, share, S_q, S_v) as :func:`point_solver` builds it."""
+    kernels, shifts, starts, params, approach, share, S_q, S_v = args
+    return solve_point_forces(kernels, shifts, starts, params, -gap, -rate, approach, share, S_q, S_v)
 
 
 @njit(borrowed=True)

@@ -108,6 +108,22 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     return laws, which
 
 
+def forces_solver(laws: list[ContactLaw], which: np.ndarray, contact: ContactState):
+    """:func:`solve_forces` as a solve the engine can repeat at other end gaps and rates (the
+    contact-law contract's :meth:`~pounding.contact.base.ContactLaw.forces_solver`): the one law's
+    own, or with several laws their sweeps, from Python (:func:`swept_forces`)."""
+    if which.min() == which.max():
+        return laws[int(which[0])].forces_solver(contact)
+    return swept_forces, (laws, which, contact)
+
+
+def swept_forces(args, gap, rate) -> np.ndarray:
+    """:func:`solve_forces` of ``args`` = (laws, which, contact) at the end gaps ``gap`` [m] and rates
+    ``rate`` [m/s] (m,)."""
+    laws, which, contact = args
+    return solve_forces(laws, which, contact._replace(gap=gap, rate=rate))
+
+
 def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactState) -> np.ndarray:
     """End-of-step forces lambda (m,) [N] of the m points in ``contact``, each by its pair's law
     (``which`` (m,): index into ``laws``).

@@ -915,42 +915,58 @@ class Driver:
         if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
         if self.law.with_step:
-            return self.force_trial(z, t, h, zero, zero)
+            return self.force_trial(z, t, h)
         return Step(z, self.step(z, t, h, self.fc), self.fc, zero)
 
     def spring_trial(self, z, t, h) -> Step:
         """A trial step with yielding springs (:mod:`pounding.framework.engine.yielding`): Newton on the
-        springs' end remainders where no force depends on the step's end, else a fixed-point loop on
-        them around the held-contact or penalty solve."""
+        springs' end remainders where no force depends on the step's end; with a force law's points
+        pressed, the links and the contact forces solved together (:meth:`Yielding.with_contact`); with
+        held pairs the fixed point around the held step."""
+        from pounding.framework.engine.contact_laws import forces_solver
+
         sp, tr = self.springs, self.cache(h)
-        g0 = sp.g
         if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
-        if self.law.with_step:
-            def solve(g1):
-                st = self.force_trial(z, t, h, -g0, -g1)
-                return st, st.z1[:, 0]
+        z1, new = sp.step(np.ascontiguousarray(z), self.load(t) + (self.fc - sp.g), self.load(t + h), tr, h)
+        if not self.law.with_step:
+            return Step(z, z1, self.fc, np.zeros(self.model.n), new)
+        near, near_gap, near_rows, pressed = self.pressed(z, z1, t, h)
+        if pressed is None:
+            return self.force_step(z, z1, near, near_gap, None, None, new)
+        state, W = pressed[0], pressed[1]
+        g = new.g
+        z1, lam, gap, rate, new = sp.with_contact(h, tr.B, z1, new, W, state.gap, state.rate,
+                                                  *forces_solver(self.laws, self.pair_law[state.pair], state))
+        # the watched features' end gaps without contact forces, moved by the links' change of end load
+        near_gap = near_gap - near_rows @ (tr.B[:, 0, 1] * (new.g - g))
+        return self.force_step(z, z1, near, near_gap, (state._replace(gap=gap, rate=rate), *pressed[1:]), lam, new)
 
-            st, new = sp.fixed_point(solve, h)
-            st.sp = new
-            return st
-        z1, new = sp.step(np.ascontiguousarray(z), self.load(t) + (self.fc - g0), self.load(t + h), tr, h)
-        return Step(z, z1, self.fc, np.zeros(self.model.n), new)
-
-    def force_trial(self, z, t, h, e0, e1) -> Step:
-        """A force-law step with extra modal loads e0, e1 (n,) at its ends (the yielding springs' -g;
-        zero for elastic buildings): every pair's law gives its forces, solved implicitly with the step."""
-        from pounding.contact.base import ContactState
-        from pounding.framework.engine.contact_episodes import StepContacts
+    def force_trial(self, z, t, h) -> Step:
+        """A force-law step of elastic buildings: every pair's law gives its forces, solved implicitly
+        with the step."""
         from pounding.framework.engine.contact_laws import solve_forces
 
-        zero = np.zeros(self.model.n)
-        zf = self.step(z, t, h, self.fc + e0, e1)
+        zf = self.step(z, t, h, self.fc)
+        near, near_gap, _, pressed = self.pressed(z, zf, t, h)
+        if pressed is None:
+            return self.force_step(z, zf, near, near_gap, None, None)
+        lam = solve_forces(self.laws, self.pair_law[pressed[0].pair], pressed[0])
+        return self.force_step(z, zf + self.cache(h).B[:, :, 1] * (pressed[1].T @ lam)[:, None], near, near_gap, pressed, lam)
+
+    def pressed(self, z, zf, t, h):
+        """The points a force law acts on in a step of h [s] from (z, t) whose end without contact
+        forces at its end is zf (n, 3): (near, near_gap, near_rows, pressed), the pairs, end gaps [m] and
+        modal rows of every feature within the watch tolerance, and None where none overlaps, else (state, W, Q, N): the
+        overlapping points' :class:`~pounding.contact.base.ContactState`, modal rows (m, n), points
+        and normals (m, 2)."""
+        from pounding.contact.base import ContactState
+
         pair, gap, Wr, Qf, Nf, share = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol)
-        near, near_gap = pair, gap
+        near, near_gap, near_rows = pair, gap, Wr
         keep = gap < 0
         if not keep.any():
-            return Step(z, zf, self.fc, zero, contacts=StepContacts.empty(near, near_gap, self.model.n))
+            return near, near_gap, near_rows, None
         if not keep.all():
             pair, gap, Wr, Qf, Nf, share = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep], share[keep]
         tr = self.cache(h)
@@ -961,10 +977,20 @@ class Driver:
         start, approach = self.episodes.history(t, h, pair, lambda: (gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate))
         state = ContactState(t + h, h, gap, rate, S_q, S_v, Wr @ Wr.T, pair, start, approach,
                              self.model.local_stiffness(pair, Qf, Nf), share)
-        lam = solve_forces(self.laws, self.pair_law[pair], state)
+        return near, near_gap, near_rows, (state, Wr, Qf[:, :2], Nf[:, :2])
+
+    def force_step(self, z, z1, near, near_gap, pressed, lam, sp=None) -> Step:
+        """The trial :class:`Step` from z to z1 (n, 3) of a force law whose points ``pressed`` (as
+        :meth:`pressed` gives them; None: none) carry the forces lam (m,) [N]; sp the links' trial."""
+        from pounding.framework.engine.contact_episodes import StepContacts
+
+        if pressed is None:
+            return Step(z, z1, self.fc, np.zeros(self.model.n), sp, contacts=StepContacts.empty(near, near_gap, self.model.n))
+        state, Wr, Q, N = pressed
         f1 = Wr.T @ lam
-        contacts = StepContacts(pair, lam, gap + S_q @ lam, Qf[:, :2], Nf[:, :2], Wr, start, approach, near, near_gap, f1)
-        return Step(z, zf + tr.B[:, :, 1] * f1[:, None], self.fc, f1, contacts=contacts)
+        contacts = StepContacts(state.pair, lam, state.gap + state.S_q @ lam, Q, N, Wr, state.start, state.approach,
+                                near, near_gap, f1)
+        return Step(z, z1, self.fc, f1, sp, contacts=contacts)
 
     def held_trial(self, z, t, h) -> Step:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`;

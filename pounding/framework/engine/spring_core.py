@@ -20,8 +20,9 @@ Python do the same arithmetic in the same order:
 * :func:`spring_step`: one step of any length (the linear step, the links' Newton, their end load),
   the very step the stretch takes (:func:`_step_with_links`), for the driver's Python step;
 * :func:`forces_at` and :func:`fixed_point_pass`: the links' end remainders at given end
-  displacements, and a pass of the fixed point on them around held contact
-  (:func:`pounding.framework.engine.held.held_fixed_point`) and penalty forces;
+  displacements, and a pass of the fixed point on them around a contact solve: held contact
+  (:func:`pounding.framework.engine.held.held_fixed_point`), or a force law's
+  (:func:`contact_fixed_point`, which takes the law's solve as a plugin beside the links' laws);
 * :func:`spring_work`: the work of the remainders' modal loads in a step, by the integrator's
   energy rule.
 
@@ -483,6 +484,64 @@ def fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
     for i in range(g.shape[0]):
         g[i] = g1[i] if w == 1.0 else g[i] + w * (g1[i] - g[i])
     return False
+
+
+@njit
+def contact_fixed_point(laws, spr, h, B1, Bv, W, gap, rate, q, prev0, g, solve, args):
+    """The links' end remainders and the contact forces of a step of h [s], solved together: a fixed
+    point on the remainders' end load g around the contact law's solve with the step.
+
+    The step is linear in its end load: from the links' own step (their Newton with no contact force
+    at the end, end load g on entry, end displacements q (n,), the links' end deformations prev0
+    (ns,) [m]), a change dg of the end load moves the end displacements by -B1 dg and a contact
+    force lambda (m,) [N] along the rows W (m, n) by B1 W^T lambda; the points' end gaps gap (m,) [m]
+    and rates rate (m,) [m/s] without contact forces move by -W (B1 dg), -W (Bv dg) (B1, Bv (n,) the
+    step's end-load maps of displacement and velocity, B[:, 0, 1] and B[:, 1, 1]). Each pass asks the
+    law's solve for the forces at the gaps and rates of the current load, ``solve(args, gap, rate) ->
+    lambda`` (the contact law's :meth:`~pounding.contact.base.ContactLaw.forces_solver`), then the
+    links' trial at the end displacements with those forces (:func:`fixed_point_pass`: plain
+    substitution, then under-relaxed, ``RELAXATION``) until the links' end deformations agree to
+    their groups' Newton tolerances. The contact points are those the links' own step presses; the
+    law's compliances S_q, S_v are in ``args``.
+
+    ``laws`` the run's link-law updates, ``spr`` the :class:`~pounding.framework.engine.bundles.LinkPass`
+    (its trial ``spr.out`` is written). Compiled, ``solve`` is a compiled function; with a law whose
+    solve only Python knows (a third party's, or several laws on pairs that share a building) the
+    driver runs this same function as Python (``py_func``).
+
+    Returns (status, lambda, gap, rate): Status.DONE or Status.DIVERGED (the last pass's then), the
+    forces, and the points' end gaps and rates without them at the converged load, which is left in
+    g (n,).
+    """
+    links, now, out = spr.links, spr.now, spr.out
+    n, m, ns = g.shape[0], gap.shape[0], prev0.shape[0]
+    g_in = g.copy()
+    prev = np.empty(ns)
+    gp, rp, q1, dq = np.empty(m), np.empty(m), np.empty(n), np.empty(n)
+    lam = np.zeros(m)
+    for w in RELAXATION:
+        for i in range(n):
+            g[i] = g_in[i]
+        for s in range(ns):
+            prev[s] = prev0[s]
+        for _ in range(4 * MAX_ITER):
+            for i in range(n):
+                dq[i] = g_in[i] - g[i]  # the end load is -g: its change moves the step's end by B (-dg)
+            for a in range(m):
+                accq, accv = gap[a], rate[a]
+                for i in range(n):
+                    accq += W[a, i] * B1[i] * dq[i]
+                    accv += W[a, i] * Bv[i] * dq[i]
+                gp[a], rp[a] = accq, accv
+            lam = solve(args, gp, rp)
+            for i in range(n):
+                acc = dq[i]
+                for a in range(m):
+                    acc += W[a, i] * lam[a]
+                q1[i] = q[i] + B1[i] * acc
+            if fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
+                return Status.DONE, lam, gp, rp
+    return Status.DIVERGED, lam, gp, rp
 
 
 @njit(borrowed=True)

@@ -17,10 +17,11 @@ writes only a trial buffer (:class:`~pounding.framework.engine.bundles.LinkTrial
 accepts, so a rejected or bisected step leaves the springs as they were. Impulses change
 velocities only, so the springs' states stay valid across impacts.
 
-Steps in which forces act that depend on the end state (pairs held in sustained contact,
-penalty forces) solve the springs by an outer fixed-point loop on their end remainders around
-the contact solve (:meth:`Yielding.fixed_point` for penalty forces; for held contact the same
-passes compiled with the held step, :func:`pounding.framework.engine.held.held_fixed_point`): the map's contraction is the share of a
+Steps in which forces act that depend on the end state (pairs held in sustained contact, a
+force law's points pressed) solve the springs by an outer fixed-point loop on their end remainders around
+the contact solve, compiled (:func:`pounding.framework.engine.spring_core.contact_fixed_point` for
+force laws, :meth:`Yielding.with_contact`; :func:`pounding.framework.engine.held.held_fixed_point` for
+held contact): the map's contraction is the share of a
 spring's end deformation its own remainder takes back in the step (S k0, below 1; ~1e-2 for
 storeys at dt = 0.01 s), so it converges in a few passes; it is solved to the same tolerance. A
 link between slabs has k0 = 0, so its share is S k_t: a link much stiffer than the step's inertia
@@ -43,7 +44,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.framework.engine.bundles import HeldPairs, LinkPass, LinkRecord, Links, LinkStepping, LinkTrial, Status
-from pounding.framework.engine.inelastic import MAX_ITER, NEWTON_TOL, SpringSet, spring_set
+from pounding.framework.engine.inelastic import NEWTON_TOL, SpringSet, spring_set
 
 #: what a diverged Newton of the links suggests: a smaller step, or, for a damper whose force rises
 #: with an infinite slope at rest (a viscous exponent below 0.1), its brace (docs/modelling.md)
@@ -266,27 +267,31 @@ class Yielding:
         forces_at(self.updates, self.links, float(h), np.ascontiguousarray(q1, dtype=float), self.now, out)
         return out
 
-    def fixed_point(self, solve, h: float):
-        """Solve a step of h [s] whose contact forces depend on its end: ``solve(g1) -> (step, q1)``
-        with the remainders' end load g1; iterate g1 until the springs' end deformations agree to
-        tolerance (the penalty laws' steps; held contact runs the same passes compiled,
-        :func:`pounding.framework.engine.held.held_fixed_point`).
+    def with_contact(self, h: float, B: np.ndarray, z1: np.ndarray, trial: LinkTrial, W: np.ndarray, gap: np.ndarray,
+                     rate: np.ndarray, solve, args):
+        """The links and the contact forces of a step of h [s] solved together
+        (:func:`pounding.framework.engine.spring_core.contact_fixed_point`), from the links' own step
+        (:meth:`step`: end state z1 (n, 3), trial ``trial``) and the points it presses: rows W (m, n),
+        end gaps [m] and rates [m/s] (m,) without contact forces, and the contact law's solve
+        ``solve(args, gap, rate)`` (:meth:`~pounding.contact.base.ContactLaw.forces_solver`: compiled,
+        the whole solve runs compiled; else the same function as Python). B (n, 3, 2) the step's
+        end-load maps. Returns (z1, lambda, gap, rate, trial): the step's end state with the forces,
+        the forces (m,) [N], the points' end gaps and rates without them, and the links' trial."""
+        from pounding.compiler import Kernel
+        from pounding.framework.engine.spring_core import contact_fixed_point
 
-        Plain substitution first; where it does not settle (buildings held together by contact
-        forces, whose coupled compliance can make the plain map expand), under-relaxed
-        substitution g <- g + w (g_new - g) with w = 1/2, then 1/4: the same fixed point, reached
-        from a contracting map. Each pass is :func:`pounding.framework.engine.spring_core.fixed_point_pass`."""
-        from pounding.framework.engine.spring_core import RELAXATION, fixed_point_pass
-
-        h = float(h)
-        for w in RELAXATION:
-            g, prev = self.g.copy(), self.state[:, 0].copy()
-            for _ in range(4 * MAX_ITER):
-                st, q1 = solve(g)
-                new = self._trial()
-                if fixed_point_pass(self.updates, self.links, h, np.ascontiguousarray(q1, dtype=float), self.now, new, g, prev, w):
-                    return st, new
-        raise self.fixed_point_error()
+        out = self._trial()
+        g = trial.g.copy()
+        solver = contact_fixed_point if isinstance(solve, Kernel) else contact_fixed_point.py_func
+        status, lam, gap1, rate1 = solver(self.updates, LinkPass(self.links, self.now, out), float(h),
+                                          np.ascontiguousarray(B[:, 0, 1]), np.ascontiguousarray(B[:, 1, 1]),
+                                          np.ascontiguousarray(W), np.ascontiguousarray(gap, dtype=float),
+                                          np.ascontiguousarray(rate, dtype=float), np.ascontiguousarray(z1[:, 0]),
+                                          np.ascontiguousarray(trial.state[:, 0]), g, solve, args)
+        if status != Status.DONE:
+            raise self.fixed_point_error()
+        load = W.T @ lam - (g - trial.g)  # the forces' modal load and the links' change of end load
+        return z1 + B[:, :, 1] * load[:, None], lam, gap1, rate1, out
 
     @staticmethod
     def fixed_point_error() -> FloatingPointError:
