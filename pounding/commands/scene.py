@@ -114,7 +114,7 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
-    from pounding.framework.engine.contact_laws import pair_laws
+    from pounding.contact.rules import pair_laws
     from pounding.framework.engine.contact_step import run_dt
     from pounding.framework.engine.driver import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator

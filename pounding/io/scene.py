@@ -362,7 +362,7 @@ def _bumper(table: Mapping, rule: ContactRule, buildings: list[Building], defaul
 
 def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: tuple) -> tuple[Wall, ...]:
     """The ``[[wall]]`` tables: retaining walls fixed to the ground (:mod:`pounding.framework.model.walls`)."""
-    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.contact.rules import wall_law
     from pounding.framework.model.registry import CONTACT_LAWS
 
     out, seen = [], {}

@@ -199,7 +199,7 @@ def _time_grid(scene) -> tuple[float, int, str | None]:
     (pounding.framework.engine.timestep), and a note when the scene's own step spans a force law's
     shortest contact in fewer steps than the default takes (the tool's run warns of it too; OpenSees'
     Newton may then fail inside the contact), else None."""
-    from pounding.framework.engine.contact_laws import pair_laws
+    from pounding.contact.rules import pair_laws
     from pounding.framework.engine.contact_step import run_dt
     from pounding.framework.engine.driver import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator

@@ -76,7 +76,7 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
 
 def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], list[str]]:
     """The zero-length elements of every wall of ``scene`` against every building (:func:`wall_springs`),
-    each wall with its own law (else ``[analysis] contact``: :func:`pounding.framework.engine.contact_laws.wall_law`).
+    each wall with its own law (else ``[analysis] contact``: :func:`pounding.contact.rules.wall_law`).
 
     ``masters`` maps a building's name to its diaphragm master tags per floor; ``tags()`` gives the next
     free tag. A wall the peer cannot model (a law with no OpenSees material, a face not straight along
@@ -88,7 +88,7 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     one sentence per wall left out; one per wall whose material computes differently from its law
     (:func:`pounding.peer.opensees_contact.material_notes`).
     """
-    from pounding.framework.engine.contact_laws import wall_law
+    from pounding.contact.rules import wall_law
     from pounding.framework.model.registry import CONTACT_LAWS
     from pounding.peer.opensees_contact import has_material, material_notes
 

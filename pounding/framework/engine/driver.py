@@ -369,12 +369,12 @@ class Driver:
         gm = scene.ground_motion
         self.gm = gm
         from pounding.framework.engine.contact_step import run_dt
-        from pounding.framework.engine.contact_laws import pair_laws
+        from pounding.contact.rules import pair_laws
         from pounding.framework.engine.integrator_choice import chosen_integrator
 
         integrator = chosen_integrator(scene)
         self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
-        #: every pair's law (:func:`~pounding.framework.engine.contact_laws.pair_laws`): self.laws[self.pair_law[p]]
+        #: every pair's law (:func:`~pounding.contact.rules.pair_laws`): self.laws[self.pair_law[p]]
         self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law, self.model.walls)
         # without a dt the step is chosen for accuracy from the significant modes and the shortest
         # contact (pounding.framework.engine.timestep, contact_step); contact_time goes to Result.info

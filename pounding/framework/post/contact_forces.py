@@ -57,7 +57,7 @@ class ContactForces:
 
 def run_laws(result) -> tuple[list, np.ndarray]:
     """The laws of a run, as the driver builds them from its scene: (laws, index (P,) of each pair's law)."""
-    from pounding.framework.engine.contact_laws import pair_laws
+    from pounding.contact.rules import pair_laws
     from pounding.framework.model.registry import CONTACT_LAWS
 
     scene = result.scene

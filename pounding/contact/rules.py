@@ -1,0 +1,105 @@
+"""The contact law of every slab pair: ``[analysis] contact``, a ``[[contact]]`` table's, a bumper's or a wall's.
+
+``[analysis] contact`` gives every pair its law; a ``[[contact]]`` table
+(:class:`pounding.framework.model.scene.ContactRule`) gives the pairs between two named buildings
+a law of their own (a retaining wall and a slab, a stiff and a soft facade), a bumper on such a rule
+the pairs it stands in, and a ``[[wall]]`` its slabs. The engine solves each step's points with
+these laws (:mod:`pounding.framework.engine.contact_laws`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pounding.contact.base import ContactLaw
+from pounding.framework.model.bumpers import rule_pairs
+from pounding.framework.model.registry import CONTACT_LAWS
+
+
+def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
+    """The contact law of the slabs against ``wall`` (a :class:`~pounding.framework.model.scene.Wall`).
+
+    Its own law (``wall.law`` with ``wall.params``), or without one ``[analysis] contact`` with
+    ``wall.params`` over its parameters (a restitution of its own). A force law may serve a wall
+    when ``[analysis] contact`` acts by forces too (as for a ``[[contact]]`` table); an impulse law
+    when it is ``[analysis] contact``'s class, which declares how a restitution of its own is applied
+    (:meth:`~pounding.contact.base.ContactLaw.wall_problem`). Raises ValueError naming what does not fit.
+    """
+    an = scene.analysis
+    if wall.law is None:
+        cls, params = CONTACT_LAWS.get(an.contact), {**an.contact_params, **wall.params}
+    else:
+        cls, params = CONTACT_LAWS.get(wall.law), dict(wall.params)
+    law = cls(**params)
+    problem = law.wall_problem(default)
+    if problem is not None:
+        raise ValueError(f"wall {wall.name!r}: {problem}")
+    return law
+
+
+def bumper_law(rule, slabs: ContactLaw) -> ContactLaw:
+    """The law of the pairs a rule's bumper stands in (:class:`~pounding.contact.bumper.BumperLaw`):
+    the layer's law (``rule.bumper.law`` with its parameters) and ``slabs``, the rule's own law.
+    Raises ValueError when either acts by impulses (a bumper needs a force law: a layer compresses)."""
+    from pounding.contact.bumper import BumperLaw
+
+    b = rule.bumper
+    layer = CONTACT_LAWS.get(b.law)(**b.params)
+    try:
+        return BumperLaw(layer=layer, slabs=slabs, thickness=b.thickness, compressible=b.compressible)
+    except ValueError as exc:
+        raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {exc}") from None
+
+
+def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
+    """The laws of a run and the index of each pair's law.
+
+    Parameters
+    ----------
+    scene : Scene
+        Its ``contacts`` rules override ``default`` for the pairs between their two buildings.
+    pairs : list of (building a, storey a, building b, storey b, rest gap)
+        The run's slab pairs (building indices in scene order).
+    default : ContactLaw
+        The law of ``[analysis] contact``: index 0.
+    walls : dict or None
+        {pair index: :class:`~pounding.framework.model.scene.Wall`} of the pairs where a slab meets a
+        wall (``Model.walls``): they take the wall's law (:func:`wall_law`).
+
+    Returns
+    -------
+    laws : list of ContactLaw
+        ``default`` first, then one per rule, then one per rule with a bumper (:func:`bumper_law`,
+        for the pairs :func:`~pounding.framework.model.bumpers.rule_pairs` finds), then one per
+        wall of the scene.
+    which : ndarray (P,) int64
+        Index into ``laws`` of every pair's law.
+    """
+    names = [b.name for b in scene.buildings]
+    laws, by_pair, by_bumper = [default], {}, {}
+    for rule in getattr(scene, "contacts", ()):
+        if not default.watches():  # contact off (a gap study's free run): nothing is watched, as for the walls below
+            laws.append(default)
+            by_pair[frozenset(rule.between)] = len(laws) - 1
+            continue
+        cls = CONTACT_LAWS.get(rule.law)
+        problem = cls.override_problem(type(default))
+        if problem is not None:
+            raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {problem}")
+        laws.append(cls(**rule.params))
+        by_pair[frozenset(rule.between)] = len(laws) - 1
+    for r, rule in enumerate(getattr(scene, "contacts", ())):
+        if getattr(rule, "bumper", None) is not None and default.watches():
+            laws.append(bumper_law(rule, laws[1 + r]))
+            by_bumper.update({p: len(laws) - 1 for p in rule_pairs(scene.buildings, pairs, rule)})
+    which = np.array([by_pair.get(frozenset((names[a], names[b])), 0) for a, _, b, _, _ in pairs], dtype=np.int64)
+    for p, law in by_bumper.items():
+        which[p] = law
+    by_wall = {}
+    for wall in getattr(scene, "walls", ()):
+        # with contact off (a gap study's free run) nothing is watched: the walls take that law too
+        laws.append(wall_law(scene, wall, default) if default.watches() else default)
+        by_wall[wall.name] = len(laws) - 1
+    for p, wall in (walls or {}).items():
+        which[p] = by_wall[wall.name]
+    return laws, which
