@@ -53,7 +53,7 @@ def run_case(spec) -> dict:
     import numpy as np
 
     from common import quiet_run, timed_runs
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     out: dict = {}
     t0 = time.perf_counter()
@@ -144,7 +144,8 @@ def cli_phases(spec) -> dict:
     out["import_numba_s"] = time.perf_counter() - t0
     t0 = time.perf_counter()
     import pounding.cli  # noqa: F401
-    from pounding.framework.engine.driver import Model, Driver  # noqa: F401
+    from pounding.framework.engine.driver import Driver  # noqa: F401
+    from pounding.framework.engine.stacked_model import Model  # noqa: F401
     from pounding.io.results import write_results
     from pounding.io.scene import load_scene
     out["import_pounding_s"] = time.perf_counter() - t0

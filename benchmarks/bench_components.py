@@ -78,7 +78,7 @@ def run(quick: bool = False) -> dict:
     reps = 7 if quick else 21
     rows = []
     for label, scene in _cases(quick):
-        from pounding.framework.engine.driver import Model
+        from pounding.framework.engine.stacked_model import Model
 
         s1, s2, s3 = (scene.with_ground_motion(m) for m in (one, pair, silent))
         r1, r2, r3 = (common.quiet_run(s) for s in (s1, s2, s3))  # warm-up (compilation, caches)

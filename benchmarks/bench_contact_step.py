@@ -51,7 +51,7 @@ def timed(scene):
 
 
 def measure(law: str, duration: float) -> dict:
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
     from pounding.framework.engine.timestep import default_dt
     from pounding.io.scene import load_scene

@@ -96,7 +96,7 @@ def max_penetration(result, scene) -> float:
     where the exact polygon gap is computed.
     """
     from pounding.contact.geometry import displaced, signed_gap
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     if scene.analysis.contact == "none":
         return 0.0

@@ -25,7 +25,8 @@ from pounding.contact.kelvin import Kelvin
 from pounding.contact.rebound import rebound
 from pounding.contact.rubber import Rubber
 from pounding.errors import InputError
-from pounding.framework.engine.driver import Driver, Model
+from pounding.framework.engine.driver import Driver
+from pounding.framework.engine.stacked_model import Model
 from pounding.io.scene import load_scene
 
 G = 0.05  # [m] bare gap at rest

@@ -415,7 +415,7 @@ def test_a_contact_row_is_the_gradient_of_the_gap_on_turned_slabs():
     order in the turns the step makes (2e-7 rad over 5 m arms), far below it."""
     from scenes_for_tests import modal_from_physical, pointed_pair, scene
     from pounding.framework.engine import pairs as pg
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     m = Model(scene(pointed_pair(tip_y=3.0)))
     u_right = 0.0

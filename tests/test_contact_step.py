@@ -213,7 +213,7 @@ def test_default_step_peaks_are_within_half_a_percent_of_the_converged_run(law):
         own = np.abs(p_half - p_fine) / scale
         assert np.all(err + own <= 5e-3), (law, err.max(), own.max())
     from pounding.framework.engine.contact_step import pair_bounds, record_peaks
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     model = Model(base)
     _, v0 = pair_bounds(model.geo, model.n, *record_peaks(model, base))

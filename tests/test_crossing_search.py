@@ -20,7 +20,7 @@ import pytest
 
 from pounding import compiler
 from pounding.framework.engine import crossing as cr
-from pounding.framework.engine.driver import Model
+from pounding.framework.engine.stacked_model import Model
 from scenes_for_tests import modal_from_physical, scene, side_by_side
 
 GAP = 0.1  # [m] clear distance at rest

@@ -48,7 +48,7 @@ def test_model_finds_the_facade_pair():
     """Left's slab at 4.8 m lies between right's floors at 3.2 and 6.4 m: one facade pair, storey
     index 1 (the second storey), eta = 1/2; the first slabs share a level (an ordinary pair);
     right's slabs are at or above left's roof's span (3.2 shared, 6.4 above): no other pair."""
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     m = Model(scene(_stepped_pair()))
     assert len(m.pairs) == 2

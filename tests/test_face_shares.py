@@ -22,7 +22,7 @@ from pounding.contact.hertz import Hertz
 from pounding.contact.hertzdamp import HertzDamp
 from pounding.contact.jankowski import Jankowski
 from pounding.contact.kelvin import Kelvin
-from pounding.framework.engine.driver import Model
+from pounding.framework.engine.stacked_model import Model
 from pounding.framework.engine.face_shares import point_shares, rest_face_ends
 from pounding.framework.post.energy_account import energy_balance, rounding_bound
 from pounding.framework.post.run import run

@@ -17,7 +17,7 @@ import pytest
 
 from pounding.contact.geometry import ccw, displaced, radius, signed_gap
 from pounding.framework.engine import crossing as cr
-from pounding.framework.engine.driver import Model
+from pounding.framework.engine.stacked_model import Model
 from scenes_for_tests import modal_from_physical, scene, side_by_side
 
 # an L-shaped slab and a rectangle beside its re-entrant corner: the axis separation bound is far

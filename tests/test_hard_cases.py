@@ -16,7 +16,8 @@ import numpy as np
 import pytest
 
 from pounding.errors import AnalysisWarning, InputError
-from pounding.framework.engine.driver import Driver, Model
+from pounding.framework.engine.driver import Driver
+from pounding.framework.engine.stacked_model import Model
 from pounding.framework.post.run import run
 from pounding.framework.model.units import G
 from pounding.io.ground_motion import load_record

@@ -38,7 +38,8 @@ import pytest
 from scipy.linalg import eigh
 
 from pounding.contact.geometry import signed_gap
-from pounding.framework.engine.driver import Driver, Model
+from pounding.framework.engine.driver import Driver
+from pounding.framework.engine.stacked_model import Model
 from pounding.framework.post.run import run
 from pounding.framework.engine.bundles import Status
 from pounding.io.ground_motion import GroundMotion

@@ -38,7 +38,7 @@ from hypothesis.errors import InvalidArgument
 
 from pounding.contact.geometry import MAX_FEATURES
 from pounding.errors import AnalysisWarning, InputError
-from pounding.framework.engine.driver import Model
+from pounding.framework.engine.stacked_model import Model
 from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
 from tests import strategies as S

@@ -234,7 +234,7 @@ def test_writer_reads_recorded_states_only(paper):
     """The VTK writer reads the states the run recorded and never integrates: an output step
     gives the record, an impact instant the driver's own state just before its impulses (its
     closing speed is the logged approach velocity, exactly), any other instant is refused."""
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
     from pounding.io.vtk import StateAt
 
     scene, result = paper

@@ -143,7 +143,7 @@ def test_a_wall_in_the_gap_between_two_buildings_loads_and_each_strikes_its_own_
     data["building"] = [_box("left", -10.5), _box("right", 0.5)]
     data["wall"][0]["face"] = [[0.0, -1.0], [0.0, 9.0]]
     scene = parse_scene(data)
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     m = Model(scene)
     on_wall = {m.pairs[p][0]: m.pairs[p][4] for p in m.walls}

@@ -116,7 +116,7 @@ def describe(scene, path: Path | None = None) -> str:
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
     from pounding.contact.rules import pair_laws
     from pounding.framework.engine.contact_step import run_dt
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
     from pounding.framework.model.registry import CONTACT_LAWS
 

@@ -424,7 +424,7 @@ def load_result(folder: str | Path):
         links=load_links(folder, scene),
         link_energy={k: summ["energy_balance"]["links"][k] for k in ("dissipated", "stored")} if "links" in summ["energy_balance"] else None,
     )
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
 
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
     result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene

@@ -201,7 +201,7 @@ def _time_grid(scene) -> tuple[float, int, str | None]:
     Newton may then fail inside the contact), else None."""
     from pounding.contact.rules import pair_laws
     from pounding.framework.engine.contact_step import run_dt
-    from pounding.framework.engine.driver import Model
+    from pounding.framework.engine.stacked_model import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
     from pounding.framework.engine.timestep import STEPS_PER_CONTACT
     from pounding.framework.model.registry import CONTACT_LAWS

@@ -21,6 +21,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from pounding.framework.model.levels import reaches
+
 #: every DOF of the wall's node
 FIXED = (1, 1, 1, 1, 1, 1)
 
@@ -40,7 +42,7 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
     material = law_material(law)
     out, made = [], {}
     for f, slab in enumerate(building.slabs):
-        if slab.elevation > wall.top + 1e-6:
+        if not reaches(slab.elevation, wall.top):
             continue
         xs = np.asarray(slab.vertices, float)[:, 0]
         west = x_wall < xs.min()

@@ -131,6 +131,24 @@ class StepSearch(NamedTuple):
     geo: PairArrays  #: the watched slab pairs
 
 
+class StepSolution(NamedTuple):
+    """The step whose gap the compiled impact search seeks the zero of
+    (:func:`pounding.framework.engine.event_search.stepped_gap`): where it starts, the pairs it
+    watches, and how it is stepped to any instant inside it."""
+
+    t: float  #: the step's start [s]
+    z: np.ndarray  #: (n, 3) the state there
+    p0: np.ndarray  #: (n,) the modal load there (with the links' start load -g0 where only the ground acts)
+    plist: np.ndarray  #: (k,) int64 the pairs whose smallest gap is sought
+    search: StepSearch  #: the grid step's maps, the ground motion and the pairs
+    maps: object  #: the integrator's compiled maps to any step length, or None (built-in maps ``builtin``)
+    builtin: int  #: the number of the built-in maps (:data:`~pounding.framework.engine.event_search.BUILTIN_MAPS`), -1: ``maps``
+    params: np.ndarray  #: the maps' parameters
+    held: object  #: the held pairs (:class:`HeldSearch`), one with none held where only the ground acts
+    laws: object  #: the links' law updates, or None (every building elastic)
+    springs: object  #: the links (:class:`LinkSearch`), or None
+
+
 class Recorder(NamedTuple):
     """What a run records, written in place."""
 

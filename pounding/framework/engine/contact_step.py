@@ -195,7 +195,7 @@ def shortest_contact(model, laws: list, pair_law: np.ndarray, peaks) -> ContactT
 
     Parameters
     ----------
-    model : :class:`pounding.framework.engine.driver.Model`
+    model : :class:`pounding.framework.engine.stacked_model.Model`
         The run's stacked modal model (its pair arrays ``geo`` and size ``n``).
     laws : list of ContactLaw
         The run's laws; ``pair_law`` (P,) the index of every pair's law.

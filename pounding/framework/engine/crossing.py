@@ -72,7 +72,7 @@ def slab_state(rows, off, n_modes, building, storey, z, out, o):
 
 
 @njit(borrowed=True)
-def _point_bounds(k, o, R):
+def point_bounds(k, o, R):
     """(speed, acceleration) bounds of any point of a slab with state k[o:o + 9] (:func:`slab_state`):
     |(u', v')| + R |phi'| [m/s] and |(u'', v'')| + R |phi''| + R phi'^2 [m/s^2]; also |phi'| [rad/s]."""
     speed = np.hypot(k[o + 3], k[o + 4]) + R * abs(k[o + 5])
@@ -97,8 +97,8 @@ def motion_from(k0, k1, Ra, Rb):
     A = 0.0
     om = 0.0
     for k in (k0, k1):
-        sa, aa, wa = _point_bounds(k, SLAB_A, Ra)
-        sb, ab, wb = _point_bounds(k, SLAB_B, Rb)
+        sa, aa, wa = point_bounds(k, SLAB_A, Ra)
+        sb, ab, wb = point_bounds(k, SLAB_B, Rb)
         V = max(V, sa + sb)
         A = max(A, aa + ab)
         om = max(om, wa + wb)

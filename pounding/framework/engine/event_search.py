@@ -36,7 +36,8 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
                                          illinois_point, newton_bracket)
-from pounding.framework.engine.bundles import LinkPass, LinkTrial, Status
+from pounding.framework.engine.bundles import LinkPass, LinkTrial, Status, StepSolution
+from pounding.framework.engine.ground_load import modal_loads
 from pounding.framework.engine.held import held_fixed_point, held_step
 from pounding.framework.engine.spring_core import compliance, spring_step
 from pounding.framework.engine.pairs import pair_gap, stepped_min_gap
@@ -98,20 +99,15 @@ def modal_load_at(t, dt, ag, rec_t, rec_acc, L):
             a[j] = ag[kr, j]
     else:
         a = record_at(t, rec_t, rec_acc)
-    n = L.shape[0]
-    p = np.empty(n)
-    for i in range(n):
-        p[i] = L[i, 0] * -a[0]
-    for j in range(1, c):
-        for i in range(n):
-            p[i] += L[i, j] * -a[j]
+    p = np.empty(L.shape[0])
+    modal_loads(L, a, p)
     return p
 
 
 @njit
 def stepped_gap(hh, sol):
     """The gap [m] the search seeks the zero of, after the integrator's step of hh [s] (at hh <= 0,
-    at the step's start). ``sol`` = (t, z, p0, plist, search, maps, builtin, params, held, laws, springs):
+    at the step's start). ``sol``: the :class:`~pounding.framework.engine.bundles.StepSolution`,
     the step's start time [s], state (n, 3) and load (n,) (with the links' start load -g0 in it
     where only the ground acts), the pairs (k,), the
     :class:`~pounding.framework.engine.bundles.StepSearch` bundle, the integrator's maps (a compiled
@@ -121,7 +117,8 @@ def stepped_gap(hh, sol):
     one with no held pair (only the ground acts in the step: the pairs' smallest gap after it), and
     ``laws``, ``springs``: the run's links' law updates (:mod:`pounding.framework.engine.links`) and
     the links (:class:`~pounding.framework.engine.bundles.LinkSearch`), or None (every building elastic)."""
-    t, z, p0, plist, ex, maps, builtin, params, held, laws, springs = sol
+    t, z, p0, plist, ex, held, laws, springs = sol.t, sol.z, sol.p0, sol.plist, sol.search, sol.held, sol.laws, sol.springs
+    maps, builtin, params = sol.maps, sol.builtin, sol.params
     if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
@@ -219,7 +216,8 @@ def locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, la
     acts (:func:`stepped_gap`); ``laws``, ``springs``: the links' law updates
     (:func:`pounding.framework.engine.links.law_tuple`) and their
     :class:`~pounding.framework.engine.bundles.LinkSearch`, or None both (every building elastic)."""
-    return crossing_search(None, (t, z, p0, plist, search, maps, -1, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, StepSolution(t, z, p0, plist, search, maps, -1, params, held, laws, springs), herm, eps, xtol,
+                           plist, search.geo)
 
 
 @njit
@@ -227,7 +225,8 @@ def locate_builtin(t, z, herm, p0, plist, eps, xtol, search, builtin, params, he
     """:func:`locate_with` on built-in maps number ``builtin`` (:data:`BUILTIN_MAPS`), called
     directly: an entry without a function argument (the extension module takes arrays, numbers
     and bundles only, and numba does not cache a function that holds a function value)."""
-    return crossing_search(None, (t, z, p0, plist, search, None, builtin, params, held, laws, springs), herm, eps, xtol, plist, search.geo)
+    return crossing_search(None, StepSolution(t, z, p0, plist, search, None, builtin, params, held, laws, springs), herm, eps,
+                           xtol, plist, search.geo)
 
 
 #: the maps :func:`locate_builtin` calls directly, by number: the built-in integrators' (a third

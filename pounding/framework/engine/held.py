@@ -37,7 +37,8 @@ from pounding.contact.base import keep_pushing, newton_lcp, solve_small
 from pounding.compiler import njit
 from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
-from pounding.framework.engine.kernel import _accumulate_forces, _record, modal_load, update_peaks
+from pounding.framework.engine.ground_load import modal_load
+from pounding.framework.engine.kernel import _accumulate_forces, _record, update_peaks
 from pounding.framework.engine.inelastic import MAX_ITER
 from pounding.framework.engine.pairs import closing, features_of, pair_features, pair_gap, slab_dofs
 from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work

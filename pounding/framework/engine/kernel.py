@@ -24,10 +24,11 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.base import newton_group
-from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, signed_gap
+from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound
 from pounding.framework.engine.bundles import Status
-from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, slab_state, suspect_given
-from pounding.framework.engine.pairs import building_groups, closing, slab_polygon, touching_features
+from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, point_bounds, slab_state, suspect_given
+from pounding.framework.engine.ground_load import modal_load
+from pounding.framework.engine.pairs import building_groups, closing, dofs_gap, touching_features
 from pounding.framework.engine.peaks import cubic_abs_max
 
 
@@ -128,15 +129,17 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 slab_state(rows, off, n_modes, ba, pair_a[p, 1], z, k1v, SLAB_A)
                 slab_state(rows, off, n_modes, bb, pair_b[p, 1], z, k1v, SLAB_B)
                 kin_at[p, (k + 1) % 2] = k + 1
-                bound = clearance_bound(rest_gap[p], k1v[0], k1v[1], k1v[2], radii[sa], k1v[9], k1v[10], k1v[11], radii[sb])
-                speed = (np.hypot(k1v[3], k1v[4]) + radii[sa] * abs(k1v[5]) + np.hypot(k1v[12], k1v[13]) + radii[sb] * abs(k1v[14]))
-                acc = (np.hypot(k1v[6], k1v[7]) + radii[sa] * (abs(k1v[8]) + k1v[5] * k1v[5])
-                       + np.hypot(k1v[15], k1v[16]) + radii[sb] * (abs(k1v[17]) + k1v[14] * k1v[14]))
-                reach = 2.0 * (speed + 2.0 * acc * dt) * dt
+                for i in range(3):  # the slabs' (u, v, phi) at the step's end
+                    da[i] = k1v[SLAB_A + i]
+                    db[i] = k1v[SLAB_B + i]
+                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
+                speed_a, acc_a, _ = point_bounds(k1v, SLAB_A, radii[sa])
+                speed_b, acc_b, _ = point_bounds(k1v, SLAB_B, radii[sb])
+                reach = 2.0 * (speed_a + speed_b + 2.0 * (acc_a + acc_b) * dt) * dt
                 if bound > reach:
                     continue
-                if axis_separation(verts[sa, : nvert[sa]], centres[sa], k1v[0], k1v[1], k1v[2],
-                                   verts[sb, : nvert[sb]], centres[sb], k1v[9], k1v[10], k1v[11], axis[p, 0], axis[p, 1]) > reach:
+                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
+                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > reach:
                     continue
                 k0v = kin[p, k % 2]
                 if kin_at[p, k % 2] != k:  # not formed at the last step's end (this stretch's first step)
@@ -144,9 +147,6 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     slab_state(rows, off, n_modes, bb, pair_b[p, 1], z0, k0v, SLAB_B)
                     kin_at[p, k % 2] = k
                 V, Amax = motion_from(k0v, k1v, radii[sa], radii[sb])
-                for i in range(3):
-                    da[i] = k1v[i]
-                    db[i] = k1v[9 + i]
                 if suspect_given(z0, z, p, dt, -overlap, tol, geo, k, rates, gaps, da, db, V, Amax):
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
@@ -156,13 +156,9 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
             else:
                 _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
                 _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
-                bound = clearance_bound(rest_gap[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb])
-                if bound > tol:
+                g = dofs_gap(da, db, p, tol, geo)[0]  # a bound where it exceeds the tolerance
+                if g > tol:
                     continue
-                if axis_separation(verts[sa, : nvert[sa]], centres[sa], da[0], da[1], da[2],
-                                   verts[sb, : nvert[sb]], centres[sb], db[0], db[1], db[2], axis[p, 0], axis[p, 1]) > tol:
-                    continue
-                g = signed_gap(slab_polygon(sa, da, geo), slab_polygon(sb, db, geo))
                 if g < overlap:
                     for i in range(n):
                         z[i, 0] = z0[i, 0]
@@ -225,18 +221,6 @@ def _free_step(A, B, L, ag0, ag1, z0, z):
         p1 = modal_load(L, i, ag1)
         for r in range(3):
             z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
-
-
-@njit(borrowed=True)
-def modal_load(L, i, ag):
-    """Modal ground-motion load of mode i, p_i = -sum_j L[i, j] ag[j], for L (n, c) and ag (c,).
-
-    Written as sum_j L[i, j] (-ag[j]) starting from the first term, so that with one
-    component it is L[i, 0] * -ag[0] to the bit."""
-    p = L[i, 0] * -ag[0]
-    for j in range(1, L.shape[1]):
-        p += L[i, j] * -ag[j]
-    return p
 
 
 @njit

@@ -3,7 +3,7 @@
 The driver asks these questions many times per contact event (every trial step
 of an impact search, every held step), so each is one compiled call over flat
 arrays rather than a chain of small numpy operations. The arrays are the
-stacked modal model's (:class:`~pounding.framework.engine.driver.Model`), packed
+stacked modal model's (:class:`~pounding.framework.engine.stacked_model.Model`), packed
 once into :class:`~pounding.framework.engine.bundles.PairArrays` (``geo``), which every function
 takes as one argument:
 
@@ -165,7 +165,7 @@ def contact_row(geo, q, a, sa, b, sb, qx, qy, nx, ny, w):
     force at Q with its moment about that floor's centre, exactly (momentum laws to rounding).
 
     The one implementation of the row: the compiled pair queries and the driver's
-    :meth:`~pounding.framework.engine.driver.Model.row` both call it.
+    :meth:`~pounding.framework.engine.stacked_model.Model.row` both call it.
     """
     rows, off, n_modes, centres, floors, weights = geo.rows, geo.off, geo.n_modes, geo.centres, geo.floors, geo.weights
     d = np.empty(3)

@@ -58,7 +58,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pounding.compiler import Kernel, njit
+from pounding.compiler import njit
+from pounding.framework.engine.ground_load import modal_loads
 
 __all__ = ["cubic_abs_max", "hermite_extremes", "Segments", "segments", "abs_peaks", "norm_peaks",
            "ExactIntraStep", "refine_max"]
@@ -98,8 +99,6 @@ def hermite_extremes(y0, y1, m0, m1, signed: bool = False):
     y0; with ``signed``, the largest value of y itself. Compiled, element by element
     (:func:`_hermite_extremes_flat`)."""
     y0, y1, m0, m1 = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (y0, y1, m0, m1)))
-    if not isinstance(_hermite_extremes_flat, Kernel):  # without numba: numpy's vectorised form, the same numbers
-        return _hermite_extremes_numpy(y0, y1, m0, m1, signed)
     shape = y0.shape
     flat = [np.ascontiguousarray(a).reshape(-1) for a in (y0, y1, m0, m1)]
     best, where = np.empty(flat[0].size), np.empty(flat[0].size)
@@ -147,33 +146,6 @@ def _hermite_extremes_flat(y0, y1, m0, m1, signed, best, where):
                             w = s
         best[i] = b_
         where[i] = w
-
-
-def _hermite_extremes_numpy(y0, y1, m0, m1, signed):
-    """:func:`hermite_extremes` vectorised with numpy (the same operations, array by array), for
-    runs without numba, where the element loop would run interpreted."""
-    mag = (lambda x: x) if signed else np.abs
-    c2 = 3.0 * (y1 - y0) - 2.0 * m0 - m1
-    c3 = 2.0 * (y0 - y1) + m0 + m1
-    best = mag(y0)
-    where = np.zeros_like(y0)
-    end = mag(y1) > best
-    best = np.where(end, mag(y1), best)
-    where[end] = 1.0
-    a, b = 3.0 * c3, 2.0 * c2
-    disc = b * b - 4.0 * a * m0
-    ok = disc >= 0.0
-    r = np.sqrt(np.where(ok, disc, 0.0))
-    qq = -0.5 * np.where(b >= 0.0, b + r, b - r)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for s in (np.where(qq != 0.0, m0 / qq, np.nan), np.where((qq != 0.0) & (a != 0.0), qq / a, np.nan)):
-            inside = ok & (s > 0.0) & (s < 1.0)
-            ss = np.where(inside, s, 0.0)
-            val = mag(y0 + ss * (m0 + ss * (c2 + ss * c3)))
-            better = inside & (val > best)
-            best = np.where(better, val, best)
-            where = np.where(better, ss, where)
-    return best, where
 
 
 def hermite_value(y0, y1, m0, m1, s):
@@ -279,7 +251,9 @@ class ExactIntraStep:
         k = min(max(int(np.floor(x)), 0), self.ag.shape[0] - 2)
         f = x - k
         ag = self.ag[k] + f * (self.ag[k + 1] - self.ag[k]) if abs(f) > 1e-12 else self.ag[k]
-        return -(self.L @ ag)
+        p = np.empty(self.L.shape[0])
+        modal_loads(self.L, np.ascontiguousarray(ag), p)
+        return p
 
     def state(self, t0: float, q0: np.ndarray, v0: np.ndarray, tau: float) -> np.ndarray:
         """(q, q', q'') (3, n) at t0 + tau from (q0, v0) at t0."""

@@ -39,7 +39,8 @@ from pounding.compiler import njit
 from pounding.framework.engine.bundles import LinkTrial, NewtonWork, Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.contact.geometry import clearance_bound
-from pounding.framework.engine.kernel import _accumulate, _slab_dofs, modal_load, update_peaks
+from pounding.framework.engine.ground_load import modal_load
+from pounding.framework.engine.kernel import _accumulate, _record, _slab_dofs, update_peaks
 from pounding.framework.engine.pairs import dofs_gap
 from pounding.framework.engine.links import law_update
 
@@ -661,7 +662,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     A, B = tr.A, tr.B
     L, bidx = modes.L, modes.bidx
     dt, ag = ground.dt, ground.ag
-    every, Q, V, E, slab_peak = rec.every, rec.Q, rec.V, rec.E, rec.peak
+    every, E, slab_peak = rec.every, rec.E, rec.peak
     rows, n_modes, slab_building = geo.rows, geo.n_modes, modes.slab_building
     pa, pb, off, radii, rest = geo.pa, geo.pb, geo.off, geo.radii, geo.rest
     links, S, now, lrec = run.links, run.S, run.now, run.record
@@ -769,11 +770,9 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
         _commit_links(links, out, ws.kt, now, lrec)
         if every > 1:
             update_peaks(rows, z0, z, dt, n_modes, slab_building, slab_peak)
+        _record(z, k + 1, rec)
         if (k + 1) % every == 0:
             j = (k + 1) // every
-            for i in range(n):
-                Q[j, i] = z[i, 0]
-                V[j, i] = z[i, 1]
             for s in range(ns):
                 hist[0, j, s] = state[s, 0]
                 hist[1, j, s] = state[s, 1]

@@ -9,7 +9,7 @@ table) changes two things of the slab pairs it stands in, and nothing of the eng
 * the pair's *law*: the layer's own law, and the slabs' law on what is left once the layer is
   compressed to the fraction ``compressible`` of t (:class:`pounding.contact.bumper.BumperLaw`).
 
-The engine (:class:`pounding.framework.engine.driver.Model`) appends the offset polygon as a
+The engine (:class:`pounding.framework.engine.stacked_model.Model`) appends the offset polygon as a
 *bumper slab*: the real slab's modal rows, floor and weight with the offset outline, as it appends
 facade and wall slabs, and pairs the other building's slab with it instead of the bare slab. The
 contact rows are the real slab's rigid motion at the contact point on the layer's surface (the

@@ -60,6 +60,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pounding.framework.model.levels import same_level
+
 
 def hermite(eta: float) -> tuple[float, float]:
     """(N1, N2) of the fixed-fixed storey shape at the fraction eta in [0, 1] of the storey height."""
@@ -119,9 +121,10 @@ def carried_rows(rows: np.ndarray, centre: np.ndarray, reference: np.ndarray) ->
 
 def facade(system, building: int, height: float) -> Facade | None:
     """The facade slab of ``system`` (an assembled building) at ``height`` [m], or None when
-    the height is at a floor (within 1e-6 m), at or below the ground or above the roof."""
+    the height is at a floor (the same-level rule, :func:`~pounding.framework.model.levels.same_level`),
+    at or below the ground or above the roof."""
     levels = np.concatenate([[0.0], [s.elevation for s in system.slabs]])
-    if height <= levels[0] + 1e-6 or height >= levels[-1] - 1e-6 or np.any(np.abs(levels - height) < 1e-6):
+    if height <= levels[0] or height >= levels[-1] or np.any(same_level(levels, height)):
         return None
     j = int(np.searchsorted(levels, height)) - 1  # storey j spans levels[j] .. levels[j + 1]
     eta = (height - levels[j]) / (levels[j + 1] - levels[j])

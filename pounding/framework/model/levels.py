@@ -3,7 +3,8 @@
 Two slabs are at a common level when their elevations differ by less than :data:`LEVEL_TOL`
 (1e-6 m, far below any storey height and far above the rounding of summed storey heights).
 The driver watches such pairs for pounding, the gap study measures them, the scene checks and
-drawings use the same rule: :func:`same_level` is the only place it is written.
+drawings use the same rule: :func:`same_level` is the only place it is written, and
+:func:`reaches` the only place a slab is compared with a wall's top.
 """
 
 from __future__ import annotations
@@ -17,6 +18,12 @@ LEVEL_TOL = 1e-6
 def same_level(za, zb):
     """Whether elevations ``za`` and ``zb`` [m] (scalars or broadcastable arrays) are at a common level."""
     return np.abs(np.asarray(za, dtype=float) - np.asarray(zb, dtype=float)) < LEVEL_TOL
+
+
+def reaches(elevation: float, top: float) -> bool:
+    """Whether a slab at ``elevation`` [m] can strike a wall whose top is at ``top`` [m]: it is not
+    above the top (a slab level with the top, within :data:`LEVEL_TOL`, strikes it)."""
+    return not elevation > top + LEVEL_TOL
 
 
 def common_levels(a, b) -> list[tuple[int, int]]:

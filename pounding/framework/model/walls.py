@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pounding.errors import InputError
-from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon
+from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon, reaches
 
 #: [m] depth of a wall slab behind its face: far more than a slab can press into a wall in one
 #: step (so no contact reaches its back face), far less than any plan dimension that matters
@@ -95,7 +95,7 @@ def wall_sites(systems, walls) -> list[tuple[int, int, WallSlab]]:
         for k, (p0, p1) in enumerate(segments(wall.face)):
             for b, system in enumerate(systems):
                 for f, slab in enumerate(system.slabs):
-                    if slab.elevation > wall.top + LEVEL_TOL:
+                    if not reaches(slab.elevation, wall.top):
                         continue
                     s = side(p0, p1, slab.centre) or side(p0, p1, np.mean(slab.vertices, axis=0))
                     if s == 0.0:

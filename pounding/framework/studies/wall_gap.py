@@ -20,7 +20,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pounding.framework.model.levels import LEVEL_TOL
+from pounding.framework.model.levels import LEVEL_TOL, reaches
 from pounding.framework.model.walls import segments, side
 
 
@@ -67,7 +67,7 @@ def wall_clearances(scene, result) -> list[WallClearance]:
 def _clearance(building, wall, result) -> WallClearance | None:
     best = None
     for f, slab in enumerate(building.slabs):
-        if slab.elevation > wall.top + LEVEL_TOL:
+        if not reaches(slab.elevation, wall.top):
             continue
         rest = np.asarray(slab.vertices, float)
         for k, (p0, p1) in enumerate(segments(wall.face)):
