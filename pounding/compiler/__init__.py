@@ -219,6 +219,12 @@ def interpreted():
         _interpreted[0] -= 1
 
 
+def is_compiled(func) -> bool:
+    """Whether ``func`` is a compiled function (declared with :func:`njit`), which compiled code can
+    take as an argument, rather than a plain Python one."""
+    return isinstance(func, Kernel)
+
+
 def kernels() -> list[Kernel]:
     """Every compiled function declared so far (by the modules imported so far)."""
     return list(_KERNELS)

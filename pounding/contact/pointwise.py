@@ -69,7 +69,7 @@ from typing import ClassVar, NamedTuple
 
 import numpy as np
 
-from pounding.compiler import Kernel, interpreted, njit
+from pounding.compiler import interpreted, is_compiled, njit
 from pounding.compiler.unroll import LawTuple, kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw
 from pounding.errors import InputError
@@ -152,7 +152,7 @@ class PointLaw(NamedTuple):
     @property
     def compiled(self) -> bool:
         """Whether every kernel is compiled (the solve then runs compiled whole)."""
-        return all(isinstance(k, Kernel) for k in self.kernels)
+        return all(is_compiled(k) for k in self.kernels)
 
     def at(self, i: int, delta: float, rate: float, approach_rate: float) -> tuple[float, float, float]:
         """(force [N], d/d delta [N/m], d/d rate [N s/m]) at point i's parameters."""

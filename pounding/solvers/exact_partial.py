@@ -1,15 +1,15 @@
-"""The exact integrator's transition and work integrals for the partial steps of contact events, compiled.
+"""The exact integrator's transition and work integrals, compiled mode by mode.
 
 The crossing locator asks the exact solution at many step lengths that are used once (a root
-finder's trials, the two parts of a step split at an impact). :meth:`pounding.solvers.exact.Exact.transition`
-and :func:`pounding.solvers.exact_work.work_maps` build them with vectorised numpy (stacked matrix
-products, one Python call per array operation): ~0.2 ms and ~0.6 ms per step length for the paper
-pair, most of a located event's cost. Here the same mathematics runs mode by mode compiled:
+finder's trials, the two parts of a step split at an impact), besides the grid step. Vectorised
+numpy (stacked matrix products, one Python call per array operation) took ~0.2 ms and ~0.6 ms per
+step length for the paper pair; here the mathematics runs mode by mode compiled:
 
-* :func:`exact_transition`: the routes of :mod:`pounding.solvers.exact` (``omega dt <= 1/2``: the
-  exponential of the 4x4 augmented matrix by scaling and squaring with 20 Taylor terms and the same
-  scaling as the batch; above: the closed form of the damped oscillator), then the same assembly of
-  A and B.
+* :func:`exact_transition`: the integrator's transition, every step length
+  (:meth:`pounding.solvers.exact.Exact.transition`): ``omega dt <= 1/2``, the exponential of the 4x4
+  augmented matrix by scaling and squaring with 20 Taylor terms (the modes of that route scaled
+  together by the largest norm among them); above, the closed form of the damped oscillator; then
+  A and B assembled.
 * :func:`work_maps_small`: the work integrals of :mod:`pounding.solvers.exact_work` in its regime (A)
   (``omega h <= max(3, 1.5 zeta)``, time unit h, the 4x4 augmented system), from the same scaled
   interval ``t0 = 2**-k`` and the same ``k`` doubling identities; on ``t0`` the blocks of Van Loan's
@@ -18,9 +18,8 @@ pair, most of a located event's cost. Here the same mathematics runs mode by mod
   X = t0 F, ||X||_1 <= 1: 21 terms leave < 1/21! ~ 2e-20) instead of the exponentials of the 8x8 and
   12x12 block matrices. Modes in regime (B) are left to :func:`~pounding.solvers.exact_work.work_maps`.
 
-The numbers equal the numpy routes' to rounding (a few ulps of each entry's scale:
-tests/test_transitions.py), not to the bit: the driver uses them for the crossing locator's partial
-steps only, so that the paper's locators (``halving``, ``root``) keep their results bit for bit.
+The work integrals equal the numpy routes' to rounding (a few ulps of each entry's scale:
+tests/test_transitions.py): the grid's energy audit uses those, the partial steps these.
 """
 
 from __future__ import annotations

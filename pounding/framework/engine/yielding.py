@@ -277,12 +277,12 @@ class Yielding:
         the whole solve runs compiled; else the same function as Python). B (n, 3, 2) the step's
         end-load maps. Returns (z1, lambda, gap, rate, trial): the step's end state with the forces,
         the forces (m,) [N], the points' end gaps and rates without them, and the links' trial."""
-        from pounding.compiler import Kernel
+        from pounding.compiler import is_compiled
         from pounding.framework.engine.spring_core import contact_fixed_point
 
         out = self._trial()
         g = trial.g.copy()
-        solver = contact_fixed_point if isinstance(solve, Kernel) else contact_fixed_point.py_func
+        solver = contact_fixed_point if is_compiled(solve) else contact_fixed_point.py_func
         status, lam, gap1, rate1 = solver(self.updates, LinkPass(self.links, self.now, out), float(h),
                                           np.ascontiguousarray(B[:, 0, 1]), np.ascontiguousarray(B[:, 1, 1]),
                                           np.ascontiguousarray(W), np.ascontiguousarray(gap, dtype=float),
