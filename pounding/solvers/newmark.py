@@ -66,39 +66,34 @@ def alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, *, beta, gamma, alpha_m=0.0,
     Returns
     -------
     (q1, qd1, qdd1) : tuple of ndarray, broadcast shape of the inputs
-    """
-    c = 2.0 * zeta * omega
-    k = omega * omega
-    dt2 = dt * dt
-    # Predictors: the part of Newmark's updates known before a1.
-    qp = q + dt * qd + (0.5 - beta) * dt2 * qdd
-    vp = qd + (1.0 - gamma) * dt * qdd
-    rhs = (1.0 - alpha_f) * p1 + alpha_f * p0 - alpha_m * qdd - alpha_f * (c * qd + k * q)
 
-    # Acceleration form: a1 = (rhs - (1-af)(c vp + k qp)) / m_eff. Exact for
-    # beta = 0 (explicit), but for beta Omega^2 >> 1 the update qp + beta dt^2 a1
-    # cancels almost completely and q1 loses ~eps beta Omega^2 relative.
-    m_eff = (1.0 - alpha_m) + (1.0 - alpha_f) * (gamma * dt * c + beta * dt2 * k)
-    a1 = (rhs - (1.0 - alpha_f) * (c * vp + k * qp)) / m_eff
-    q1 = qp + beta * dt2 * a1
-    if beta > 0.0:
-        # Displacement (effective stiffness) form, k_hat = m_eff/(beta dt^2):
-        # accurate where the acceleration form is not, and vice versa (there
-        # a1 = (q1 - qp)/(beta dt^2) cancels). Each mode takes the better one.
-        stiff = (1.0 - alpha_f) * beta * dt2 * k > (1.0 - alpha_m)
-        if np.any(stiff):
-            g = gamma / (beta * dt)
-            k_hat = (1.0 - alpha_m) / (beta * dt2) + (1.0 - alpha_f) * (g * c + k)
-            q1_d = (rhs + (1.0 - alpha_m) / (beta * dt2) * qp - (1.0 - alpha_f) * c * (vp - g * qp)) / k_hat
-            q1 = np.where(stiff, q1_d, q1)
-            a1 = np.where(stiff, (q1_d - qp) / (beta * dt2), a1)
-    return q1, vp + gamma * dt * a1, a1
+    Each element is one mode's step (:func:`_alpha_scalar`, compiled): the acceleration form, exact
+    for beta = 0, or where beta Omega^2 >> 1 (there q1 = qp + beta dt^2 a1 cancels and loses ~eps
+    beta Omega^2 relative) the displacement form with the effective stiffness m_eff / (beta dt^2),
+    accurate where the other is not. The transitions (:func:`alpha_transition`) are the same
+    function on unit probes.
+    """
+    arrays = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (q, qd, qdd, p0, p1, omega, zeta)))
+    shape = arrays[0].shape
+    out = np.empty((3, arrays[0].size))
+    if out.shape[1]:
+        _alpha_steps(*(np.ascontiguousarray(x).reshape(-1) for x in arrays), float(dt), float(beta), float(gamma),
+                     float(alpha_m), float(alpha_f), out)
+    return out[0].reshape(shape), out[1].reshape(shape), out[2].reshape(shape)
+
+
+@njit(borrowed=True)
+def _alpha_steps(q, qd, qdd, p0, p1, omega, zeta, dt, beta, gamma, alpha_m, alpha_f, out):
+    """out (3, m) <- (q1, q'1, q''1) of :func:`alpha_step` for m elements (flat arrays (m,)), each by
+    :func:`_alpha_scalar`."""
+    for i in range(q.shape[0]):
+        _alpha_scalar(q[i], qd[i], qdd[i], p0[i], p1[i], 2.0 * zeta[i] * omega[i], omega[i] * omega[i], dt, beta, gamma,
+                      alpha_m, alpha_f, out, i)
 
 
 @njit(borrowed=True)
 def _alpha_scalar(q, qd, qdd, p0, p1, c, k, dt, beta, gamma, alpha_m, alpha_f, out, r):
-    """:func:`alpha_step` for one mode (c = 2 zeta omega, k = omega^2), written with its operations in
-    its order: out[0..2, r] <- (q1, q'1, q''1)."""
+    """One mode's step of :func:`alpha_step` (c = 2 zeta omega, k = omega^2): out[0..2, r] <- (q1, q'1, q''1)."""
     dt2 = dt * dt
     qp = q + dt * qd + (0.5 - beta) * dt2 * qdd
     vp = qd + (1.0 - gamma) * dt * qdd
@@ -119,9 +114,9 @@ def _alpha_scalar(q, qd, qdd, p0, p1, c, k, dt, beta, gamma, alpha_m, alpha_f, o
 @njit
 def alpha_transition(omega, zeta, dt, beta, gamma, alpha_m, alpha_f):
     """Per-mode transition (A (n, 3, 3), B (n, 3, 2)) of :func:`alpha_step` for a step of dt [s]: the
-    five unit probes of :meth:`Integrator.transition` (unit q, q', q'', p0, p1), mode by mode, compiled.
-    The same operations in the same order on the same numbers as the probes through numpy, so the
-    same transition to the bit (tests/test_transitions.py), at a few microseconds instead of ~65."""
+    five unit probes of :meth:`Integrator.transition` (unit q, q', q'', p0, p1), mode by mode, compiled:
+    the step's own function on them (:func:`_alpha_scalar`), so the probed transition to the bit
+    (tests/test_transitions.py), at a few microseconds instead of ~65."""
     n = omega.shape[0]
     A = np.empty((n, 3, 3))
     B = np.empty((n, 3, 2))
@@ -161,8 +156,7 @@ def alpha_family_transition(integrator, owner, omega, zeta, dt, *, beta, gamma, 
     """:meth:`Integrator.transition` of a scheme whose step is :func:`alpha_step` with these parameters
     (the class ``owner``'s ``step``), by :func:`alpha_transition` (compiled, the probes' numbers to the
     bit). A subclass with a step of its own is probed, as any integrator."""
-    if type(integrator).step is not owner.step or not isinstance(alpha_transition, Kernel):
-        # its own step; or without numba, where the probes through numpy are faster (same numbers)
+    if type(integrator).step is not owner.step:  # a step of its own
         return Integrator.transition(integrator, omega, zeta, dt)
     omega = np.ascontiguousarray(omega, dtype=float).reshape(-1)
     if not (type(zeta) is np.ndarray and zeta.shape == omega.shape and zeta.dtype == np.float64 and zeta.flags.c_contiguous):
