@@ -59,19 +59,21 @@ class Exact(Integrator):
 
     def search_maps(self):
         """(:func:`pounding.solvers.exact_partial.exact_maps`, no parameters): the compiled
-        :meth:`transition` in the impact search's form (the same function, so the same numbers)."""
+        :meth:`transition` in the impact search's form (the same function, so the same numbers); None
+        without the compiler (:meth:`~pounding.solvers.base.Integrator.search_maps`)."""
+        from pounding.compiler import is_compiled
         from pounding.solvers.exact_partial import exact_maps
 
-        return exact_maps, np.zeros(0)
+        return (exact_maps, np.zeros(0)) if is_compiled(exact_maps) else None
 
     def partial_work_maps(self, omega, zeta, dt):
         """:meth:`work_maps` compiled mode by mode in its regime (A) (:func:`pounding.solvers.exact_partial.work_maps_small`;
         equal to rounding), the other modes by :meth:`work_maps`."""
-        from pounding.compiler import Kernel
+        from pounding.compiler import is_compiled
         from pounding.solvers.exact_partial import work_maps_small
 
         omega, zeta = _modes_flat(omega, zeta)
-        if not isinstance(work_maps_small, Kernel) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
+        if not is_compiled(work_maps_small) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
             return self.work_maps(omega, zeta, dt)
         n = omega.shape[0]
         a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))

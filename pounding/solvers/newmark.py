@@ -21,7 +21,7 @@ import math
 
 import numpy as np
 
-from pounding.compiler import Kernel, njit
+from pounding.compiler import is_compiled, njit
 from pounding.errors import InputError
 from pounding.solvers.base import Integrator, Transition
 
@@ -147,7 +147,7 @@ def alpha_family_maps(integrator, owner, *, beta, gamma, alpha_m=0.0, alpha_f=0.
     parameters (the class ``owner``'s ``step``): (:func:`alpha_maps`, its parameters), the same
     function :func:`alpha_family_transition` builds its transitions with; None for a subclass with
     a step of its own, or without the compiler."""
-    if type(integrator).step is not owner.step or not isinstance(alpha_maps, Kernel):
+    if type(integrator).step is not owner.step or not is_compiled(alpha_maps):
         return None
     return alpha_maps, np.array([beta, gamma, alpha_m, alpha_f], dtype=float)
 
