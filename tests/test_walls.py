@@ -236,6 +236,35 @@ def test_gap_study_reports_the_clearance_to_each_wall_the_peak_displacement_towa
     assert out["east"].required == 0.0 and out["east"].current == pytest.approx(0.3, abs=1e-12) and out["east"].ok
 
 
+def _row_between_walls() -> dict:
+    """Two boxes in a row along x, 0.3 m apart, a wall 0.3 m beyond each end."""
+    data = _data(duration=0.2)
+    data["building"] = [_box("west"), _box("east", x0=10.3)]
+    data["wall"] = [{"name": "w", "face": [[-0.3, -1.0], [-0.3, 9.0]], "top": 1.0},
+                    {"name": "e", "face": [[20.6, 9.0], [20.6, -1.0]], "top": 1.0}]
+    return data
+
+
+def test_a_building_behind_its_neighbour_is_not_watched_against_the_wall_beyond_it():
+    """Each wall of :func:`_row_between_walls` faces only the box beside it: the box behind would strike
+    its neighbour before it could reach the wall (the path from its slab to the face passes through the
+    neighbour's slab at the same level), so the engine watches each wall against the near box alone."""
+    driver, _ = _run(_row_between_walls())
+    watched = sorted((wall.name, driver.model.pairs[p][0]) for p, wall in driver.model.walls.items())
+    assert watched == [("e", 1), ("w", 0)]
+
+
+def test_a_building_behind_its_neighbour_asks_no_clearance_of_the_wall_beyond_it():
+    """The gap study of :func:`_row_between_walls` has one clearance per wall, the near box's (the box
+    behind is screened by it), and its rest distance is the near box's 0.3 m."""
+    from pounding.framework.studies.wall_gap import wall_gaps
+
+    step = GroundMotion(np.array([0.0, 10.0]), np.array([A0, A0]), name="step", source="test")
+    out = wall_gaps(parse_scene(_row_between_walls()).with_ground_motion(step))
+    assert sorted((c.wall, c.building) for c in out) == [("e", "east"), ("w", "west")]
+    assert all(c.current == pytest.approx(0.3, abs=1e-12) for c in out)
+
+
 # --------------------------------------------------------------------------- (c) against OpenSees
 def _isolated_beside_a_moat() -> dict:
     """A base-isolated building (storey 1: lead-rubber isolators, bilinear storey springs of 4e6 N/m

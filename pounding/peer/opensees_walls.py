@@ -27,10 +27,12 @@ from pounding.framework.model.levels import reaches
 FIXED = (1, 1, 1, 1, 1, 1)
 
 
-def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int]:
+def wall_springs(ops, building, masters: list[int], wall, law, tags, screened=frozenset()) -> list[int]:
     """The zero-length wall elements of ``building`` (a scene Building, its diaphragm ``masters`` per
     floor) against ``wall`` (a straight face along y) with contact law instance ``law``; ``tags()`` gives
-    the next free tag. Returns the element tags (two per slab at or below the wall's top)."""
+    the next free tag; ``screened``: the 0-based slabs that face the wall only through other buildings
+    (:func:`pounding.framework.model.walls.screened_from`), which get none, as in the engine. Returns
+    the element tags (two per slab at or below the wall's top)."""
     from pounding.peer.opensees_contact import law_material
     from pounding.peer.opensees_springs import MASTER_FIX
 
@@ -42,7 +44,7 @@ def wall_springs(ops, building, masters: list[int], wall, law, tags) -> list[int
     material = law_material(law)
     out, made = [], {}
     for f, slab in enumerate(building.slabs):
-        if not reaches(slab.elevation, wall.top):
+        if not reaches(slab.elevation, wall.top) or f in screened:
             continue
         xs = np.asarray(slab.vertices, float)[:, 0]
         west = x_wall < xs.min()
@@ -92,6 +94,7 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     """
     from pounding.contact.rules import wall_law
     from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.framework.model.walls import screened_from
     from pounding.peer.opensees_contact import has_material, material_notes
 
     an = scene.analysis
@@ -104,14 +107,17 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
                             "no rigid impulse at events), so the model's slabs strike nothing there; give the wall a "
                             "force law (kelvin, hertz, hertzdamp, jankowski or penalty) to export it")
             continue
+        face = np.asarray(wall.face, float)
+        behind = [frozenset(f for f in range(len(b.slabs)) if screened_from(scene, i, f, face[0], face[-1]))
+                  for i, b in enumerate(scene.buildings)]
         try:  # the whole wall or none of it: a dry run against every building before writing a command
-            for b in scene.buildings:
-                wall_springs(_Silent(), b, masters[b.name], wall, law, tags)
+            for b, skip in zip(scene.buildings, behind):
+                wall_springs(_Silent(), b, masters[b.name], wall, law, tags, skip)
         except ValueError as exc:
             left_out.append(f"{exc}: the model leaves this wall out")
             continue
-        for b in scene.buildings:
-            elements += wall_springs(ops, b, masters[b.name], wall, law, tags)
+        for b, skip in zip(scene.buildings, behind):
+            elements += wall_springs(ops, b, masters[b.name], wall, law, tags, skip)
         differs += [f"wall {wall.name!r}: {n}" for n in material_notes(law)]
     return elements, left_out, differs
 

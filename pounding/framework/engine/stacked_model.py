@@ -199,7 +199,7 @@ class Model:
 
         if self.scene.analysis.contact == "none" or not getattr(self.scene, "walls", ()):
             return []
-        return wall_sites(self.systems, self.scene.walls)
+        return wall_sites(self.systems, self.scene.walls, self.scene)
 
     def _bumper_sites(self, axes: list) -> list:
         """(pair, side (0: the bumper is on slab a, 1: on b), offset polygon (k, 2) [m], rule) of every

@@ -282,8 +282,9 @@ def _crosses(p: np.ndarray, q: np.ndarray, V: np.ndarray) -> bool:
 
 
 def _screens(scene: Scene, i: int, j: int, z: float) -> list[np.ndarray]:
-    """Rest outlines at the level z [m] of the buildings other than i and j: a slab at that level,
-    else the facade there (the outline of the floor above, when z is between two floors)."""
+    """Rest outlines at the level z [m] of the buildings other than i and j (j = -1: other than i
+    only): a slab at that level, else the facade there (the outline of the floor above, when z is
+    between two floors)."""
     out = []
     for k, c in enumerate(scene.buildings):
         if k in (i, j):
@@ -292,6 +293,14 @@ def _screens(scene: Scene, i: int, j: int, z: float) -> list[np.ndarray]:
         F = None if at else _facade_at(c, z)
         out += at if F is None else [F.vertices]
     return out
+
+
+def screened(scene: Scene, i: int, j: int, p: np.ndarray, q: np.ndarray, z: float) -> bool:
+    """Whether the straight path p -> q (2,) [m] at the level z [m], between a slab of building i and
+    what it faces (a slab of building j, or a retaining wall's face: j = -1), passes through another
+    building at that level, a slab of it or its facade (:func:`_crosses`): then i cannot reach it
+    there without striking that building first."""
+    return any(_crosses(p, q, V) for V in _screens(scene, i, j, z))
 
 
 def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple]:
@@ -304,7 +313,7 @@ def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple]:
     out = []
     for site in pair_sites(a, b):
         pa, pb, _ = _closest_points(*_site_outlines(a, b, site))
-        if not any(_crosses(pa, pb, V) for V in _screens(scene, i, j, _site_level(a, b, site))):
+        if not screened(scene, i, j, pa, pb, _site_level(a, b, site)):
             out.append(site)
     return out
 

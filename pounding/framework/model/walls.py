@@ -85,17 +85,51 @@ def wall_slab(wall: int, segment: int, p0: np.ndarray, p1: np.ndarray, slab_side
     return WallSlab(wall, segment, rect, rect.mean(axis=0))
 
 
-def wall_sites(systems, walls) -> list[tuple[int, int, WallSlab]]:
+def open_vertices(scene, i: int, f: int, p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(facing, open) (m,) bool over the rest vertices of slab f of building i of ``scene``: those
+    whose foot on the line of the face segment p0 -> p1 falls within it, and among them those whose
+    straight path to that foot crosses no other building at the slab's level (a slab of it or its
+    facade: :func:`pounding.framework.model.placement.screened`). A facing vertex that is not open
+    strikes that building before it could reach the wall."""
+    from pounding.framework.model.placement import screened
+
+    slab = scene.buildings[i].slabs[f]
+    rest = np.asarray(slab.vertices, float)
+    length = float(np.hypot(*(p1 - p0)))
+    along = (p1 - p0) / length
+    n = np.array([-along[1], along[0]])
+    foot = (rest - p0) @ along
+    dist = (rest - p0) @ n
+    facing = (foot >= -LEVEL_TOL) & (foot <= length + LEVEL_TOL)
+    open_ = facing.copy()
+    for v in np.flatnonzero(facing):
+        open_[v] = not screened(scene, i, -1, rest[v], rest[v] - dist[v] * n, float(slab.elevation))
+    return facing, open_
+
+
+def screened_from(scene, i: int, f: int, p0: np.ndarray, p1: np.ndarray) -> bool:
+    """Whether slab f of building i of ``scene`` faces the wall segment p0 -> p1 only through other
+    buildings (:func:`open_vertices`: some vertex faces it, none is open). A slab with no vertex facing
+    the segment is not screened: it may still reach the segment's end by turning."""
+    facing, open_ = open_vertices(scene, i, f, p0, p1)
+    return bool(facing.any() and not open_.any())
+
+
+def wall_sites(systems, walls, scene=None) -> list[tuple[int, int, WallSlab]]:
     """(building, storey (0-based), wall slab) for every slab at or below a wall's top and every
     segment of that wall's face, the wall slab on the side away from the slab (one rectangle per
     segment and side, shared by the slabs that see it). ``systems``: anything with ``slabs`` whose
-    items have ``vertices``, ``centre`` and ``elevation``; ``walls``: the scene's walls."""
+    items have ``vertices``, ``centre`` and ``elevation``; ``walls``: the scene's walls. Given the
+    ``scene`` (the buildings of ``systems`` in its order), a slab that faces a segment only through
+    other buildings (:func:`screened_from`) has no site there: it strikes them first."""
     out, made = [], {}
     for w, wall in enumerate(walls):
         for k, (p0, p1) in enumerate(segments(wall.face)):
             for b, system in enumerate(systems):
                 for f, slab in enumerate(system.slabs):
                     if not reaches(slab.elevation, wall.top):
+                        continue
+                    if scene is not None and screened_from(scene, b, f, p0, p1):
                         continue
                     s = side(p0, p1, slab.centre) or side(p0, p1, np.mean(slab.vertices, axis=0))
                     if s == 0.0:

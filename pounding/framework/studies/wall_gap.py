@@ -12,6 +12,12 @@ segment), is never touched when
 s_i the rest distance of vertex i to the face's line and s_min their smallest (a vertex set back
 from the nearest must move that much farther). Only slabs at or below the wall's top count. The
 maximum is over the run's step ends (the no-contact run records every step).
+
+A vertex whose straight path to the face at rest passes through another building at its level
+(a slab of it, or its facade) is *screened*: it would strike that building first, so it asks no
+clearance of the wall (the rule that screens a pair of buildings with a third between them,
+:func:`pounding.framework.model.walls.open_vertices`). A building screened from a wall at every
+slab is not in the report.
 """
 
 from __future__ import annotations
@@ -20,8 +26,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pounding.framework.model.levels import LEVEL_TOL, reaches
-from pounding.framework.model.walls import segments, side
+from pounding.framework.model.levels import reaches
+from pounding.framework.model.walls import open_vertices, segments, side
 
 
 @dataclass
@@ -53,18 +59,22 @@ class WallClearance:
 
 
 def wall_clearances(scene, result) -> list[WallClearance]:
-    """:class:`WallClearance` of every building and wall of ``scene`` that face each other, from the
-    histories of ``result`` (a run of the scene, without contact for the building's free motion)."""
+    """:class:`WallClearance` of every building and wall of ``scene`` that face each other, no other
+    building between them (module docstring), from the histories of ``result`` (a run of the scene,
+    without contact for the building's free motion)."""
     out = []
     for wall in scene.walls:
-        for b in scene.buildings:
-            c = _clearance(b, wall, result)
+        for i in range(len(scene.buildings)):
+            c = _clearance(scene, i, wall, result)
             if c is not None:
                 out.append(c)
     return out
 
 
-def _clearance(building, wall, result) -> WallClearance | None:
+def _clearance(scene, i: int, wall, result) -> WallClearance | None:
+    """The clearance building i of ``scene`` needs to ``wall`` (its governing slab and segment), or
+    None where none of its slabs faces the wall unscreened."""
+    building = scene.buildings[i]
     best = None
     for f, slab in enumerate(building.slabs):
         if not reaches(slab.elevation, wall.top):
@@ -77,11 +87,10 @@ def _clearance(building, wall, result) -> WallClearance | None:
             length = float(np.hypot(*(p1 - p0)))
             along = (p1 - p0) / length
             n = s * np.array([-along[1], along[0]])  # from the face toward the slab's side
-            foot = (rest - p0) @ along
-            facing = (foot >= -LEVEL_TOL) & (foot <= length + LEVEL_TOL)
+            dist = (rest - p0) @ n
+            facing = open_vertices(scene, i, f, p0, p1)[1]
             if not np.any(facing):
                 continue
-            dist = (rest - p0) @ n
             d = result.contact_offsets(building.name, f)[:, facing]  # (nt, m, 2), as the contact geometry moves them
             toward = -(d @ n) - (dist[facing] - dist[facing].min())[None, :]  # (nt, m)
             t_i, v_i = np.unravel_index(int(np.argmax(toward)), toward.shape)
