@@ -18,6 +18,7 @@ import pytest
 
 from pounding import compiler, warmup
 from pounding.compiler import cache
+from pounding.compiler.unroll import kernel_tuple, unrolled_in
 
 PAPER = Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml"
 COMPILED_PACKAGES = ("pounding.contact.geometry", "pounding.contact.base", "pounding.framework.engine.pairs",
@@ -325,3 +326,50 @@ def test_borrowed_functions_compile_without_reference_counts_and_cannot_allocate
 
     with pytest.raises(numba.core.errors.TypingError):
         numba.njit(_nrt=False)(allocates)(3)
+
+
+unrolled_in(globals())  # numba's type of a law tuple (kernel_tuple), as a module whose compiled code takes laws registers it
+
+
+@compiler.njit
+def _total(a):
+    return a.sum()
+
+
+@compiler.njit
+def _twice(x):
+    return 2.0 * x
+
+
+@compiler.njit
+def _thrice(x):
+    return 3.0 * x
+
+
+@compiler.njit
+def _call_with(f, x):
+    return f(x)
+
+
+@compiler.njit
+def _first_of(laws, x):
+    return laws[0](x)
+
+
+@needs_numba
+def test_calls_from_python_run_the_machine_code_numba_chose_for_their_argument_types():
+    """A compiled function called from Python runs, for each fingerprint of its arguments, the machine
+    code numba's dispatcher chose for their types (pounding.compiler._Entries): a C-ordered array, a
+    read-only copy, a strided view and a Fortran-ordered one are four numba types and get four entries,
+    each call summing its own array (integers: exact); compiled functions and law tuples passed as
+    arguments are told apart by identity, each call running its own law."""
+    a = np.arange(12.0).reshape(3, 4)
+    ro = a.copy()
+    ro.flags.writeable = False
+    views = (a, ro, a[:, ::2], a.T)
+    for v in views + views:  # the second round runs the kept entries
+        assert _total(v) == v.sum()
+    assert len(_total._call.entries) == 4
+    assert [_call_with(f, 1.5) for f in (_twice, _thrice, _twice)] == [3.0, 4.5, 3.0]
+    assert [_first_of(kernel_tuple((f,)), 2.0) for f in (_thrice, _twice, _thrice)] == [6.0, 4.0, 6.0]
+    assert len(_call_with._call.entries) == 2 and len(_first_of._call.entries) == 2

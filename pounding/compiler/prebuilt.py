@@ -123,6 +123,43 @@ def call_print(args: tuple) -> tuple | None:
     return None if None in out else out
 
 
+def dispatch_print(args: tuple) -> tuple | None:
+    """:func:`call_print` for numba's dispatch (:class:`pounding.compiler._Entries`): also a tuple of
+    the laws' kernels (:class:`pounding.compiler.unroll.LawTuple`) and a compiled function, by identity
+    (each held for the process, so that its identity is not reused: a run's laws and compiled
+    functions are a handful, and a law tuple is one per set of kernels), inside plain tuples too;
+    None if any argument is of another kind."""
+    out = tuple(map(_dispatched, args))
+    return None if None in out else out
+
+
+_held: dict = {}  # id -> an object fingerprinted by identity (dispatch_print)
+
+
+def _dispatched(x):
+    f = _FAST.get(type(x))
+    if f is not None:
+        return f(x)
+    t = type(x)
+    if t is tuple:
+        parts = tuple(map(_dispatched, x))
+        return None if None in parts else ("t", parts)
+    if isinstance(x, tuple) and hasattr(t, "_fields"):
+        return _bundle(x)
+    if _by_identity(t):
+        _held.setdefault(id(x), x)
+        return ("id", id(x))
+    return fingerprint(x)
+
+
+def _by_identity(t) -> bool:
+    """Whether numba types a value of type t by the value itself: a law tuple, or a compiled function."""
+    from pounding.compiler import Kernel
+    from pounding.compiler.unroll import LawTuple
+
+    return t is LawTuple or t is Kernel or t.__name__ == "CPUDispatcher"
+
+
 def call_key(prints: tuple) -> tuple:
     """:func:`call_print`'s key for the arguments' full fingerprints (as recorded at build)."""
     return tuple(_token(p) if _is_bundle_print(p) else p for p in prints)
