@@ -120,12 +120,13 @@ def _warm_task(name: str) -> None:
         from pounding.framework.engine.held import rows_where
 
         rows_where(np.ascontiguousarray(gap <= driver.touch), np.ascontiguousarray(W))  # a held Python step's plastic stop
-        # the default integrator of elastic scenes (exact): its compiled one-off maps, which the
-        # crossing locator builds at every located impact (the packaged paper scene names HHT)
+        # the default integrator of elastic scenes (exact): its compiled maps, the transition the
+        # crossing locator builds at every located impact and the work integrals of the energy audit
+        # (grid step and partial steps; the packaged paper scene names HHT)
         from pounding.solvers.exact import Exact
 
         Exact().partial_transition(model.omega, model.zeta, 1e-3)
-        Exact().partial_work_maps(model.omega, model.zeta, 1e-3)
+        Exact().work_maps(model.omega, model.zeta, 1e-3)
         # and its impact search, compiled whole (pounding.framework.engine.event_search), as the driver calls it
         search = Driver(scene.with_analysis(integrator="exact", integrator_params={}))
         search.locate(0.0, search.dt, [0], search.trial(search.z, 0.0, search.dt))

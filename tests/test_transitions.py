@@ -1,13 +1,12 @@
-"""Compiled transitions and work integrals against the integrators' numpy definitions.
+"""Compiled transitions against the integrators' definitions (probed steps, scipy's exponential).
 
 * Newmark, HHT and generalized-alpha build their per-mode transition by running ``alpha_step`` on the five
   unit probes (:meth:`pounding.solvers.base.Integrator.transition`). The compiled
   :func:`pounding.solvers.newmark.alpha_transition` performs the same IEEE operations in the same order on
   the same numbers (no fast-math, so no fused or reordered operations): the same transition to the bit.
 * ``exact``'s one transition (:func:`pounding.solvers.exact_partial.exact_transition`) against scipy's
-  exponential of the augmented system, and the crossing locator's compiled work integrals against the
-  numpy ones (the same mathematics summed in another order): equal to rounding, with the bounds derived
-  in each test.
+  exponential of the augmented system: equal to rounding, with the bound derived in the test. (Its work
+  integrals, one implementation too, are checked in tests/test_exact_work.py.)
 """
 
 from __future__ import annotations
@@ -17,7 +16,6 @@ import pytest
 
 from pounding.solvers.base import Integrator
 from pounding.solvers.exact import Exact
-from pounding.solvers.exact_work import work_maps
 from pounding.solvers.generalized_alpha import GeneralizedAlpha
 from pounding.solvers.hht import HHT
 from pounding.solvers.newmark import Newmark
@@ -82,22 +80,3 @@ def test_exact_transition_is_scipys_exponential_of_the_augmented_system(dt):
         A, B = tr.A[i], tr.B[i]
         got = np.array([A[0, 0], A[0, 1] / dt, A[1, 0] * dt, A[1, 1], B[0, 0] / dt**2, B[0, 1] / dt**2, B[1, 0] / dt, B[1, 1] / dt])
         assert np.all(np.abs(got - ref) <= 2 * 20 * 64 * EPS * np.max(np.abs(ref))), (s, zeta[i])
-
-
-@pytest.mark.parametrize("dt", [1e-6, 1e-4, 0.0025, 0.01, 0.0137, 0.3])
-def test_exact_partial_work_maps_equal_work_maps_to_rounding(dt):
-    """Regime (A) of the work integrals (omega h <= max(3, 1.5 zeta)) is summed from the Taylor series of
-    the blocks of Van Loan's exponentials instead of the exponentials of the 8x8 and 12x12 block
-    matrices; both are exact to ~1e-15 of each map's natural (Cauchy-Schwarz) scale on the scaled interval
-    (||t0 F||_1 <= 1, 21 terms: truncation < 1/21!), and k <= 4 doubling steps, each a sum of products of
-    bounded factors, add a few ulps each. Bound: 100 eps of the largest entry of each mode's map
-    (exact_work states 3e-14 for its own accuracy). Modes of regime (B) are the numpy maps themselves."""
-    omega, zeta = _modes()
-    omega, zeta = omega[1:], zeta[1:]
-    ex = Exact()
-    ref = work_maps(omega, zeta, dt)
-    fast = ex.partial_work_maps(omega, zeta, dt)
-    for R, F in zip(ref, fast):
-        axes = tuple(range(1, R.ndim))
-        scale = np.max(np.abs(R), axis=axes, keepdims=True)
-        assert np.all(np.abs(R - F) <= 100 * EPS * scale)

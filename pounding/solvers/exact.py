@@ -46,12 +46,15 @@ class Exact(Integrator):
     exact_within_step = True
 
     def work_maps(self, omega, zeta, dt):
-        """Exact work integrals of a step on the exact trajectory, for the energy audit.
+        """Exact work integrals of a step of dt [s] on the exact trajectory, for the energy audit of
+        grid steps and of contact events' partial steps alike (the base class's
+        :meth:`~pounding.solvers.base.Integrator.partial_work_maps` is this).
 
         Returns a1, a2 (n, 4) and M (n, 4, 4): for x = (q0, q'0, p0, p1),
         int q' ds = a1 x, int s q' ds = a2 x, int q'^2 ds = x M x over the step
-        (:func:`pounding.solvers.exact_work.work_maps`; to ~1e-14 of their scale for
-        omega dt up to 1e5 and zeta up to 10, also at critical damping).
+        (:func:`pounding.solvers.exact_work.work_maps`: compiled mode by mode for omega dt <=
+        max(3, 1.5 zeta), numpy above; to ~1e-14 of their scale for omega dt up to 1e5 and zeta up
+        to 10, also at critical damping).
         """
         from pounding.solvers.exact_work import work_maps
 
@@ -65,24 +68,6 @@ class Exact(Integrator):
         from pounding.solvers.exact_partial import exact_maps
 
         return (exact_maps, np.zeros(0)) if is_compiled(exact_maps) else None
-
-    def partial_work_maps(self, omega, zeta, dt):
-        """:meth:`work_maps` compiled mode by mode in its regime (A) (:func:`pounding.solvers.exact_partial.work_maps_small`;
-        equal to rounding), the other modes by :meth:`work_maps`."""
-        from pounding.compiler import is_compiled
-        from pounding.solvers.exact_partial import work_maps_small
-
-        omega, zeta = _modes_flat(omega, zeta)
-        if not is_compiled(work_maps_small) or not (dt > 0 and np.all(omega > 0) and np.all(zeta >= 0)):
-            return self.work_maps(omega, zeta, dt)
-        n = omega.shape[0]
-        a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
-        done = np.zeros(n, dtype=np.bool_)
-        work_maps_small(omega, zeta, float(dt), a1, a2, M, done)
-        if not done.all():
-            rest = ~done
-            a1[rest], a2[rest], M[rest] = self.work_maps(omega[rest], zeta[rest], dt)
-        return a1, a2, M
 
     def transition(self, omega, zeta, dt):
         """Per-mode maps (A (n, 3, 3), B (n, 3, 2)) of a step of dt [s]: the two routes of the module

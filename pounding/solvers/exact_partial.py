@@ -10,16 +10,17 @@ step length for the paper pair; here the mathematics runs mode by mode compiled:
   augmented matrix by scaling and squaring with 20 Taylor terms (the modes of that route scaled
   together by the largest norm among them); above, the closed form of the damped oscillator; then
   A and B assembled.
-* :func:`work_maps_small`: the work integrals of :mod:`pounding.solvers.exact_work` in its regime (A)
-  (``omega h <= max(3, 1.5 zeta)``, time unit h, the 4x4 augmented system), from the same scaled
-  interval ``t0 = 2**-k`` and the same ``k`` doubling identities; on ``t0`` the blocks of Van Loan's
+* :func:`work_maps_small`: the work integrals of :func:`pounding.solvers.exact_work.work_maps` in its
+  regime (A) (``omega h <= max(3, 1.5 zeta)``, time unit h, the 4x4 augmented system), from the scaled
+  interval ``t0 = 2**-k`` and ``k`` doubling identities; on ``t0`` the blocks of Van Loan's
   exponentials are summed as their Taylor series directly (Phi = sum X^j / j!, J0 = t0 sum X^j / (j+1)!,
   int (t0 - u) Phi = t0^2 sum X^j / (j+2)!, W = t0 sum_ij R_i^T R_j / (i + j + 1) with R_j = e2^T X^j / j!,
-  X = t0 F, ||X||_1 <= 1: 21 terms leave < 1/21! ~ 2e-20) instead of the exponentials of the 8x8 and
-  12x12 block matrices. Modes in regime (B) are left to :func:`~pounding.solvers.exact_work.work_maps`.
+  X = t0 F, ||X||_1 <= 1: 21 terms leave < 1/21! ~ 2e-20) instead of exponentiating the 8x8 and
+  12x12 block matrices. It is the one implementation of that regime: ``work_maps`` calls it for
+  every step length (the grid's energy audit and contact events' partial steps), and computes the
+  modes it leaves (regime (B)) itself.
 
-The work integrals equal the numpy routes' to rounding (a few ulps of each entry's scale:
-tests/test_transitions.py): the grid's energy audit uses those, the partial steps these.
+With the compiler off both run as the same functions in Python.
 """
 
 from __future__ import annotations
@@ -165,8 +166,9 @@ def exact_transition(omega, zeta, dt):
 @njit
 def work_maps_small(w, zeta, h, a1, a2, Mq, done):
     """The work integrals of :func:`pounding.solvers.exact_work.work_maps` for the modes in its regime (A)
-    (``w h <= max(3, 1.5 zeta)``), written into a1, a2 (n, 4) and Mq (n, 4, 4); done (n,) bool marks them
-    (see the module docstring)."""
+    (``w h <= max(3, 1.5 zeta)``; w (n,) [rad/s], zeta (n,), h [s]), written into a1, a2 (n, 4) and Mq
+    (n, 4, 4) in the units of ``work_maps``; done (n,) bool marks them, the other modes' rows are left
+    as they were (see the module docstring)."""
     n = w.shape[0]
     F = np.zeros((4, 4))
     X = np.empty((4, 4))

@@ -1,6 +1,7 @@
 """Exact one-step work integrals of damped unit-mass SDOF oscillators (batched).
 
-Used by the ``exact`` integrator's energy audit (:meth:`pounding.solvers.exact.Exact.work_maps`).
+Used by the ``exact`` integrator's energy audit, for the grid step and the partial steps of contact
+events alike (:meth:`pounding.solvers.exact.Exact.work_maps`).
 
 Problem (per mode i, time step of length h, local time s in [0, h]):
 
@@ -16,12 +17,11 @@ For x = (q0, v0, p0, p1) the step integrals of the exact solution are
 so the work of any linear-in-time force f(s) = f0 + (f1 - f0) s/h is
 int v f ds = f0 * Iv0 + (f1 - f0)/h * Iv1, the load work is
 I_p = p0*Iv0 + (p1 - p0)/h * Iv1, and the damping work is I_d = c * Ivv.
-Optionally the exact propagator P (q(h), v(h)) = P @ x is returned as well.
 
 Units: w [rad/time], zeta [-], h [time]; q in displacement units u, v in
 u/time, p in u/time^2 (unit mass).  Coefficients carry the matching units:
 a1 = (1, time, time^2, time^2) for (q0, v0, p0, p1), a2 = time * that, and
-x^T M x is in u^2/time; P row q like a1, row v like a1 / time.
+x^T M x is in u^2/time.
 
 Method
 ------
@@ -34,8 +34,8 @@ per-mode time unit T, horizon H = h/T.  Needed are, for the velocity row
     W(H)  = int_0^H Phi^T e2 e2^T Phi du
 (Iv0 = e2.J0 y0, Iv1 = T e2.J1 y0, Ivv = y0.W y0 / T, y0 = G x).
 They are computed on a short sub-interval t0 = H / 2^k (block 1-norms
-<= 1) from two block matrix exponentials (Van Loan 1978, "Computing
-integrals involving the matrix exponential", IEEE TAC 23(3)):
+<= 1) from the blocks of two block matrix exponentials (Van Loan 1978,
+"Computing integrals involving the matrix exponential", IEEE TAC 23(3)):
     expm(t0 [[-F^T, e2 e2^T], [0, F]]) = [[., G12], [0, Phi]],   W = Phi^T G12
     expm(t0 [[F, I, 0], [0, 0, I], [0, 0, 0]]) = [[Phi, J0, Y], ...],
                                                        J1 = t0 J0 - Y
@@ -46,11 +46,15 @@ which only ever use the bounded/decaying propagator (never e^{+c h}): no
 overflow and no cancellation for stiff, heavily damped modes.  Critical
 damping (zeta = 1, 1 +- 1e-8) is not special for the matrix exponential.
 
-Two regimes (chosen per mode):
+Two regimes (chosen per mode, by the compiled function of regime A, which marks its modes):
  (A) w h <= max(3, 1.5 zeta): T = h, H = 1, the full 4x4 augmented system;
      F_hat = [[0,1,0,0],[-(wh)^2,-2 zeta wh,1,0],[0,0,0,1],[0,0,0,0]].
      No 1/w^2 particular solutions, so w h -> 0 (1e-6 and below) is exact.
- (B) w h >  max(3, 1.5 zeta): T = 1/w, H = w h.  The exact particular
+     Computed mode by mode by the compiled
+     :func:`pounding.solvers.exact_partial.work_maps_small` (with the compiler off, the same
+     function as Python): the blocks of Van Loan's exponentials on t0 summed as their Taylor
+     series, then the doublings with Phi(2t) = Phi Phi.
+ (B) w h >  max(3, 1.5 zeta): T = 1/w, H = w h, here, batched numpy.  The exact particular
      solution of the linear load (scaled: q_p = p_hat - 2 zeta r_hat,
      v_p = r_hat) is split off and its polynomial contributions are
      integrated analytically; only the 2x2 homogeneous oscillator
@@ -63,28 +67,31 @@ Two regimes (chosen per mode):
      overdamped eigenvalue under squaring.
 
 Shapes: w, zeta array-like broadcastable to (n,); h a positive scalar.
-Returns a1 (n, 4), a2 (n, 4), M (n, 4, 4) [and P (n, 2, 4)].
+Returns a1 (n, 4), a2 (n, 4), M (n, 4, 4).
 
-Cost: the sub-interval block exponentials (8x8 + 12x12 for regime A, 4x4 +
-6x6 for B) have 1-norm <= 1 by construction, so a degree-20 Taylor
-polynomial (truncation ~2e-20) evaluated with stacked numpy matmuls is used
-instead of scipy.linalg.expm (same accuracy; scipy loops over the batch in
-Python and was 10-500x slower here under BLAS thread contention); then
-<= ~30 vectorised 4x4 / 2x2 doubling steps.  A few ms for n = 600 modes.
-Call once per distinct h and reuse the maps every step.  numpy only.
+Cost: regime A compiled, ~1.5 us a mode (0.03 ms for the paper pair's 24 modes, 0.5 ms for 360);
+as Python with the compiler off ~1-2 ms a mode. Regime B: the sub-interval block exponentials (4x4
+and 6x6) have 1-norm <= 1 by construction, so a degree-20 Taylor polynomial (truncation ~2e-20)
+evaluated with stacked numpy matmuls is used instead of scipy.linalg.expm (same accuracy; scipy
+loops over the batch in Python), then <= ~30 vectorised 2x2 doubling steps: a few ms for hundreds
+of modes. Call once per distinct h and reuse the maps every step.
 
-Accuracy (check.py, vs a 90-digit closed-form reference): every coefficient
-to <= 3e-14 (typically a few 1e-16) of its natural (Cauchy-Schwarz) scale
-for w h in [1e-7, 1e5], zeta in [0, 10] incl. zeta = 1, 1 +- 1e-8.
+Accuracy: every coefficient to <= 4e-14 (typically a few 1e-16) of its natural (Cauchy-Schwarz)
+scale for w h in [1e-7, 1e5], zeta in [0, 10] incl. zeta = 1, 1 +- 1e-8, against references in
+40 to 90 digits; heavier damping in regime A costs more doublings (zeta = 45 at w h = 68: 3e-13).
+tests/test_exact_work.py checks regime A against a quadrature of scipy's exponential, and both
+regimes against closed forms and the energy theorem of the exact step.
 """
 import numpy as np
 
-__all__ = ["work_maps", "step_work_integrals"]
+from pounding.solvers.exact_partial import work_maps_small
+
+__all__ = ["work_maps"]
 
 _TAYLOR_DEG = 20  # degree of the Taylor polynomial for ||X||_1 <= 1
 
 
-def work_maps(w, zeta, h, return_propagator=False, _route=None):
+def work_maps(w, zeta, h):
     """Per-mode linear/bilinear maps of the exact one-step work integrals.
 
     Parameters
@@ -92,99 +99,60 @@ def work_maps(w, zeta, h, return_propagator=False, _route=None):
     w : array_like (n,)   circular frequencies [rad/time], > 0
     zeta : array_like (n,) or scalar   damping ratios >= 0 (c = 2 zeta w)
     h : float   step length [time], > 0
-    return_propagator : bool   also return P (n, 2, 4) with (q(h), v(h)) = P @ x
-    _route : private, testing only (force the internal regime)
 
     Returns
     -------
     a1 : (n, 4)    Iv0 = int_0^h v ds   = a1[i] @ x
     a2 : (n, 4)    Iv1 = int_0^h s v ds = a2[i] @ x
     M  : (n, 4, 4) Ivv = int_0^h v^2 ds = x @ M[i] @ x (symmetric)
-    [P : (n, 2, 4) exact state at s = h]
     where x = (q0, v0, p0, p1) is the state at the start of the step and the
     load values at both ends (load linear in time, unit mass).
     """
-    w, zeta = np.broadcast_arrays(np.asarray(w, dtype=float),
-                                  np.asarray(zeta, dtype=float))
-    w = np.ravel(w)
-    zeta = np.ravel(zeta)
+    # fresh contiguous float arrays: one argument type for the compiled regime A, whatever the caller passes
+    w, zeta = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(np.asarray(w, dtype=float),
+                                                                                np.asarray(zeta, dtype=float)))
     h = float(h)
     n = w.size
+    a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
     if n == 0:
-        z = np.zeros((0, 4))
-        out = (z, z.copy(), np.zeros((0, 4, 4)))
-        return out + (np.zeros((0, 2, 4)),) if return_propagator else out
+        return a1, a2, M
     if not (h > 0 and np.all(w > 0) and np.all(zeta >= 0)):
         raise ValueError("need h > 0, w > 0, zeta >= 0")
+    done = np.zeros(n, dtype=np.bool_)
+    work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes
+    rest = np.flatnonzero(~done)
+    if rest.size:
+        a1[rest], a2[rest], M[rest] = _oscillator_maps(w[rest], zeta[rest], h)
+    return a1, a2, M
 
-    Om = w * h
-    if _route is None:
-        route = np.where(Om <= np.maximum(3.0, 1.5 * zeta), 0, 2)
-    else:
-        route = np.broadcast_to(np.asarray(_route), Om.shape)
-    small = route == 0
-    T = np.where(small, h, 1.0 / w)          # time unit
-    H = np.where(small, 1.0, Om)             # dimensionless horizon
-    a = np.where(small, Om, 1.0)             # w T
-    b = 2.0 * zeta * a                       # c T
 
-    J0r = np.empty((n, 4))                   # velocity row of J0
-    J1r = np.empty((n, 4))                   # velocity row of J1
-    W = np.empty((n, 4, 4))
-    Phr = np.empty((n, 2, 4))                # (q, v) rows of Phi
-
-    # (i) w h <= max(3, 1.5 zeta): time unit h, 4x4 augmented system (load in state)
-    i = np.flatnonzero(route != 2)
-    if i.size:
-        F = np.zeros((i.size, 4, 4))
-        F[:, 0, 1] = 1.0
-        F[:, 1, 0] = -a[i] ** 2
-        F[:, 1, 1] = -b[i]
-        F[:, 1, 2] = 1.0
-        F[:, 2, 3] = 1.0
-        Phi, J0, J1, Wi = _integrals(F, H[i])
-        J0r[i] = J0[:, 1, :]
-        J1r[i] = J1[:, 1, :]
-        W[i] = Wi
-        Phr[i] = Phi[:, :2, :]
-
-    # (ii) w h > max(3, 1.5 zeta): time unit 1/w.  Split off the exact particular solution
-    # of the linear load (scaled: q_p = p_hat - b r_hat, v_p = r_hat); only
-    # the 2x2 homogeneous oscillator goes through expm/doubling, the
-    # polynomial parts are integrated analytically.  This avoids mixing
-    # O(H^3) polynomial terms with O(1) oscillatory ones (error ~ eps*H).
-    i = np.flatnonzero(route == 2)
-    if i.size:
-        bi, Hi = b[i], H[i]
-        A = np.zeros((i.size, 2, 2))
-        A[:, 0, 1] = 1.0
-        A[:, 1, 0] = -1.0
-        A[:, 1, 1] = -bi
-        zi = zeta[i]
-        PhA, JA0, JA1, WA = _integrals(A, Hi, phi_fn=lambda t: _phi_osc(zi, t))
-        # z0 = L y0: homogeneous initial state (q - q_p(0), v - v_p)
-        L = np.zeros((i.size, 2, 4))
-        L[:, 0, 0] = 1.0
-        L[:, 0, 2] = -1.0
-        L[:, 0, 3] = bi
-        L[:, 1, 1] = 1.0
-        L[:, 1, 3] = -1.0
-        r0 = np.einsum("nj,njk->nk", JA0[:, 1, :], L)
-        r1 = np.einsum("nj,njk->nk", JA1[:, 1, :], L)
-        J0r[i] = r0
-        J0r[i, 3] += Hi
-        J1r[i] = r1
-        J1r[i, 3] += 0.5 * Hi * Hi
-        Wi = np.swapaxes(L, 1, 2) @ WA @ L
-        Wi[:, :, 3] += r0
-        Wi[:, 3, :] += r0
-        Wi[:, 3, 3] += Hi
-        W[i] = Wi
-        Pi = PhA @ L
-        Pi[:, 0, 2] += 1.0
-        Pi[:, 0, 3] += Hi - bi
-        Pi[:, 1, 3] += 1.0
-        Phr[i] = Pi
+def _oscillator_maps(w, zeta, h):
+    """Regime (B) of the module docstring, w h > max(3, 1.5 zeta): a1, a2 (n, 4), M (n, 4, 4) in
+    time unit T = 1/w, horizon H = w h, the particular solution of the linear load split off."""
+    n = w.size
+    T = 1.0 / w
+    H = w * h
+    b = 2.0 * zeta                           # c T
+    A = np.zeros((n, 2, 2))
+    A[:, 0, 1] = 1.0
+    A[:, 1, 0] = -1.0
+    A[:, 1, 1] = -b
+    JA0, JA1, WA = _integrals(A, H, lambda t: _phi_osc(zeta, t))
+    # z0 = L y0: homogeneous initial state (q - q_p(0), v - v_p)
+    L = np.zeros((n, 2, 4))
+    L[:, 0, 0] = 1.0
+    L[:, 0, 2] = -1.0
+    L[:, 0, 3] = b
+    L[:, 1, 1] = 1.0
+    L[:, 1, 3] = -1.0
+    J0r = np.einsum("nj,njk->nk", JA0[:, 1, :], L)  # velocity row of J0
+    J1r = np.einsum("nj,njk->nk", JA1[:, 1, :], L)  # velocity row of J1
+    W = np.swapaxes(L, 1, 2) @ WA @ L
+    W[:, :, 3] += J0r
+    W[:, 3, :] += J0r
+    W[:, 3, 3] += H
+    J0r[:, 3] += H
+    J1r[:, 3] += 0.5 * H * H
 
     # --- back to physical inputs x = (q0, v0, p0, p1) --------------------
     # y_hat0 = G x,  G = diag(1, T, T^2, T^3) @ S,  S: p1 -> r = (p1-p0)/h
@@ -200,12 +168,7 @@ def work_maps(w, zeta, h, return_propagator=False, _route=None):
     a2 = T[:, None] * np.einsum("nj,njk->nk", J1r, G)
     M = np.swapaxes(G, 1, 2) @ W @ G / T[:, None, None]
     M = 0.5 * (M + np.swapaxes(M, 1, 2))
-    if not return_propagator:
-        return a1, a2, M
-    P = np.empty((n, 2, 4))
-    P[:, 0, :] = np.einsum("nj,njk->nk", Phr[:, 0, :], G)
-    P[:, 1, :] = np.einsum("nj,njk->nk", Phr[:, 1, :], G) / T[:, None]
-    return a1, a2, M, P
+    return a1, a2, M
 
 
 def _phi_osc(zeta, t):
@@ -272,13 +235,12 @@ def _expm_small(X):
     return P
 
 
-def _integrals(F, H, phi_fn=None):
-    """Phi, J0, J1, W (velocity = index 1) of y' = F y over [0, H], batched.
+def _integrals(F, H, phi):
+    """J0, J1, W (velocity = index 1) of y' = F y over [0, H], batched.
 
-    F (n, m, m), H (n,).  Van Loan block exponentials on t0 = H / 2^k, chosen
-    so that both block matrices have 1-norm <= 1, then k doublings (only
-    bounded/decaying factors).  phi_fn(t), if given, is a closed-form
-    expm(F t) used instead of repeated squaring.
+    F (n, m, m), H (n,); phi(t) (t (n,) -> (n, m, m)) the closed form of expm(F t).  Van Loan block
+    exponentials on t0 = H / 2^k, chosen so that both block matrices have 1-norm <= 1, then k
+    doublings with Phi from phi (only bounded/decaying factors, no repeated squaring).
     """
     n, m, _ = F.shape
     aF = np.abs(F)
@@ -301,7 +263,6 @@ def _integrals(F, H, phi_fn=None):
     C2[:, :m, m:2 * m] = eye * tt
     C2[:, m:2 * m, 2 * m:] = eye * tt
     E2 = _expm_small(C2)
-    Phi = E2[:, :m, :m].copy() if phi_fn is None else phi_fn(t0)
     J0 = E2[:, :m, m:2 * m].copy()
     J1 = tt * J0 - E2[:, :m, 2 * m:]         # int u Phi = t0 J0 - int (t0-u) Phi
     W = np.swapaxes(E1[:, m:, m:], 1, 2) @ E1[:, :m, m:]
@@ -310,26 +271,13 @@ def _integrals(F, H, phi_fn=None):
     for j in range(int(k.max())):
         msk = k > j
         mm = msk[:, None, None]
+        Phi = phi(t)
         J1n = J1 + Phi @ (J1 + t[:, None, None] * J0)
         J0n = J0 + Phi @ J0
         Wn = W + np.swapaxes(Phi, 1, 2) @ W @ Phi
         Wn = 0.5 * (Wn + np.swapaxes(Wn, 1, 2))
-        Phin = Phi @ Phi if phi_fn is None else phi_fn(2.0 * t)
         J1 = np.where(mm, J1n, J1)
         J0 = np.where(mm, J0n, J0)
         W = np.where(mm, Wn, W)
-        Phi = np.where(mm, Phin, Phi)
         t = np.where(msk, 2.0 * t, t)
-    return Phi, J0, J1, W
-
-
-def step_work_integrals(w, zeta, h, q0, v0, p0, p1):
-    """Convenience wrapper: (Iv0, Iv1, Ivv) for one step, all shape (n,)."""
-    a1, a2, M = work_maps(w, zeta, h)
-    x = np.stack(np.broadcast_arrays(*(np.asarray(z, dtype=float) for z in
-                                       (q0, v0, p0, p1))), axis=-1)
-    x = np.broadcast_to(x, a1.shape)
-    Iv0 = np.einsum("nk,nk->n", a1, x)
-    Iv1 = np.einsum("nk,nk->n", a2, x)
-    Ivv = np.einsum("nj,njk,nk->n", x, M, x)
-    return Iv0, Iv1, Ivv
+    return J0, J1, W
