@@ -13,6 +13,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from pounding.compiler import njit
+from pounding.contact.geometry import clearance_bound
+from pounding.framework.engine.pairs import slab_dofs
+
 
 def bound_screening(geo, q: np.ndarray, tol: float) -> dict:
     """Count of pair checks the clearance bound settles over modal displacement histories q (nt, n).
@@ -26,14 +30,24 @@ def bound_screening(geo, q: np.ndarray, tol: float) -> dict:
     nt = q.shape[0]
     if P == 0 or nt == 0:
         return {"checks": 0, "skipped_by_bound": 0, "beyond_bound": 0}
-    skipped = 0
-    for p in range(P):
-        d = []
-        for bld, st in (geo.pa[p], geo.pb[p]):
-            s = int(geo.off[bld] + st)
-            i0, nb = int(geo.n_modes[bld, 0]), int(geo.n_modes[bld, 1])
-            d.append((q[:, i0 : i0 + nb] @ geo.rows[s, :, :nb].T, float(geo.radii[s])))
-        (da, ra), (db, rb) = d
-        bound = geo.rest[p] - np.hypot(da[:, 0] - db[:, 0], da[:, 1] - db[:, 1]) - np.abs(da[:, 2]) * ra - np.abs(db[:, 2]) * rb
-        skipped += int(np.count_nonzero(bound > tol))
+    skipped = int(settled_by_bound(np.ascontiguousarray(q, dtype=float), float(tol), geo))
     return {"checks": int(nt * P), "skipped_by_bound": skipped, "beyond_bound": int(nt * P - skipped)}
+
+
+@njit
+def settled_by_bound(q, tol, geo):
+    """How many of the checks of every pair at every state of q (nt, n) the clearance bound settles
+    (bound > tol [m]), with the core's own slab motion and bound (:func:`pounding.framework.engine.pairs.slab_dofs`,
+    :func:`pounding.contact.geometry.clearance_bound`)."""
+    pa, pb, rows, off, n_modes, radii, rest = geo.pa, geo.pb, geo.rows, geo.off, geo.n_modes, geo.radii, geo.rest
+    da, db = np.empty(3), np.empty(3)
+    count = 0
+    for k in range(q.shape[0]):
+        x = q[k]
+        for p in range(pa.shape[0]):
+            slab_dofs(rows, off, n_modes, pa[p, 0], pa[p, 1], x, da)
+            slab_dofs(rows, off, n_modes, pb[p, 0], pb[p, 1], x, db)
+            sa, sb = off[pa[p, 0]] + pa[p, 1], off[pb[p, 0]] + pb[p, 1]
+            if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
+                count += 1
+    return count
