@@ -63,6 +63,10 @@ class Kernel:
     calls run ``py_func`` instead and compile nothing (one-off geometry at scene load).
     """
 
+    #: numba types a compiled function passed as an argument by the function itself
+    #: (:func:`pounding.compiler.prebuilt.dispatch_print`)
+    typed_by_identity = True
+
     def __init__(self, func, borrowed=False):
         self.py_func = func
         self.borrowed = borrowed  #: compiled without reference counts (:func:`njit`)

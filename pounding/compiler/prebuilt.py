@@ -153,11 +153,10 @@ def _dispatched(x):
 
 
 def _by_identity(t) -> bool:
-    """Whether numba types a value of type t by the value itself: a law tuple, or a compiled function."""
-    from pounding.compiler import Kernel
-    from pounding.compiler.unroll import LawTuple
-
-    return t is LawTuple or t is Kernel or t.__name__ == "CPUDispatcher"
+    """Whether numba types a value of type t by the value itself: a law tuple or a compiled function
+    (their classes say so, ``typed_by_identity``: this module imports nothing of the compiler's), or
+    numba's own dispatcher."""
+    return getattr(t, "typed_by_identity", False) or t.__name__ == "CPUDispatcher"
 
 
 def call_key(prints: tuple) -> tuple:

@@ -38,6 +38,9 @@ class LawTuple(tuple):
     which gives the same tuple for the same kernels, so a caller that builds it at every step does
     not pay for the typing at every step."""
 
+    #: numba types it by the tuple itself (its kernels): :func:`pounding.compiler.prebuilt.dispatch_print`
+    typed_by_identity = True
+
 
 _TUPLES: dict[tuple, LawTuple] = {}
 
