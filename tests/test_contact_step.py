@@ -158,6 +158,26 @@ def test_default_step_resolves_the_shortest_contact():
     assert d.dt < modal and math.isinf(Driver(paper(contact="impulse", dt=None)).contact_time.duration)
 
 
+def test_the_default_step_asks_the_integrator_whether_it_is_exact_within_the_step():
+    """The default step samples the response EXACT_STEPS_PER_PERIOD times a period for an integrator
+    that declares itself exact within the step (no period error) and takes STEPS_PER_PERIOD for the
+    others: a third party's subclass of ``exact`` under a name of its own, passed as a class, gets the
+    exact integrator's step, and average acceleration (``newmark``) a step EXACT / STEPS times as long
+    or shorter (the grid's divisors of the record's interval round it down)."""
+    from pounding.framework.engine.stacked_model import Model
+    from pounding.framework.engine.timestep import EXACT_STEPS_PER_PERIOD, STEPS_PER_PERIOD, default_dt
+    from pounding.solvers.exact import Exact
+
+    class OwnExact(Exact):
+        name = "own_exact"
+
+    scene = paper(contact="impulse", dt=None)
+    m = Model(scene)
+    step = {k: default_dt(m.systems, m.directions, scene.ground_motion.dt, k) for k in ("exact", OwnExact, "newmark")}
+    assert step[OwnExact] == step["exact"]
+    assert step["newmark"] <= step["exact"] * EXACT_STEPS_PER_PERIOD / STEPS_PER_PERIOD
+
+
 def test_a_coarse_given_dt_warns_with_the_number_of_steps_per_contact():
     """A given dt = 0.005 s over a k = 1e10 N/m Kelvin contact (3.9 ms on the paper's pair): one
     warning naming the steps per contact (duration / dt, below 1) and the dt that resolves it

@@ -254,6 +254,23 @@ def test_a_building_behind_its_neighbour_is_not_watched_against_the_wall_beyond_
     assert watched == [("e", 1), ("w", 0)]
 
 
+def test_a_law_that_switches_contact_off_under_a_name_of_its_own_builds_no_wall_pair():
+    """The model asks the run's contact law whether it watches slab pairs
+    (:meth:`~pounding.contact.base.ContactLaw.watches`), never its name: a law of a third party that
+    declares neither impulses at events nor forces with the step, passed as a class, gets no wall
+    slab and no slab pair at all, as the ``none`` law does."""
+    from pounding.contact.base import ContactLaw
+
+    class Off(ContactLaw):
+        name = "switched_off"
+        kind = "none"
+
+    step = GroundMotion(np.array([0.0, 10.0]), np.array([A0, A0]), name="step", source="test")
+    scene = parse_scene(_row_between_walls()).with_ground_motion(step).with_analysis(contact=Off, contact_params={})
+    driver = Driver(scene)
+    assert driver.model.walls == {} and driver.kgeo.pa.shape[0] == 0
+
+
 def test_a_building_behind_its_neighbour_asks_no_clearance_of_the_wall_beyond_it():
     """The gap study of :func:`_row_between_walls` has one clearance per wall, the near box's (the box
     behind is screened by it), and its rest distance is the near box's 0.3 m."""

@@ -49,6 +49,7 @@ from pathlib import Path
 import numpy as np
 
 from pounding.framework.engine.results import ContactEpisode, Result
+from pounding.framework.model.registry import watches_contact
 from pounding.framework.post.energy_account import energy_balance
 
 IMPACT_COLUMNS = [
@@ -76,7 +77,7 @@ def pair_law_names(result: Result) -> list[str]:
     names = [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
              for p, (a, _, b, _, _) in enumerate(result.pairs)]
     scene = getattr(result, "scene", None)
-    if scene is not None and scene.analysis.contact != "none":  # a bumper's pairs take its layer and the slabs' law
+    if scene is not None and watches_contact(scene.analysis):  # a bumper's pairs take its layer and the slabs' law
         from pounding.framework.model.bumpers import rule_pairs
 
         for rule in scene.contacts:

@@ -118,11 +118,12 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
 def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
     """Contact elements where OpenSees has the pair's contact law (:mod:`pounding.peer.opensees_contact`);
     notes on what is left out or differs."""
+    from pounding.framework.model.registry import watches_contact
     from pounding.peer.opensees import face_springs
     from pounding.peer.opensees_contact import has_material, law_material, material_notes, pair_law
 
-    if scene.analysis.contact == "none" and not scene.contacts:
-        ops.comment("none: the scene's contact law is 'none'")
+    if not watches_contact(scene.analysis) and not scene.contacts:
+        ops.comment(f"none: the scene's contact law {scene.analysis.contact!r} switches contact off")
         return []
     if len(scene.buildings) == 1:
         ops.comment("one building: no pair of buildings to pound")

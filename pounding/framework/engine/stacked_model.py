@@ -20,6 +20,7 @@ from pounding.framework.engine import pairs as pg
 from pounding.framework.engine.bundles import Modes, PairArrays
 from pounding.framework.model.assembly import System, assemble
 from pounding.framework.model.levels import common_levels
+from pounding.framework.model.registry import watches_contact
 from pounding.framework.model.scene import Scene
 
 
@@ -167,7 +168,7 @@ class Model:
 
         The rest gaps run interpreted (0.4 ms a pair): loading the compiled gap would cost more."""
         out = []
-        if self.scene.analysis.contact == "none":
+        if not watches_contact(self.scene.analysis):
             return out
         for a, sa in enumerate(self.systems):
             for b in range(a + 1, len(self.systems)):
@@ -181,7 +182,7 @@ class Model:
         from pounding.framework.model.facade import facade
 
         out = []
-        if self.scene.analysis.contact == "none":
+        if not watches_contact(self.scene.analysis):
             return out
         for a, sa in enumerate(self.systems):
             for fa, slab in enumerate(sa.slabs):
@@ -197,7 +198,7 @@ class Model:
         wall's top and every segment of its face (:func:`pounding.framework.model.walls.wall_sites`)."""
         from pounding.framework.model.walls import wall_sites
 
-        if self.scene.analysis.contact == "none" or not getattr(self.scene, "walls", ()):
+        if not watches_contact(self.scene.analysis) or not getattr(self.scene, "walls", ()):
             return []
         return wall_sites(self.systems, self.scene.walls, self.scene)
 
@@ -207,7 +208,7 @@ class Model:
         ``axes`` the pairs' rest axes (a to b)."""
         from pounding.framework.model.bumpers import bumper_pairs, offset_facing
 
-        if self.scene.analysis.contact == "none" or not any(getattr(r, "bumper", None) for r in self.scene.contacts):
+        if not watches_contact(self.scene.analysis) or not any(getattr(r, "bumper", None) for r in self.scene.contacts):
             return []
         names = [s.name for s in self.systems]
         out = []

@@ -12,8 +12,8 @@ acceleration, HHT, generalized-alpha, central differences) the relative period e
 mode is about (omega dt)^2 / 12; ``STEPS_PER_PERIOD`` = 32 keeps it within 0.3 % for T_s
 and within 0.3 % (T_s / T)^2 for the longer, dominant modes, which puts the peaks of the
 paper pair and the L-shape scene within 0.1 % of the converged rigid-impact limit
-(benchmarks/bench_accuracy_targets.py). ``exact`` has no period error: its step only
-samples the response (step-end outputs and peaks), ``EXACT_STEPS_PER_PERIOD`` = 8 samples
+(benchmarks/bench_accuracy_targets.py). An integrator exact within the step (``exact``; one that
+declares ``exact_within_step``) has no period error: its step only samples the response (step-end outputs and peaks), ``EXACT_STEPS_PER_PERIOD`` = 8 samples
 per shortest significant period.
 
 With a force contact law the step also resolves the shortest contact of the run: dt <= tau_c /
@@ -64,10 +64,15 @@ def shortest_significant_period(systems, directions) -> float:
     return best
 
 
-def default_dt(systems, directions, record_dt: float | None, integrator: str, contact_duration: float = np.inf) -> float:
-    """The step [s] when the scene gives none (see the module docstring): ``contact_duration`` [s]
-    is the run's shortest contact (inf: none to resolve)."""
-    n = EXACT_STEPS_PER_PERIOD if integrator == "exact" else STEPS_PER_PERIOD
+def default_dt(systems, directions, record_dt: float | None, integrator, contact_duration: float = np.inf) -> float:
+    """The step [s] when the scene gives none (see the module docstring): ``integrator`` the run's (its
+    registered name or class: one exact within the step, :attr:`~pounding.solvers.base.Integrator.exact_within_step`,
+    has no period error and samples the response with ``EXACT_STEPS_PER_PERIOD``); ``contact_duration``
+    [s] the run's shortest contact (inf: none to resolve)."""
+    from pounding.framework.model.registry import INTEGRATORS
+
+    exact = INTEGRATORS.get(integrator, field="analysis.integrator").exact_within_step
+    n = EXACT_STEPS_PER_PERIOD if exact else STEPS_PER_PERIOD
     target = min(shortest_significant_period(systems, directions) / n, contact_duration / STEPS_PER_CONTACT)
     base = float(record_dt) if record_dt else FALLBACK_DT
     if not np.isfinite(target) or target >= base:

@@ -246,6 +246,14 @@ CONTACT_LAWS: Registry = Registry(
     "contact law",
 )
 
+def watches_contact(analysis) -> bool:
+    """Whether the contact law of ``analysis`` (a scene's ``[analysis]``: its ``contact``, a name,
+    ``module:Class`` or a class) watches slab pairs at all: False for a law that switches contact
+    off (the ``none`` law, or any law declaring neither impulses at events nor forces with the
+    step, :meth:`pounding.contact.base.ContactLaw.watches`). Asked of the law, never of its name."""
+    return CONTACT_LAWS.get(analysis.contact, field="analysis.contact").watches()
+
+
 HYSTERESIS: Registry = Registry(
     "pounding.hysteresis",
     "pounding.hysteresis.base:HysteresisLaw",

@@ -189,6 +189,7 @@ def consequence_run(scene, motion, scale: float, gap: float, direction, row: dic
     """
     from pounding.framework.post.run import run
     from pounding.framework.model.placement import with_gap
+    from pounding.framework.model.registry import watches_contact
 
     t0 = time.perf_counter()
     row = dict(row, gap_m=gap, scale=scale)
@@ -196,7 +197,7 @@ def consequence_run(scene, motion, scale: float, gap: float, direction, row: dic
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             s = scene.with_ground_motion(motion.scaled(scale))
-            if s.analysis.contact == "none":
+            if not watches_contact(s.analysis):
                 s = s.with_analysis(contact="impulse", contact_params={})
             s = with_gap(s, gap, direction)
             result = run(s)

@@ -552,9 +552,9 @@ def verify_gap(scene: Scene, report: GapReport, factors=(0.99, 1.01)) -> GapChec
     the check is only meaningful when ``(factors[1] - 1) * min_gap`` exceeds it.
     """
     from pounding.framework.post.run import run
-    from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.framework.model.registry import CONTACT_LAWS, watches_contact
 
-    if scene.analysis.contact == "none":
+    if not watches_contact(scene.analysis):
         scene = scene.with_analysis(contact="impulse", contact_params={})
     # the check is about the pair: impacts on walls (which do not move with the building) do not count,
     # and the minimum gap is between the bare slabs: a bumper's layer does not count either
