@@ -208,6 +208,30 @@ def test_facade_penalty_with_stiff_columns_tends_to_the_plain_penalty():
     assert peak_difference(1.0) > 1e-3
 
 
+def test_forces_rebuilt_after_a_facade_penalty_run_give_each_episodes_peak_force():
+    """The contact forces rebuilt from the recorded states (:mod:`pounding.framework.post.contact_forces`)
+    put the struck column's local stiffness in series with the slab spring at facade points, as the
+    run did: every episode's peak force comes back (the pair is symmetric about y = 5 and shaken
+    along x: nothing twists, so the law at a committed state's points is the equation the run solved
+    at that step's end). Tolerance: the end-of-step solve's 1e-9, plus the rounding of a gap (plan
+    coordinates up to 22 m, 64 eps of them) relative to the episode's peak penetration (a graze of
+    1e-9 m is an episode too)."""
+    from pounding.framework.post.contact_forces import contact_force_history
+    from pounding.framework.post.run import run
+
+    data = _stepped_pair(contact={"name": "facade_penalty", "stiffness": 1e9, "restitution": 0.5})
+    data["ground_motion"]["pga"] = 0.6
+    data["analysis"].update(duration=4.0)
+    del data["analysis"]["dt"]
+    r = run(scene(data))
+    forces = contact_force_history(r)
+    assert sum(e.pair in r.facades for e in r.contacts) >= 3
+    for e in r.contacts:
+        i0, i1 = int(np.floor(e.start / r.dt + 1e-9)), int(np.ceil(e.end / r.dt - 1e-9))
+        rounding = 64 * np.finfo(float).eps * 22.0 / e.peak_penetration
+        assert forces.pair_force[i0 : i1 + 1, e.pair].max() == pytest.approx(e.peak_force, rel=1e-9 + rounding)
+
+
 def test_every_facade_impulse_of_a_run_conserves_momentum():
     """The stepped pair 0.02 m apart under El Centro at 0.6 g: left's slab at 4.8 m strikes right's
     second storey between its floors, in displaced states. Each impulse reaches right's floors

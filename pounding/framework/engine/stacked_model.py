@@ -229,18 +229,9 @@ class Model:
         """Local stiffness [N/m] (m,) of the element struck at every contact point (m, 2) [m] with
         unit normal (m, 2) of the pairs ``pair`` (m,): the column or wall a slab strikes between a
         neighbour's floors (:func:`pounding.framework.model.facade.local_stiffness`), inf at a slab."""
-        from pounding.framework.model.facade import struck
+        from pounding.framework.model.facade import struck_stiffness
 
-        out = np.full(len(pair), np.inf)
-        if not self.facades:
-            return out
-        for j, p in enumerate(np.asarray(pair).tolist()):
-            F = self.facades.get(p)
-            if F is None:
-                continue
-            levels = [0.0] + [s.elevation for s in self.systems[F.building].slabs]
-            out[j] = struck(self.scene.buildings[F.building], F.storey, F.height - levels[F.storey], points[j], normals[j])[2]
-        return out
+        return struck_stiffness(self.scene, self.systems, self.facades, pair, points, normals)
 
     def update_peaks(self, z0: np.ndarray, z1: np.ndarray, h: float, peak: np.ndarray) -> None:
         """peak (S, 3) <- max(peak, |(u, v, phi)|) of every slab over a step of h [s] between the

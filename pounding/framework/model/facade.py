@@ -170,6 +170,25 @@ def local_stiffness(element, storey: int, a: float, normal: np.ndarray) -> float
     return float(element.building_point_stiffness(storey, a, np.asarray(normal, dtype=float)))
 
 
+def struck_stiffness(scene, systems, facades: dict, pair, points, normals) -> np.ndarray:
+    """Local stiffness [N/m] (m,) of the element struck at every contact point (m, 2) [m] with unit
+    normal (m, 2) of the pairs ``pair`` (m,): for a pair in ``facades`` ({pair: :class:`Facade`}), the
+    column or wall a slab strikes between the neighbour's floors (:func:`struck`, whose third figure is
+    :func:`local_stiffness`), inf at a slab. ``scene``'s buildings and the assembled ``systems`` (their
+    slabs' elevations) in scene order. The one rule of the run (:meth:`pounding.framework.engine.stacked_model.Model.local_stiffness`)
+    and of the forces rebuilt after it (:mod:`pounding.framework.post.contact_forces`)."""
+    out = np.full(len(pair), np.inf)
+    if not facades:
+        return out
+    for j, p in enumerate(np.asarray(pair).tolist()):
+        F = facades.get(p)
+        if F is None:
+            continue
+        levels = [0.0] + [s.elevation for s in systems[F.building].slabs]
+        out[j] = struck(scene.buildings[F.building], F.storey, F.height - levels[F.storey], points[j], normals[j])[2]
+    return out
+
+
 def end_shears(a: float, L: float) -> tuple[float, float]:
     """Shares (below, above) of a point load at a [m] on a fixed-fixed member of length L [m] taken
     by its segments below and above the load (the end reactions): b^2 (3 a + b) / L^3 and

@@ -87,6 +87,7 @@ def contact_force_history(result) -> ContactForces:
     from pounding.contact.base import ContactState
     from pounding.framework.engine.contact_laws import solve_forces
     from pounding.framework.engine.face_shares import rest_face_ends, touching_with_shares
+    from pounding.framework.model.facade import struck_stiffness
 
     if result.geo is None:
         raise ValueError("the result carries no pair geometry (Result.geo)")
@@ -101,16 +102,16 @@ def contact_force_history(result) -> ContactForces:
     ends = rest_face_ends(result.geo)
     for k in range(nt):
         q = np.ascontiguousarray(result.q[k])
-        pair, gap, Wr, _, _, share = touching_with_shares(q, forced, tol, n, result.geo, ends)
+        pair, gap, Wr, Q, N, share = touching_with_shares(q, forced, tol, n, result.geo, ends)
         keep = gap < 0  # the pressed points, as the driver keeps them
         if not np.any(keep):
             continue
-        pair, gap, Wr, share = pair[keep], gap[keep], Wr[keep], share[keep]
+        pair, gap, Wr, Q, N, share = pair[keep], gap[keep], Wr[keep], Q[keep], N[keep], share[keep]
         m = len(pair)
         start, approach = _episode_history(result, pair, float(result.t[k]))
         zero = np.zeros((m, m))
         state = ContactState(float(result.t[k]), 0.0, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
-                             np.full(m, np.inf), share)
+                             struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share)
         lam = solve_forces(laws, which[pair], state)
         np.add.at(pair_force[k], pair, lam)
         modal[k] = Wr.T @ lam
