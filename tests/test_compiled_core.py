@@ -9,6 +9,7 @@ from __future__ import annotations
 import importlib
 import json
 import os
+import pickle
 import subprocess
 import sys
 from pathlib import Path
@@ -373,3 +374,15 @@ def test_calls_from_python_run_the_machine_code_numba_chose_for_their_argument_t
     assert [_call_with(f, 1.5) for f in (_twice, _thrice, _twice)] == [3.0, 4.5, 3.0]
     assert [_first_of(kernel_tuple((f,)), 2.0) for f in (_thrice, _twice, _thrice)] == [6.0, 4.0, 6.0]
     assert len(_call_with._call.entries) == 2 and len(_first_of._call.entries) == 2
+
+
+@needs_numba
+def test_a_compiled_function_that_ran_still_pickles_as_numbas_cache_pickles_it():
+    """numba's cache pickles a compiled function by value when one defined outside an importable
+    module names it (a plugin's maps calling the package's ``alpha_transition``): after calls, with
+    machine code kept per argument fingerprint, a compiled function still pickles, and the copy runs."""
+    from numba.core import serialize
+
+    assert _total(np.arange(4.0)) == 6.0
+    copy = pickle.loads(serialize.dumps(_total))
+    assert copy(np.arange(5.0)) == 10.0

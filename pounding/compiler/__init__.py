@@ -146,6 +146,14 @@ class Kernel:
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
 
+    def __getstate__(self) -> dict:
+        # numba's cache pickles a compiled function by value when one defined outside an importable
+        # module (a test's, a script's) names this one: what its calls run (the machine code kept
+        # per fingerprint, the extension's entries) is this process's and is found again on a call
+        state = dict(self.__dict__)
+        state["_call"] = None
+        return state
+
 
 def _fix_identity(dispatcher, func) -> None:
     """Give a dispatcher the same identity in every process: its module, name and source file's digest.

@@ -40,6 +40,8 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.framework.engine import pairs as pg
+from pounding.framework.engine.ground_load import modal_loads
+from pounding.framework.engine.modal_step import stepped
 
 
 @dataclass(frozen=True)
@@ -153,9 +155,9 @@ def modal_peaks(integrator_cls, omega: np.ndarray, zeta: np.ndarray, L: np.ndarr
         Ground acceleration samples [m/s^2] every ``dt`` [s].
     """
     tr = integrator_cls().transition(np.ascontiguousarray(omega, dtype=float), np.ascontiguousarray(zeta, dtype=float), float(dt))
-    load = np.ascontiguousarray(-(np.asarray(ag, dtype=float) @ L.T))  # (m, n)
     peak = np.zeros((len(omega), 2))
-    _step_peaks(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), load, peak)
+    _step_peaks(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), np.ascontiguousarray(L, dtype=float),
+                np.ascontiguousarray(ag, dtype=float), peak)
     return peak[:, 0], peak[:, 1]
 
 
@@ -170,24 +172,26 @@ def _rows_at(q, p, points, geo, rows):
 
 
 @njit
-def _step_peaks(A, B, load, peak):
+def _step_peaks(A, B, L, ag, peak):
     """peak (n, 2) <- the largest |q| and |q'| of every mode stepped from rest by the transition
-    A (n, 3, 3), B (n, 3, 2) under the modal loads ``load`` (m, n) at the samples (a record of a
-    few thousand samples: compiled, as a Python loop it cost about 40 ms a run)."""
-    n = load.shape[1]
-    z = np.zeros((n, 3))
-    z1 = np.empty(3)
+    A (n, 3, 3), B (n, 3, 2) under the modal ground loads of L (n, c) and the ground acceleration
+    samples ag (m, c) (a record of a few thousand samples: compiled, as a Python loop it cost about
+    40 ms a run)."""
+    n = L.shape[0]
+    z, z0 = np.zeros((n, 3)), np.empty((n, 3))
+    p0, p1 = np.empty(n), np.empty(n)
+    modal_loads(L, ag[0], p1)
     for i in range(n):
-        z[i, 2] = load[0, i]  # at rest, the acceleration is the load's
-    for k in range(load.shape[0] - 1):
+        z[i, 2] = p1[i]  # at rest, the acceleration is the load's
+    for k in range(ag.shape[0] - 1):
+        p0[:] = p1
+        modal_loads(L, ag[k + 1], p1)
+        z0[:] = z
         for i in range(n):
             for r in range(3):
-                z1[r] = (A[i, r, 0] * z[i, 0] + A[i, r, 1] * z[i, 1] + A[i, r, 2] * z[i, 2]
-                         + B[i, r, 0] * load[k, i] + B[i, r, 1] * load[k + 1, i])
-            for r in range(3):
-                z[i, r] = z1[r]
-            peak[i, 0] = max(peak[i, 0], abs(z1[0]))
-            peak[i, 1] = max(peak[i, 1], abs(z1[1]))
+                z[i, r] = stepped(A, B, i, r, z0, p0[i], p1[i])
+            peak[i, 0] = max(peak[i, 0], abs(z[i, 0]))
+            peak[i, 1] = max(peak[i, 1], abs(z[i, 1]))
 
 
 def shortest_contact(model, laws: list, pair_law: np.ndarray, peaks) -> ContactTime:

@@ -42,6 +42,7 @@ from pounding.framework.engine.kernel import _accumulate_forces, _record, update
 from pounding.framework.engine.inelastic import MAX_ITER
 from pounding.framework.engine.pairs import closing, features_of, pair_features, pair_gap, slab_dofs
 from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work
+from pounding.framework.engine.modal_step import stepped
 
 #: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
 #: and the driver share one specialization
@@ -111,7 +112,7 @@ def step(A, B, z, p0, p1):
     z1 = np.empty((n, 3))
     for i in range(n):
         for r in range(3):
-            z1[i, r] = A[i, r, 0] * z[i, 0] + A[i, r, 1] * z[i, 1] + A[i, r, 2] * z[i, 2] + B[i, r, 0] * p0[i] + B[i, r, 1] * p1[i]
+            z1[i, r] = stepped(A, B, i, r, z, p0[i], p1[i])
     return z1
 
 

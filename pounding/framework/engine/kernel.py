@@ -28,6 +28,7 @@ from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_b
 from pounding.framework.engine.bundles import Status
 from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, point_bounds, slab_state, suspect_given
 from pounding.framework.engine.ground_load import modal_load
+from pounding.framework.engine.modal_step import stepped
 from pounding.framework.engine.pairs import building_groups, closing, dofs_gap, touching_features
 from pounding.framework.engine.peaks import cubic_abs_max
 
@@ -225,7 +226,7 @@ def _free_step(A, B, L, ag0, ag1, z0, z):
         p0 = modal_load(L, i, ag0)
         p1 = modal_load(L, i, ag1)
         for r in range(3):
-            z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0 + B[i, r, 1] * p1
+            z[i, r] = stepped(A, B, i, r, z0, p0, p1)
 
 
 @njit

@@ -36,6 +36,7 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
+from pounding.framework.engine.modal_step import stepped
 
 
 @njit(borrowed=True)
@@ -265,7 +266,7 @@ def stepped_min_gap(A, B, z, p0, p1, plist, geo):
     n = z.shape[0]
     q1 = np.empty(n)
     for i in range(n):
-        q1[i] = A[i, 0, 0] * z[i, 0] + A[i, 0, 1] * z[i, 1] + A[i, 0, 2] * z[i, 2] + B[i, 0, 0] * p0[i] + B[i, 0, 1] * p1[i]
+        q1[i] = stepped(A, B, i, 0, z, p0[i], p1[i])
     g = np.inf
     for j in range(plist.shape[0]):
         g = min(g, pair_gap(q1, plist[j], np.inf, geo))

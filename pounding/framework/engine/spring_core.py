@@ -43,6 +43,7 @@ from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.kernel import _accumulate, _record, _slab_dofs, update_peaks
 from pounding.framework.engine.pairs import dofs_gap
 from pounding.framework.engine.links import law_update
+from pounding.framework.engine.modal_step import stepped
 
 
 @njit(borrowed=True)
@@ -590,7 +591,7 @@ def _step_with_links(laws, A, B, z0, p0, p1, h, links, S, now, out, ws, counts, 
     n = z0.shape[0]
     for i in range(n):
         for r in range(3):
-            z[i, r] = A[i, r, 0] * z0[i, 0] + A[i, r, 1] * z0[i, 1] + A[i, r, 2] * z0[i, 2] + B[i, r, 0] * p0[i] + B[i, r, 1] * p1[i]
+            z[i, r] = stepped(A, B, i, r, z0, p0[i], p1[i])
         qlin[i] = z[i, 0]
     j = _solve_springs(laws, links, S, h, qlin, now, out, ws, counts)
     if j >= 0:
