@@ -7,6 +7,8 @@ The links-and-laws engine must cost no more than 1.1x the solver time of the eng
 codes, so that the same work is timed):
 
 * ``paper``: the paper pair at 0.03 m (HHT, dt 0.005 s, impulse contact, 15 s of El Centro at 0.32 g);
+* ``paper_defaults``: the same pair with every default (no integrator and no dt given: ``exact`` at
+  dt 0.01 s, the crossing locator, equilibrium after an impact), the run a new user makes;
 * ``lshape``: benchmarks/scenes/l_shape_8_rect_4.toml (8 + 4 storeys, an L against a rectangle);
 * ``tall60``: two 60-storey buildings 0.05 m apart (benchmarks/scenes.py ``uniform_pair(60)``);
 * ``yielding``: the paper pair with bilinear storey springs at 0.03 m (examples/inelastic_pair);
@@ -40,7 +42,7 @@ from common import log, write_json
 
 ROOT = Path(__file__).resolve().parents[1]
 BASE = "87d36f4"
-CASES = ("paper", "lshape", "tall60", "yielding", "yielding_free", "penalty", "yielding_penalty", "fragility")
+CASES = ("paper", "paper_defaults", "lshape", "tall60", "yielding", "yielding_free", "penalty", "yielding_penalty", "fragility")
 
 TIME = r'''
 import json, statistics, sys, warnings
@@ -70,6 +72,8 @@ if case == "fragility":  # the study's cost per run (its runs' own solver times)
     sys.exit(0)
 if case == "paper":
     scene = load_scene("examples/paper/pair_gap_0.03.toml")
+elif case == "paper_defaults":
+    scene = load_scene("examples/paper/pair_gap_0.03.toml").with_analysis(integrator=None, integrator_params={}, dt=None)
 elif case == "lshape":
     scene = load_scene("benchmarks/scenes/l_shape_8_rect_4.toml")
 elif case == "tall60":
