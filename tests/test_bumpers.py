@@ -331,15 +331,17 @@ def test_a_layer_moved_into_its_neighbour_is_refused():
         Model(sc)
 
 
-def test_contacts_csv_names_the_bumper_as_the_pairs_law():
+def test_contacts_csv_names_the_bumper_as_the_pairs_law(tmp_path):
     """The law column of contacts.csv names a bumper's pair's law "bumper" (its layer and the slabs' law:
-    summary.json's contact.between[...].bumper), not the slabs' law alone."""
-    from pounding.io.results import contact_rows, pair_law_names
+    summary.json's contact.between[...].bumper), not the slabs' law alone: the run records each pair's
+    law as it resolved it, and a run folder read back resolves the same by the same rule."""
+    from pounding.io.results import contact_rows, load_result, write_results
 
     d = free_slabs({"name": "rubber", "stiffness": K_LAYER}, 1.0)
     r = d.run()
-    assert pair_law_names(r) == ["bumper"]
+    assert r.pair_law_names == ["bumper"]
     assert [row[2] for row in contact_rows(r)] == ["bumper"]
+    assert load_result(write_results(r, tmp_path / "run"))[1].pair_law_names == ["bumper"]
     assert r.contact["between"][0]["bumper"]["layer"]["name"] == "rubber"
 
 

@@ -16,6 +16,11 @@ from pounding.framework.model.bumpers import rule_pairs
 from pounding.framework.model.registry import CONTACT_LAWS
 
 
+def law_name(law: ContactLaw) -> str:
+    """The name a law is reported by: its registered ``name``, else its class's (a law passed as a class)."""
+    return law.name or type(law).__name__
+
+
 def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
     """The contact law of the slabs against ``wall`` (a :class:`~pounding.framework.model.scene.Wall`).
 

@@ -49,7 +49,6 @@ from pathlib import Path
 import numpy as np
 
 from pounding.framework.engine.results import ContactEpisode, Result
-from pounding.framework.model.registry import watches_contact
 from pounding.framework.post.energy_account import energy_balance
 
 IMPACT_COLUMNS = [
@@ -68,24 +67,6 @@ CONTACT_COLUMNS = [
 ]
 
 
-def pair_law_names(result: Result) -> list[str]:
-    """The name of every slab pair's contact law (``[analysis] contact`` or its pair's ``[[contact]]``)."""
-    default = result.contact.get("name", "")
-    by = {frozenset(r["between"]): r.get("name", "") for r in result.contact.get("between", [])}
-    walls = {w["wall"]: w.get("name", "") for w in result.contact.get("walls", [])}
-    on_wall = getattr(result, "walls", {})
-    names = [walls.get(on_wall[p].name, default) if p in on_wall else by.get(frozenset((result.names[a], result.names[b])), default)
-             for p, (a, _, b, _, _) in enumerate(result.pairs)]
-    scene = getattr(result, "scene", None)
-    if scene is not None and watches_contact(scene.analysis):  # a bumper's pairs take its layer and the slabs' law
-        from pounding.framework.model.bumpers import rule_pairs
-
-        for rule in scene.contacts:
-            for p in rule_pairs(scene.buildings, result.pairs, rule):
-                names[p] = "bumper"
-    return names
-
-
 def episodes_with_forces(result: Result) -> list[tuple[ContactEpisode, float]]:
     """Every contact episode (:meth:`Result.episodes`'s, unsorted) with its peak force [N]: a force law's
     own, and for an impulse law's impact the equivalent peak force of ``[analysis.impact_force]``
@@ -100,7 +81,7 @@ def episodes_with_forces(result: Result) -> list[tuple[ContactEpisode, float]]:
 def contact_rows(result: Result) -> list[list]:
     """contacts.csv rows (:data:`CONTACT_COLUMNS`), by start time: storeys 1-based; each with its peak
     force (:func:`episodes_with_forces`)."""
-    laws = pair_law_names(result)
+    laws = result.pair_law_names
     episodes = episodes_with_forces(result)
     merged = result.contact_episodes()
     rows = []
@@ -430,7 +411,19 @@ def load_result(folder: str | Path):
     model = Model(scene, result.systems)  # the pair geometry, as the run built it
     result.geo, result.facades, result.buildings, result.scene = model.geo, model.facades, scene.buildings, scene
     result.walls = model.walls
+    result.pair_law_names = run_law_names(scene, model)
     return scene, result
+
+
+def run_law_names(scene, model) -> list[str]:
+    """The name of every slab pair's contact law of ``scene`` on the pairs of ``model``, by the rule
+    the run resolves them with (:func:`pounding.contact.rules.pair_laws`)."""
+    from pounding.contact.rules import law_name, pair_laws
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    an = scene.analysis
+    laws, which = pair_laws(scene, model.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), model.walls)
+    return [law_name(laws[j]) for j in which]
 
 
 def _load_springs(folder: Path, scene, summ: dict) -> dict:

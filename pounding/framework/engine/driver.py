@@ -33,6 +33,7 @@ import numpy as np
 from pounding import compiler
 from pounding.contact import geometry as geo
 from pounding.contact.geometry import MAX_FEATURES
+from pounding.contact.rules import law_name
 from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
@@ -380,6 +381,7 @@ class Driver:
             geo=m.geo,
             facades=m.facades,
             walls=m.walls,
+            pair_law_names=[law_name(self.laws[j]) for j in self.pair_law],
             buildings=self.scene.buildings,
             scene=self.scene,
             energy=self.energy(),

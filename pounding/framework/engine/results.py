@@ -193,6 +193,10 @@ class Result:
     facades: dict = field(default_factory=dict)
     #: {pair index: :class:`~pounding.framework.model.scene.Wall`} of the pairs where a slab meets a fixed wall
     walls: dict = field(default_factory=dict)
+    #: the name of every slab pair's contact law (``pairs`` order), as the run resolved it
+    #: (:func:`pounding.contact.rules.pair_laws`: ``[analysis] contact``, a pair's ``[[contact]]``, a
+    #: wall's own law, a bumper)
+    pair_law_names: list = field(default_factory=list)
     #: the scene's buildings (elements with their plan lines and sections), for the struck element
     buildings: tuple = ()
     #: the Scene that was run (None when unknown): :func:`pounding.io.results.write_results` writes it
