@@ -115,11 +115,11 @@ def _warm_task(name: str) -> None:
         model = driver.model
         q = np.zeros(model.n)
         model.features(q, 0, driver.tol)
-        _, gap, W, _, _ = model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
+        touching = model.touching(q, np.arange(len(model.pairs), dtype=np.int64), driver.tol, True)
         driver.advance_held(0, 0)
         from pounding.framework.engine.held import rows_where
 
-        rows_where(np.ascontiguousarray(gap <= driver.touch), np.ascontiguousarray(W))  # a held Python step's plastic stop
+        rows_where(np.ascontiguousarray(touching.gap <= driver.touch), np.ascontiguousarray(touching.W))  # a held Python step's plastic stop
         # the default integrator of elastic scenes (exact): its compiled maps, the transition the
         # crossing locator builds at every located impact and the work integrals of the energy audit
         # (grid step and partial steps; the packaged paper scene names HHT)

@@ -27,7 +27,8 @@ def _numpy_bound(d: Driver, p: int, t: float, k: float):
     r and to a, plus a few roundings of the quotient."""
     m = d.model
     q = np.ascontiguousarray(d.z[:, 0])
-    count, *_, W = pg.pair_features(q, p, d.tol, m.n, m.geo)
+    touching = pg.pair_features(q, p, d.tol, m.n, m.geo)
+    count, W = touching.count, touching.W
     if count == 0:
         return np.inf, 0.0
     acc = d.load(t) + d.fc - m.c2 * d.z[:, 1] - m.om2 * q

@@ -423,7 +423,8 @@ def test_a_contact_row_is_the_gradient_of_the_gap_on_turned_slabs():
         q = modal_from_physical(m, {(0, 0): (0.0, 0.0, 0.008), (1, 0): (u_right, 0.0, -0.012)})
         u_right -= float(pg.pair_gap(q, 0, np.inf, m.geo)) + 1e-5
     q = modal_from_physical(m, {(0, 0): (0.0, 0.0, 0.008), (1, 0): (u_right, 0.0, -0.012)})
-    count, _, _, gap, *_, W = pg.pair_features(q, 0, 1e-4, m.n, m.geo)
+    touching = pg.pair_features(q, 0, 1e-4, m.n, m.geo)
+    count, gap, W = touching.count, touching.gap, touching.W
     assert count == 1 and gap[0] == pytest.approx(-1e-5, rel=1e-3)
     rng = np.random.default_rng(7)
     for _ in range(8):

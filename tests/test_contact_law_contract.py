@@ -49,7 +49,7 @@ def free_slabs(law, **params):
 
 def effective_mass(d) -> float:
     """1/a of the contact point at rest [kg]: the two slabs' mass seen along the normal (eq. 12's a)."""
-    _, _, W, _, _ = d.model.touching(np.zeros(d.model.n), d.model.all_pairs, 1e-3, deep=True)
+    W = d.model.touching(np.zeros(d.model.n), d.model.all_pairs, 1e-3, deep=True).W
     return 1.0 / float(W[0] @ W[0])
 
 

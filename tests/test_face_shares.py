@@ -78,8 +78,9 @@ def _pressed_states(result):
     out = []
     for k in range(len(result.t)):
         q, qd = np.ascontiguousarray(result.q[k]), result.qd[k]
-        pair, gap, W, Q, _, who, idx, face = pg.struck_features(q, plist, TOL, True, n, result.geo)
-        share = point_shares(ends, pair, who, idx, face)
+        f = pg.struck_features(q, plist, TOL, True, n, result.geo)
+        pair, gap, W, Q = f.pair, f.gap, f.W, f.Q
+        share = point_shares(ends, pair, f.who, f.idx, f.face)
         keep = gap < 0
         own = []
         if keep.any():
@@ -87,7 +88,7 @@ def _pressed_states(result):
             for j in np.flatnonzero(keep):
                 # the same point moved: the pair's feature nearest to it (a flush corner may be reported
                 # as either slab's vertex, at the same place and penetration)
-                g = [float(m[1][m[0] == pair[j]][np.argmin(np.linalg.norm(m[3][m[0] == pair[j]] - Q[j], axis=1))])
+                g = [float(m.gap[m.pair == pair[j]][np.argmin(np.linalg.norm(m.Q[m.pair == pair[j]] - Q[j], axis=1))])
                      for m in moved]
                 own.append(-(g[0] - g[1]) / (2 * h))
         W = W[keep]

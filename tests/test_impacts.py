@@ -816,7 +816,8 @@ def _held_pair_with_an_arriving_corner(closing: float, use_kernel: bool, widths=
 
 def _corner_b(d: Driver):
     """Gap [m] and closing speed [m/s] of corner B of the held pair (the feature at (10, 10))."""
-    _, gap, W, Q, _ = d.model.touching(d.z[:, 0], np.array([0]), d.tol, deep=True)
+    f = d.model.touching(d.z[:, 0], np.array([0]), d.tol, deep=True)
+    gap, W, Q = f.gap, f.W, f.Q
     j = int(np.argmax(Q[:, 1]))
     return float(gap[j]), float(-(W[j] @ d.z[:, 1]))
 

@@ -149,6 +149,73 @@ class StepSolution(NamedTuple):
     springs: object  #: the links (:class:`LinkSearch`), or None
 
 
+class PairFeatures(NamedTuple):
+    """The touching features of one slab pair, with their modal rows
+    (:func:`pounding.framework.engine.pairs.pair_features`): rows of MAX_FEATURES
+    (:data:`pounding.contact.geometry.MAX_FEATURES`), the first ``count`` valid."""
+
+    count: int  #: number of valid rows (0..MAX_FEATURES)
+    Q: np.ndarray  #: (MAX_FEATURES, 2) contact points [m]
+    N: np.ndarray  #: (MAX_FEATURES, 2) unit normals from slab a towards slab b
+    gap: np.ndarray  #: (MAX_FEATURES,) gap of every feature [m]
+    who: np.ndarray  #: (MAX_FEATURES,) int64, the striking polygon (0: a vertex of a, 1: of b)
+    idx: np.ndarray  #: (MAX_FEATURES,) int64, its vertex
+    face: np.ndarray  #: (MAX_FEATURES,) int64, the partner edge of a face-to-face feature (-1: a point feature)
+    #: (MAX_FEATURES, n) modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
+    #: apart changes q' by W[k] I_k
+    W: np.ndarray
+
+
+class Features(NamedTuple):
+    """The touching features of several slab pairs, stacked, m in all
+    (:func:`pounding.framework.engine.pairs.struck_features`)."""
+
+    pair: np.ndarray  #: (m,) int64, the pair of every feature
+    gap: np.ndarray  #: (m,) gaps [m]
+    W: np.ndarray  #: (m, n) modal rows (:func:`pounding.framework.engine.pairs.contact_row`)
+    Q: np.ndarray  #: (m, 2) contact points [m]
+    N: np.ndarray  #: (m, 2) unit normals from slab a towards slab b
+    who: np.ndarray  #: (m,) int64, the striking slab (0: a vertex of slab a, 1: of slab b)
+    idx: np.ndarray  #: (m,) int64, its vertex (-1: not a vertex)
+    face: np.ndarray  #: (m,) int64, the face-to-face id within the pair (-1: a point feature)
+
+
+class TouchingFeatures(NamedTuple):
+    """The features of every candidate pair that touches, stacked in pair order, in arrays of a
+    capacity ``cap`` of which the first ``count`` rows are valid
+    (:func:`pounding.framework.engine.pairs.touching_features`)."""
+
+    count: int  #: number of features
+    pair: np.ndarray  #: (cap,) int64, the pair of every feature
+    who: np.ndarray  #: (cap,) int64, the striking polygon (0: a vertex of a, 1: of b)
+    vertex: np.ndarray  #: (cap,) int64, its vertex (-1: face to face)
+    Q: np.ndarray  #: (cap, 2) contact points [m]
+    N: np.ndarray  #: (cap, 2) unit normals from slab a towards slab b
+    W: np.ndarray  #: (cap, n) modal rows (:func:`pounding.framework.engine.pairs.contact_row`)
+
+
+class HeldStep(NamedTuple):
+    """One step with held pairs in rigid sustained contact (:func:`pounding.framework.engine.held.held_step`)."""
+
+    z0: np.ndarray  #: (n, 3) the start state, its acceleration consistent with f0
+    z1: np.ndarray  #: (n, 3) the end state
+    f0: np.ndarray  #: (n,) modal contact force at the start [N/kg^0.5]
+    f1: np.ndarray  #: (n,) at the end
+    #: the held pairs' touching features at the end state (pair, gap, W, Q are read): the next step's start
+    end: Features
+    arrival: float  #: the smallest end gap [m] of a point that was apart at the start (inf: none within the features)
+    apair: int  #: its pair (-1: none)
+
+
+class HeldFixedPoint(NamedTuple):
+    """A held step of a model with links with laws, their end remainders by a fixed point around it
+    (:func:`pounding.framework.engine.held.held_fixed_point`)."""
+
+    #: Status.DONE, or Status.DIVERGED when the fixed point did not converge (``step`` is then the last pass's)
+    status: Status
+    step: HeldStep  #: the held step (the contact forces only in its f0, f1, not the links' loads)
+
+
 class Recorder(NamedTuple):
     """What a run records, written in place."""
 
@@ -285,10 +352,9 @@ class HeldSearch(NamedTuple):
 
     held: np.ndarray  #: (k,) int64 the held pairs
     contact: HeldContact  #: the tolerance and the touching gap
-    pair0: np.ndarray  #: (m,) int64 the held pairs' touching features at the start: their pairs,
-    gap0: np.ndarray  #: (m,) gaps [m],
-    W0: np.ndarray  #: (m, n) modal rows,
-    Q0: np.ndarray  #: (m, 2) and contact points [m]
+    #: the held pairs' touching features at the start (:func:`pounding.framework.engine.pairs.struck_features`
+    #: with ``deep``), m of them
+    start: Features
     modes: Modes  #: the stacked modal model
     arrival: bool  #: seek the arrival gap (held pairs' points apart at the start), else the pairs' smallest gap
     far: float  #: the arrival gap where no point is apart [m] (a positive stand-in)

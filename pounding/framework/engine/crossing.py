@@ -116,11 +116,12 @@ def rate_at_gap(q, v, p, g, tol, n, geo):
     """:func:`nearest_rate` given the pair's exact signed gap g [m] at q (``pair_gap`` with no cutoff,
     or with a cutoff it does not exceed)."""
     # contact_points reports nothing beyond its tolerance: widen it to reach the nearest feature
-    count, Q, N, gap, who, idx, face, W = pair_features(q, p, max(g, 0.0) + tol, n, geo)
-    if count == 0:
+    f = pair_features(q, p, max(g, 0.0) + tol, n, geo)
+    gap, W = f.gap, f.W
+    if f.count == 0:
         return g, 0.0
     j = 0
-    for k in range(1, count):
+    for k in range(1, f.count):
         if gap[k] < gap[j]:
             j = k
     r = 0.0

@@ -708,16 +708,16 @@ class Driver:
         with yielding springs :func:`pounding.framework.engine.held.held_fixed_point`, their trial in ``Step.sp``)."""
         m, tr = self.model, self.cache(h)
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        pair0, gap0, W0, Q0, _ = m.touching(z[:, 0], held, self.tol, deep=True)
+        start = m.touching(z[:, 0], held, self.tol, deep=True)
         p0, p1 = self.load(t), self.load(t + h)
         contact = HeldContact(float(self.tol), float(self.touch))
         args = (np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), float(h), m.modes,
-                held, contact, (pair0, gap0, W0, Q0), m.geo)
+                held, contact, start, m.geo)
         if self.springs is not None:  # their end remainders by the fixed point around the held step
-            z0, z1, f0, f1, arrival, arriving, sp = self.springs.held_step(*args)
-            return Step(z0, z1, f0, f1, sp, arrival=float(arrival), arriving=int(arriving))
-        z0, z1, f0, f1, _, arrival, arriving = hold.held_step(*args)
-        return Step(z0, z1, f0, f1, arrival=float(arrival), arriving=int(arriving))
+            st, sp = self.springs.held_step(*args)
+            return Step(st.z0, st.z1, st.f0, st.f1, sp, arrival=float(st.arrival), arriving=int(st.apair))
+        st = hold.held_step(*args)
+        return Step(st.z0, st.z1, st.f0, st.f1, arrival=float(st.arrival), arriving=int(st.apair))
 
     def locate_arrival(self, t: float, h: float, st: Step) -> float | None:
         """Step length [s] from t to the instant at which a point of a held pair that is apart at t
@@ -728,7 +728,7 @@ class Driver:
         the held pairs' points that were apart at t (``Step.arrival``), with the trial step's
         interpolant as its guide."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        _, gap0, _, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        gap0 = self.model.touching(self.z[:, 0], held, self.tol, deep=True).gap
         apart = gap0[gap0 > self.touch]
         # a point beyond the features listed is more than the tolerance away: the search only needs a
         # positive gap where none is listed (at the start, or inside the step)
@@ -766,8 +766,8 @@ class Driver:
         :func:`~pounding.framework.engine.held.held_stretch`; the paper's rules stop every point within
         the tolerance."""
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        _, gap, W, _, _ = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
-        W = hold.rows_where(np.ascontiguousarray(gap <= self.touch), np.ascontiguousarray(W))  # (touch = inf: every point)
+        start = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
+        W = hold.rows_where(np.ascontiguousarray(start.gap <= self.touch), np.ascontiguousarray(start.W))  # (touch = inf: every point)
         v_before = self.z[:, 1].copy()
         hold.stop_closing(self.z, W, self.v_min)
         hold.book_velocity_change(self.E, self.model.bidx, v_before, self.z[:, 1].copy())
@@ -889,18 +889,18 @@ class Driver:
         state: what :meth:`held_trial` steps with (their touching features at the start), and the gap
         sought (``arrival``: the held pairs' points apart at the start, ``far`` where none is; else
         the culprits' smallest gap), ``g0`` its value at the start [m]."""
-        from pounding.framework.engine.bundles import HeldSearch
+        from pounding.framework.engine.bundles import Features, HeldSearch
 
         m = self.model
         if not self.sustained:  # none held: the same bundle's type, with no pair (built once)
             if self._no_held is None:
                 none = np.zeros(0, dtype=np.int64)
-                self._no_held = HeldSearch(none, HeldContact(float(self.tol), float(self.touch)), none, np.zeros(0), np.zeros((0, m.n)),
-                                           np.zeros((0, 2)), m.modes, False, 0.0, 0.0)
+                nothing = Features(none, np.zeros(0), np.zeros((0, m.n)), np.zeros((0, 2)), np.zeros((0, 2)), none, none, none)
+                self._no_held = HeldSearch(none, HeldContact(float(self.tol), float(self.touch)), nothing, m.modes, False, 0.0, 0.0)
             return self._no_held
         held = np.array(sorted(self.sustained), dtype=np.int64)
-        pair0, gap0, W0, Q0, _ = m.touching(self.z[:, 0], held, self.tol, deep=True)
-        return HeldSearch(held, HeldContact(float(self.tol), float(self.touch)), pair0, gap0, W0, Q0, m.modes, bool(arrival), float(far), float(g0))
+        start = m.touching(self.z[:, 0], held, self.tol, deep=True)
+        return HeldSearch(held, HeldContact(float(self.tol), float(self.touch)), start, m.modes, bool(arrival), float(far), float(g0))
 
     def step_search(self):
         """The :class:`~pounding.framework.engine.bundles.StepSearch` bundle of this run (built once)."""

@@ -164,17 +164,15 @@ def held_end(laws, springs, z, p0, p1, A, B, hh, held, geo):
     (n,) at its ends: :func:`~pounding.framework.engine.held.held_step` (``springs`` None), or with
     the links :func:`~pounding.framework.engine.held.held_fixed_point`, as the driver's held trial
     takes them."""
-    start = (held.pair0, held.gap0, held.W0, held.Q0)
     if springs is None:
-        _, z1, _, _, _, arrival, _ = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact, start, geo)
-        return z1, arrival
+        st = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact, held.start, geo)
+        return st.z1, st.arrival
     now = springs.now
     spr = LinkPass(springs.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0])))
-    status, _, z1, _, _, _, arrival, _ = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact,
-                                                          start, geo, spr)
-    if status != Status.DONE:
+    fixed = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact, held.start, geo, spr)
+    if fixed.status != Status.DONE:
         springs.failed[0] = 0
-    return z1, arrival
+    return fixed.step.z1, fixed.step.arrival
 
 
 @njit

@@ -76,6 +76,5 @@ def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, g
     and their shares: (pair (m,), gap (m,), W (m, n), Q, N (m, 2), share (m,)) for modal
     displacements q (n,), contact tolerance ``tol`` [m] and the rest faces ``ends``
     (:func:`rest_face_ends`)."""
-    pair, gap, W, Q, N, who, idx, face = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol),
-                                                            True, n, geo)
-    return pair, gap, W, Q, N, point_shares(ends, pair, who, idx, face)
+    f = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol), True, n, geo)
+    return f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face)

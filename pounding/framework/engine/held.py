@@ -35,16 +35,16 @@ import numpy as np
 
 from pounding.contact.base import keep_pushing, newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import HeldContact, LinkPass, LinkTrial, Status
+from pounding.framework.engine.bundles import Features, HeldContact, HeldFixedPoint, HeldStep, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.kernel import _accumulate_forces, _record, update_peaks
 from pounding.framework.engine.inelastic import MAX_ITER
-from pounding.framework.engine.pairs import closing, features_of, pair_features, pair_gap, slab_dofs
+from pounding.framework.engine.pairs import closing, pair_features, pair_gap, slab_dofs, struck_features
 from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work
 from pounding.framework.engine.modal_step import stepped
 
-#: features_of's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
+#: struck_features's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
 #: and the driver share one specialization
 _DEEP = np.bool_(True)
 
@@ -62,10 +62,11 @@ def chatter_duration(z, p_ext, p, restitution, tol, modes, geo):
     if restitution >= 1.0:
         return np.inf
     n = z.shape[0]
-    count, _, _, _, _, _, _, W = pair_features(z[:, 0].copy(), p, tol, n, geo)
+    touching = pair_features(z[:, 0].copy(), p, tol, n, geo)
+    W = touching.W
     c2, om2 = modes.c2, modes.om2
     best = np.inf
-    for f in range(count):
+    for f in range(touching.count):
         r = 0.0
         a = 0.0
         for i in range(n):
@@ -129,9 +130,10 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     that opens and stays open through the step gets no force. A point that is apart at the start (gap above
     ``touch``) gets no force: it moves with its slabs through the step, and the smallest end gap
     of such points is returned (``arrival``), for the caller to locate and strike where it is zero.
-    ``start`` = (pair (m,), gap0 (m,), W (m, n), Q (m, 2)): the held pairs' touching features at
-    the start (:func:`~pounding.framework.engine.pairs.features_of` with ``deep``: pairs, gaps,
-    modal rows, contact points).
+    ``start``: the held pairs' touching features at the start, a
+    :class:`~pounding.framework.engine.bundles.Features`
+    (:func:`~pounding.framework.engine.pairs.struck_features` with ``deep``; its pairs, gaps (m,),
+    modal rows (m, n) and contact points (m, 2) are read).
     g0, g1 (n,) are the modal loads at the step's ends; A (n, 3, 3),
     B (n, 3, 2) the integrator's transition for h; ``modes`` the
     :class:`~pounding.framework.engine.bundles.Modes` (c2 = 2 zeta omega and
@@ -156,17 +158,14 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     the pair is elsewhere on them. (Its gap at the start linearised back from the end is no
     test: at a corner against a corner the normal turns as the slabs slide past each other.)
 
-    Returns
-    -------
-    z0 (n, 3) : the start state with its acceleration consistent with f0;
-    z1 (n, 3) : the end state; f0, f1 (n,) : modal contact forces at the ends [N/kg^0.5];
-    end : (pair, gap, W, Q), the held pairs' features at the end state (the next step's ``start``);
-    arrival [m] : the smallest end gap of a point that was apart at the start (inf: none within
-    the features), and its pair (-1: none).
+    Returns a :class:`~pounding.framework.engine.bundles.HeldStep`: the start state with its
+    acceleration consistent with f0, the end state, the modal contact forces at the ends, the held
+    pairs' features at the end state (the next step's ``start``), and the smallest end gap of a
+    point that was apart at the start with its pair.
     """
     c2, om2 = modes.c2, modes.om2
     tol, touch = contact.tol, contact.touch
-    pair0, gap0, W, Q0 = start
+    pair0, gap0, W, Q0 = start.pair, start.gap, start.W, start.Q
     n = z.shape[0]
     z0 = z.copy()
     for i in range(n):
@@ -229,7 +228,8 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     D = grow[:, 0].copy()
     found = False
     for attempt in range(4):
-        fpair, g1f, Wr, Q1, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        end = struck_features(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        fpair, g1f, Wr, Q1 = end.pair, end.gap, end.W, end.Q
         found = True
         m = g1f.shape[0]
         if m == 0:
@@ -263,7 +263,8 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
                 z0[i, 2] += df[i]
             f1[i] += df[i]
     if not found:  # the last pass moved the slabs: the features of the end state itself
-        fpair, g1f, Wr, Q1, _ = features_of(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        end = struck_features(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        fpair, g1f, Q1 = end.pair, end.gap, end.Q
     kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
     arrival = np.inf
     apair = -1
@@ -271,7 +272,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
         if not kept[k] and g1f[k] < arrival:
             arrival = g1f[k]
             apair = fpair[k]
-    return z0, z1, f0, f1, (fpair, g1f, Wr, Q1), arrival, apair
+    return HeldStep(z0, z1, f0, f1, end, arrival, apair)
 
 
 @njit
@@ -420,9 +421,9 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
     the rest as :func:`held_step`. The driver's Python step and :func:`held_stretch` both take held
     steps of models with links through this function.
 
-    Returns (status, z0, z1, f0, f1, end, arrival, apair): Status.DONE, or Status.DIVERGED when the
-    fixed point did not converge (the rest is then the last pass's); the rest as :func:`held_step`,
-    with the links' loads not in f0, f1 (the contact forces only).
+    Returns a :class:`~pounding.framework.engine.bundles.HeldFixedPoint`: Status.DONE, or
+    Status.DIVERGED when the fixed point did not converge (its step is then the last pass's), and the
+    :func:`held_step`, with the links' loads not in its f0, f1 (the contact forces only).
     """
     links, now, out = spr.links, spr.now, spr.out
     g_now, state = now.g, now.state  # (a bundle's array read in a loop costs a reference count each time)
@@ -443,12 +444,13 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
         for _ in range(4 * MAX_ITER):
             for i in range(n):
                 e1[i] = p1[i] - g[i]
-            z0, z1, f0, f1, end, arrival, apair = held_step(z, e0, e1, A, B, h, modes, held, contact, start, geo)
+            st = held_step(z, e0, e1, A, B, h, modes, held, contact, start, geo)
+            z1 = st.z1
             for i in range(n):
                 q1[i] = z1[i, 0]
             if fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
-                return Status.DONE, z0, z1, f0, f1, end, arrival, apair
-    return Status.DIVERGED, z0, z1, f0, f1, end, arrival, apair
+                return HeldFixedPoint(Status.DONE, st)
+    return HeldFixedPoint(Status.DIVERGED, st)
 
 
 @njit
@@ -492,7 +494,8 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     touch = touch_gap(tol) if rules is None else np.inf
     contact = HeldContact(tol, touch)
     have = False  # start features known (the last step's end features)
-    startS = (np.empty(0, dtype=np.int64), np.empty(0), np.empty((0, n)), np.empty((0, 2)))
+    none = np.empty(0, dtype=np.int64)
+    startS = Features(none, np.empty(0), np.empty((0, n)), np.empty((0, 2)), np.empty((0, 2)), none, none, none)
     if run is not None:
         now, lrec = run.now, run.record
         spr = LinkPass(run.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(n)))
@@ -506,26 +509,26 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     for k in range(k0, k1):
         held = np.nonzero(held_mask)[0]
         if not have:
-            pS, gS, WS, QS, _ = features_of(z[:, 0].copy(), held, tol, _DEEP, n, geo)
-            startS = (pS, gS, WS, QS)
+            startS = struck_features(z[:, 0].copy(), held, tol, _DEEP, n, geo)
         v_before = z[:, 1].copy()
         E_before = E.copy()
         # the points that touch (crossing), every point within the tolerance with the paper's rules (touch = inf)
-        stop_closing(z, rows_where(startS[1] <= touch, startS[2]), v_min)
+        stop_closing(z, rows_where(startS.gap <= touch, startS.W), v_min)
         book_velocity_change(E, bidx, v_before, z[:, 1].copy())
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
         if run is None:
-            z0, z1, f0, f1, startS, arrival, apair = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
+            st = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
         else:
-            status, z0, z1, f0, f1, startS, arrival, apair = held_fixed_point(laws, z, g0, g1, A, B, dt, modes, held, contact,
-                                                                              startS, geo, spr)
-            if status != Status.DONE:
+            fixed = held_fixed_point(laws, z, g0, g1, A, B, dt, modes, held, contact, startS, geo, spr)
+            if fixed.status != Status.DONE:
                 for i in range(n):
                     z[i, 1] = v_before[i]
                 E[:, :] = E_before
                 return k, Status.DIVERGED, -1
+            st = fixed.step
+        z0, z1, f0, f1, startS, arrival, apair = st.z0, st.z1, st.f0, st.f1, st.end, st.arrival, st.apair
         have = True
         if arrival < overlap:  # a point of a held pair arrives: the driver locates and strikes it
             for i in range(n):

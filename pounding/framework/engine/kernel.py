@@ -266,7 +266,8 @@ def impulses_at(law, t, ag, z, fc, modes, settings, dt, log, geo, candidates):
     n = z.shape[0]
     q = z[:, 0].copy()
     v = z[:, 1].copy()
-    m, pair, who, vertex, Q, N, Wst = touching_features(q, candidates, tol, n, geo)
+    touching = touching_features(q, candidates, tol, n, geo)
+    m, pair, who, vertex, Q, N, Wst = touching.count, touching.pair, touching.who, touching.vertex, touching.Q, touching.N, touching.W
     b, kept, approaching = closing_speeds(Wst, pair, m, v, v_min)
     if not np.any(approaching):
         return False, False

@@ -35,6 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
+from pounding.framework.engine.bundles import Features, PairFeatures, TouchingFeatures
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound, contact_points, displaced, signed_gap
 from pounding.framework.engine.modal_step import stepped
 
@@ -126,31 +127,16 @@ def pair_gaps(q, plist, cutoff, geo):
 
 @njit
 def pair_features(q, p, tol, n, geo):
-    """Touching features of pair p within ``tol`` of its smallest gap, with their modal rows.
-
-    Returns
-    -------
-    count : int
-        Number of valid rows (0..MAX_FEATURES).
-    Q, N : (MAX_FEATURES, 2)
-        Contact points [m] and unit normals from slab a towards slab b.
-    gap : (MAX_FEATURES,)
-        Gap of every feature [m].
-    who, idx, face : (MAX_FEATURES,) int
-        Striking polygon (0: a vertex of a, 1: of b), its vertex, and the partner edge
-        when the feature is face to face (-1 otherwise); see
-        :func:`pounding.contact.geometry.contact_points`.
-    W : (MAX_FEATURES, n)
-        Modal rows: d gap_k = W[k] . dq, and an impulse pair I_k pushing the slabs
-        apart changes q' by W[k] I_k.
-    """
+    """Touching features of pair p within ``tol`` [m] of its smallest gap, with their modal rows, for
+    modal displacements q (n,): a :class:`~pounding.framework.engine.bundles.PairFeatures` (the
+    points, normals, gaps and strikers as :func:`pounding.contact.geometry.contact_points` gives them)."""
     A, B, sa, sb = pair_polygons(q, p, np.empty(3), np.empty(3), geo)
     count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
     W = np.zeros((MAX_FEATURES, n))
     a, b = geo.pa[p, 0], geo.pb[p, 0]
     for k in range(count):
         contact_row(geo, q, a, sa, b, sb, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
-    return count, Q, N, gap, who, idx, face, W
+    return PairFeatures(count, Q, N, gap, who, idx, face, W)
 
 
 @njit
@@ -203,28 +189,14 @@ def pair_row(q, p, qx, qy, nx, ny, geo):
 
 
 @njit
-def features_of(q, plist, tol, deep, n, geo):
-    """Touching features of several pairs, stacked: (pair, gap, W, Q, N) of every feature
-    (:func:`struck_features` without the strikers)."""
-    pair, gaps, W, Q, N, _, _, _ = struck_features(q, plist, tol, deep, n, geo)
-    return pair, gaps, W, Q, N
-
-
-@njit
 def struck_features(q, plist, tol, deep, n, geo):
-    """Touching features of several pairs, stacked, with what strikes at each.
+    """Touching features of the pairs ``plist`` (k,) int64, stacked, with what strikes at each, for
+    modal displacements q (n,): a :class:`~pounding.framework.engine.bundles.Features` (the strikers
+    as :func:`pounding.contact.geometry.contact_points` gives them).
 
-    A pair is searched when its gap is within ``tol``; with ``deep`` the search
+    A pair is searched when its gap is within ``tol`` [m]; with ``deep`` the search
     tolerance grows with the penetration (max(tol, tol - gap)) so that every
     penetrating feature of a deeply overlapping pair is found.
-
-    Returns
-    -------
-    pair : (m,) int, gap : (m,), W : (m, n), Q, N : (m, 2)
-    who, idx, face : (m,) int
-        The striking slab (0: a vertex of slab a, 1: of slab b), its vertex (-1: not a vertex)
-        and the face-to-face id within the pair (-1: a point feature), as
-        :func:`pounding.contact.geometry.contact_points` gives them.
     """
     cap = plist.shape[0] * MAX_FEATURES
     pair = np.empty(cap, dtype=np.int64)
@@ -242,8 +214,10 @@ def struck_features(q, plist, tol, deep, n, geo):
         if g >= tol:
             continue
         t = max(tol, tol - g) if deep else tol
-        count, Qp, Np, gp, wp, ip, fp, Wp = pair_features(q, p, t, n, geo)
-        for k in range(count):
+        f = pair_features(q, p, t, n, geo)
+        # the fields read once (a bundle's array read in a loop costs a reference count each time)
+        gp, Wp, Qp, Np, wp, ip, fp = f.gap, f.W, f.Q, f.N, f.who, f.idx, f.face
+        for k in range(f.count):
             pair[m] = p
             gaps[m] = gp[k]
             W[m] = Wp[k]
@@ -253,7 +227,7 @@ def struck_features(q, plist, tol, deep, n, geo):
             idx[m] = ip[k]
             face[m] = fp[k]
             m += 1
-    return pair[:m], gaps[:m], W[:m], Q[:m], N[:m], who[:m], idx[:m], face[:m]
+    return Features(pair[:m], gaps[:m], W[:m], Q[:m], N[:m], who[:m], idx[:m], face[:m])
 
 
 @njit
@@ -319,19 +293,8 @@ def touching_features(q, candidates, tol, n, geo):
     The first half of the impulse problem at an instant, shared by the compiled
     (:func:`pounding.framework.engine.kernel.impulses_at`) and the Python path
     (``Driver._law_impulses_at``): which features touch and their modal rows, no arithmetic on
-    velocities. candidates (P,) bool.
-
-    Returns
-    -------
-    m : int
-        Number of features.
-    pair, who, vertex : (cap,) int
-        Pair of every feature, striking polygon (0: a vertex of a, 1: of b) and its vertex
-        (-1 face to face).
-    Q, N : (cap, 2)
-        Contact points [m] and unit normals from slab a towards slab b.
-    W : (cap, n)
-        Modal rows (:func:`contact_row`). Only the first m entries are valid.
+    velocities. candidates (P,) bool; q (n,) modal displacements. Returns a
+    :class:`~pounding.framework.engine.bundles.TouchingFeatures` (only its first ``count`` rows valid).
     """
     cap = MAX_FEATURES
     for p in range(candidates.shape[0]):
@@ -349,16 +312,17 @@ def touching_features(q, candidates, tol, n, geo):
             continue
         if pair_gap(q, p, tol, geo) > tol:
             continue
-        count, Qp, Np, _, wp, idx, face, Wp = pair_features(q, p, tol, n, geo)
-        for j in range(count):
+        f = pair_features(q, p, tol, n, geo)
+        wp, ip, fp, Qp, Np, Wp = f.who, f.idx, f.face, f.Q, f.N, f.W  # read once (see struck_features)
+        for j in range(f.count):
             pair[m] = p
             who[m] = wp[j]
-            vertex[m] = -1 if face[j] >= 0 else idx[j]
+            vertex[m] = -1 if fp[j] >= 0 else ip[j]
             Q[m] = Qp[j]
             N[m] = Np[j]
             W[m] = Wp[j]
             m += 1
-    return m, pair, who, vertex, Q, N, W
+    return TouchingFeatures(m, pair, who, vertex, Q, N, W)
 
 
 @njit

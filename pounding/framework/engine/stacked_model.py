@@ -279,8 +279,8 @@ class Model:
         return pg.pair_gaps(np.ascontiguousarray(q), plist, np.inf if cutoff is None else float(cutoff), self.geo)
 
     def touching(self, q: np.ndarray, plist: np.ndarray, tol: float, deep: bool = False):
-        """Touching features of the pairs ``plist``, stacked: (pair (m,), gap (m,), W (m, n), Q, N (m, 2))."""
-        return pg.features_of(np.ascontiguousarray(q), plist, float(tol), bool(deep), self.n, self.geo)
+        """Touching features of the pairs ``plist``, stacked: a :class:`~pounding.framework.engine.bundles.Features`."""
+        return pg.struck_features(np.ascontiguousarray(q), plist, float(tol), bool(deep), self.n, self.geo)
 
     def touching_shares(self, q: np.ndarray, plist: np.ndarray, tol: float):
         """:meth:`touching` with ``deep``, and the share (m,) of one whole contact each point stands
@@ -299,8 +299,9 @@ class Model:
         return pg.pair_row(np.ascontiguousarray(q, dtype=float), p, float(point[0]), float(point[1]), float(normal[0]), float(normal[1]), self.geo)
 
     def features(self, q: np.ndarray, p: int, tol: float) -> list[Feature]:
-        count, Q, N, gap, who, idx, face, W = pg.pair_features(np.ascontiguousarray(q), p, float(tol), self.n, self.geo)
+        f = pg.pair_features(np.ascontiguousarray(q), p, float(tol), self.n, self.geo)
         return [
-            Feature(p, Q[j].copy(), N[j].copy(), int(who[j]), -1 if face[j] >= 0 else int(idx[j]), float(gap[j]), W[j].copy())
-            for j in range(count)
+            Feature(p, f.Q[j].copy(), f.N[j].copy(), int(f.who[j]), -1 if f.face[j] >= 0 else int(f.idx[j]), float(f.gap[j]),
+                    f.W[j].copy())
+            for j in range(f.count)
         ]

@@ -302,16 +302,15 @@ class Yielding:
     def held_step(self, z, p0, p1, A, B, h: float, modes, held, contact, start, geo):
         """A held step of h [s] with the links' end remainders by the fixed point around it
         (:func:`pounding.framework.engine.held.held_fixed_point`; arguments as there).
-        Returns (z0, z1, f0, f1, arrival, arriving, trial): the held step's (contact forces only) and the
-        links' trial (:class:`~pounding.framework.engine.bundles.LinkTrial`)."""
+        Returns (step, trial): the :class:`~pounding.framework.engine.bundles.HeldStep` (contact forces
+        only) and the links' trial (:class:`~pounding.framework.engine.bundles.LinkTrial`)."""
         from pounding.framework.engine.held import held_fixed_point
 
         out = self._trial()
-        status, z0, z1, f0, f1, _, arrival, arriving = held_fixed_point(self.updates, z, p0, p1, A, B, h, modes, held, contact,
-                                                                         start, geo, LinkPass(self.links, self.now, out))
-        if status != Status.DONE:
+        fixed = held_fixed_point(self.updates, z, p0, p1, A, B, h, modes, held, contact, start, geo, LinkPass(self.links, self.now, out))
+        if fixed.status != Status.DONE:
             raise self.fixed_point_error()
-        return z0, z1, f0, f1, arrival, arriving, out
+        return fixed.step, out
 
     def joined_part(self, force_work, tr, h: float, load0, load1, st, ftot0, ftot1, bidx) -> np.ndarray:
         """Work per building [J] of the links between slabs' modal loads in the step ``st`` of h [s]
