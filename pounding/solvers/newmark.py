@@ -18,6 +18,7 @@ dynamics, J. Eng. Mech. Div. ASCE 85(EM3), 67-94.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -26,6 +27,15 @@ from pounding.errors import InputError
 from pounding.solvers.base import Integrator, Transition
 
 PRESETS = {"average": (0.25, 0.5), "linear": (1.0 / 6.0, 0.5)}
+
+
+class AlphaScheme(NamedTuple):
+    """The parameters of one method of the family (:func:`alpha_step`), all dimensionless."""
+
+    beta: float  #: weight of the end acceleration in the displacement update
+    gamma: float  #: weight of the end acceleration in the velocity update
+    alpha_m: float  #: shift of the inertia term towards the start (0: Newmark, HHT)
+    alpha_f: float  #: shift of the damping, stiffness and load terms towards the start (0: Newmark)
 
 
 def real_param(value, field: str) -> float:
@@ -77,23 +87,24 @@ def alpha_step(q, qd, qdd, p0, p1, omega, zeta, dt, *, beta, gamma, alpha_m=0.0,
     shape = arrays[0].shape
     out = np.empty((3, arrays[0].size))
     if out.shape[1]:
-        _alpha_steps(*(np.ascontiguousarray(x).reshape(-1) for x in arrays), float(dt), float(beta), float(gamma),
-                     float(alpha_m), float(alpha_f), out)
+        _alpha_steps(*(np.ascontiguousarray(x).reshape(-1) for x in arrays), float(dt),
+                     AlphaScheme(float(beta), float(gamma), float(alpha_m), float(alpha_f)), out)
     return out[0].reshape(shape), out[1].reshape(shape), out[2].reshape(shape)
 
 
 @njit(borrowed=True)
-def _alpha_steps(q, qd, qdd, p0, p1, omega, zeta, dt, beta, gamma, alpha_m, alpha_f, out):
+def _alpha_steps(q, qd, qdd, p0, p1, omega, zeta, dt, scheme, out):
     """out (3, m) <- (q1, q'1, q''1) of :func:`alpha_step` for m elements (flat arrays (m,)), each by
-    :func:`_alpha_scalar`."""
+    :func:`_alpha_scalar`; ``scheme`` the :class:`AlphaScheme`."""
     for i in range(q.shape[0]):
-        _alpha_scalar(q[i], qd[i], qdd[i], p0[i], p1[i], 2.0 * zeta[i] * omega[i], omega[i] * omega[i], dt, beta, gamma,
-                      alpha_m, alpha_f, out, i)
+        _alpha_scalar(q[i], qd[i], qdd[i], p0[i], p1[i], 2.0 * zeta[i] * omega[i], omega[i] * omega[i], dt, scheme, out, i)
 
 
 @njit(borrowed=True)
-def _alpha_scalar(q, qd, qdd, p0, p1, c, k, dt, beta, gamma, alpha_m, alpha_f, out, r):
-    """One mode's step of :func:`alpha_step` (c = 2 zeta omega, k = omega^2): out[0..2, r] <- (q1, q'1, q''1)."""
+def _alpha_scalar(q, qd, qdd, p0, p1, c, k, dt, scheme, out, r):
+    """One mode's step of :func:`alpha_step` (c = 2 zeta omega, k = omega^2) by the method ``scheme``
+    (:class:`AlphaScheme`): out[0..2, r] <- (q1, q'1, q''1)."""
+    beta, gamma, alpha_m, alpha_f = scheme.beta, scheme.gamma, scheme.alpha_m, scheme.alpha_f
     dt2 = dt * dt
     qp = q + dt * qd + (0.5 - beta) * dt2 * qdd
     vp = qd + (1.0 - gamma) * dt * qdd
@@ -121,12 +132,13 @@ def alpha_transition(omega, zeta, dt, beta, gamma, alpha_m, alpha_f):
     A = np.empty((n, 3, 3))
     B = np.empty((n, 3, 2))
     out = np.empty((3, 5))
+    scheme = AlphaScheme(beta, gamma, alpha_m, alpha_f)
     for i in range(n):
         c = 2.0 * zeta[i] * omega[i]
         k = omega[i] * omega[i]
         for r in range(5):
             _alpha_scalar(1.0 if r == 0 else 0.0, 1.0 if r == 1 else 0.0, 1.0 if r == 2 else 0.0, 1.0 if r == 3 else 0.0,
-                          1.0 if r == 4 else 0.0, c, k, dt, beta, gamma, alpha_m, alpha_f, out, r)
+                          1.0 if r == 4 else 0.0, c, k, dt, scheme, out, r)
         for a in range(3):
             for j in range(3):
                 A[i, a, j] = out[a, j]

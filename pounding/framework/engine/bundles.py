@@ -194,6 +194,16 @@ class TouchingFeatures(NamedTuple):
     W: np.ndarray  #: (cap, n) modal rows (:func:`pounding.framework.engine.pairs.contact_row`)
 
 
+class HeldSet(NamedTuple):
+    """The pairs a step holds in rigid sustained contact (:func:`pounding.framework.engine.held.held_step`)."""
+
+    pairs: np.ndarray  #: (k,) int64 the held pairs
+    contact: HeldContact  #: the tolerance and the touching gap
+    #: their touching features at the step's start (:func:`pounding.framework.engine.pairs.struck_features`
+    #: with ``deep``), m of them
+    start: Features
+
+
 class HeldStep(NamedTuple):
     """One step with held pairs in rigid sustained contact (:func:`pounding.framework.engine.held.held_step`)."""
 
@@ -214,6 +224,26 @@ class HeldFixedPoint(NamedTuple):
     #: Status.DONE, or Status.DIVERGED when the fixed point did not converge (``step`` is then the last pass's)
     status: Status
     step: HeldStep  #: the held step (the contact forces only in its f0, f1, not the links' loads)
+
+
+class PressedPoints(NamedTuple):
+    """The points a step presses, without contact forces at its end
+    (:func:`pounding.framework.engine.spring_core.contact_fixed_point`), m of them."""
+
+    W: np.ndarray  #: (m, n) their modal rows
+    gap: np.ndarray  #: (m,) end gaps [m]
+    rate: np.ndarray  #: (m,) end gap rates [m/s]
+
+
+class ContactFixedPoint(NamedTuple):
+    """The links' end remainders and a force law's contact forces of a step, solved together
+    (:func:`pounding.framework.engine.spring_core.contact_fixed_point`)."""
+
+    #: Status.DONE, or Status.DIVERGED when the fixed point did not converge (the rest is then the last pass's)
+    status: Status
+    lam: np.ndarray  #: (m,) the contact forces [N]
+    gap: np.ndarray  #: (m,) the points' end gaps [m] without them, at the converged end load
+    rate: np.ndarray  #: (m,) their end gap rates [m/s]
 
 
 class Recorder(NamedTuple):
@@ -323,8 +353,9 @@ class LinkRecord(NamedTuple):
 class NewtonWork(NamedTuple):
     """Work buffers of the links' Newton (:func:`pounding.framework.engine.spring_core.solve_group`),
     allocated once per stretch or step (:func:`pounding.framework.engine.spring_core.newton_work`);
-    ns links, m of them in the largest group."""
+    ns links, m of them in the largest group, n stacked modes."""
 
+    qlin: np.ndarray  #: (n,) the linear step's end displacements
     dl: np.ndarray  #: (ns,) the linear step's end deformations [m]
     sf: np.ndarray  #: (ns,) S f, the start remainders' share of them [m] (kept until f changes)
     d: np.ndarray  #: (ns,) the end deformations being solved [m]
@@ -350,11 +381,7 @@ class HeldSearch(NamedTuple):
     (:func:`pounding.framework.engine.held.held_step`) to any instant inside a grid step, and which
     gap it seeks the zero of (:func:`pounding.framework.engine.event_search.locate`)."""
 
-    held: np.ndarray  #: (k,) int64 the held pairs
-    contact: HeldContact  #: the tolerance and the touching gap
-    #: the held pairs' touching features at the start (:func:`pounding.framework.engine.pairs.struck_features`
-    #: with ``deep``), m of them
-    start: Features
+    held: HeldSet  #: the held pairs, the tolerance and the touching gap, their touching features at the start
     modes: Modes  #: the stacked modal model
     arrival: bool  #: seek the arrival gap (held pairs' points apart at the start), else the pairs' smallest gap
     far: float  #: the arrival gap where no point is apart [m] (a positive stand-in)
@@ -362,8 +389,9 @@ class HeldSearch(NamedTuple):
 
 
 class LinkPass(NamedTuple):
-    """The links of a step whose contact forces depend on its end, solved by a fixed point on their
-    end remainders around the contact solve (:func:`pounding.framework.engine.held.held_fixed_point`)."""
+    """The links of a step: committed and trial (:func:`pounding.framework.engine.spring_core._step_with_links`),
+    or, where the step's contact forces depend on its end, solved by a fixed point on their end remainders
+    around the contact solve (:func:`pounding.framework.engine.held.held_fixed_point`)."""
 
     links: Links  #: the links and their laws' parameters
     now: LinkTrial  #: the committed links (read)

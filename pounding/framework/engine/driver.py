@@ -38,7 +38,8 @@ from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
 from pounding.framework.engine.ground_load import modal_loads
-from pounding.framework.engine.bundles import EventLog, Ground, HeldContact, HeldPairs, PairArrays, Recorder, Settings, Status, Transition
+from pounding.framework.engine.bundles import (EventLog, Ground, HeldContact, HeldPairs, HeldSet, PairArrays, Recorder, Settings, Status,
+                                               Transition)
 from pounding.framework.model.scene import Scene
 from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
 from pounding.framework.engine.results import Impact, Result
@@ -712,7 +713,7 @@ class Driver:
         p0, p1 = self.load(t), self.load(t + h)
         contact = HeldContact(float(self.tol), float(self.touch))
         args = (np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), float(h), m.modes,
-                held, contact, start, m.geo)
+                HeldSet(held, contact, start), m.geo)
         if self.springs is not None:  # their end remainders by the fixed point around the held step
             st, sp = self.springs.held_step(*args)
             return Step(st.z0, st.z1, st.f0, st.f1, sp, arrival=float(st.arrival), arriving=int(st.apair))
@@ -896,11 +897,13 @@ class Driver:
             if self._no_held is None:
                 none = np.zeros(0, dtype=np.int64)
                 nothing = Features(none, np.zeros(0), np.zeros((0, m.n)), np.zeros((0, 2)), np.zeros((0, 2)), none, none, none)
-                self._no_held = HeldSearch(none, HeldContact(float(self.tol), float(self.touch)), nothing, m.modes, False, 0.0, 0.0)
+                self._no_held = HeldSearch(HeldSet(none, HeldContact(float(self.tol), float(self.touch)), nothing), m.modes, False, 0.0,
+                                           0.0)
             return self._no_held
         held = np.array(sorted(self.sustained), dtype=np.int64)
         start = m.touching(self.z[:, 0], held, self.tol, deep=True)
-        return HeldSearch(held, HeldContact(float(self.tol), float(self.touch)), start, m.modes, bool(arrival), float(far), float(g0))
+        return HeldSearch(HeldSet(held, HeldContact(float(self.tol), float(self.touch)), start), m.modes, bool(arrival), float(far),
+                          float(g0))
 
     def step_search(self):
         """The :class:`~pounding.framework.engine.bundles.StepSearch` bundle of this run (built once)."""

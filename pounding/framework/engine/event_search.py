@@ -119,7 +119,7 @@ def stepped_gap(hh, sol):
     the links (:class:`~pounding.framework.engine.bundles.LinkSearch`), or None (every building elastic)."""
     t, z, p0, plist, ex, held, laws, springs = sol.t, sol.z, sol.p0, sol.plist, sol.search, sol.held, sol.laws, sol.springs
     maps, builtin, params = sol.maps, sol.builtin, sol.params
-    if held.held.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
+    if held.held.pairs.shape[0] == 0:  # no held pair (a run's every search has the one type: one specialization)
         if hh <= 0.0:
             return _smallest_gap(z[:, 0].copy(), plist, ex.geo)
         p1 = modal_load_at(t + hh, ex.dt, ex.ag, ex.rec_t, ex.rec_acc, ex.L)
@@ -165,11 +165,11 @@ def held_end(laws, springs, z, p0, p1, A, B, hh, held, geo):
     the links :func:`~pounding.framework.engine.held.held_fixed_point`, as the driver's held trial
     takes them."""
     if springs is None:
-        st = held_step(z, p0, p1, A, B, hh, held.modes, held.held, held.contact, held.start, geo)
+        st = held_step(z, p0, p1, A, B, hh, held.modes, held.held, geo)
         return st.z1, st.arrival
     now = springs.now
     spr = LinkPass(springs.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(z.shape[0])))
-    fixed = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, held.contact, held.start, geo, spr)
+    fixed = held_fixed_point(laws, z, p0, p1, A, B, hh, held.modes, held.held, geo, spr)
     if fixed.status != Status.DONE:
         springs.failed[0] = 0
     return fixed.step.z1, fixed.step.arrival

@@ -35,7 +35,7 @@ import numpy as np
 
 from pounding.contact.base import keep_pushing, newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import Features, HeldContact, HeldFixedPoint, HeldStep, LinkPass, LinkTrial, Status
+from pounding.framework.engine.bundles import Features, HeldContact, HeldFixedPoint, HeldSet, HeldStep, LinkPass, LinkTrial, Status
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.kernel import _accumulate_forces, _record, update_peaks
@@ -118,19 +118,20 @@ def step(A, B, z, p0, p1):
 
 
 @njit
-def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
-    """One step of size h [s] from state z (n, 3) with the pairs ``held`` (int64) in rigid sustained contact.
+def held_step(z, g0, g1, A, B, h, modes, held, geo):
+    """One step of size h [s] from state z (n, 3) with the pairs of ``held`` in rigid sustained contact.
 
-    contact : :class:`~pounding.framework.engine.bundles.HeldContact`, the tolerance and the gap
-    ``touch`` [m] up to which a point touches (:func:`touch_gap`; inf: every point within the
-    tolerance, the paper's rules). Only the points that touch at the step's start are held. A
+    held : :class:`~pounding.framework.engine.bundles.HeldSet`, the held pairs, the contact
+    settings (the tolerance and the gap ``touch`` [m] up to which a point touches, :func:`touch_gap`;
+    inf: every point within the tolerance, the paper's rules) and the held pairs' touching features
+    at the start. Only the points that touch at the step's start are held. A
     touching point that would close within the step has its normal velocity projected out at the
     start: rounding for points at rest, and for a point that opens but falls back within the step
     (a rebound too short for the step) the limit of its chatter, as when a pair is held. A point
     that opens and stays open through the step gets no force. A point that is apart at the start (gap above
     ``touch``) gets no force: it moves with its slabs through the step, and the smallest end gap
     of such points is returned (``arrival``), for the caller to locate and strike where it is zero.
-    ``start``: the held pairs' touching features at the start, a
+    ``held.start``: the touching features at the start, a
     :class:`~pounding.framework.engine.bundles.Features`
     (:func:`~pounding.framework.engine.pairs.struck_features` with ``deep``; its pairs, gaps (m,),
     modal rows (m, n) and contact points (m, 2) are read).
@@ -164,6 +165,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     point that was apart at the start with its pair.
     """
     c2, om2 = modes.c2, modes.om2
+    plist, contact, start = held.pairs, held.contact, held.start
     tol, touch = contact.tol, contact.touch
     pair0, gap0, W, Q0 = start.pair, start.gap, start.W, start.Q
     n = z.shape[0]
@@ -228,7 +230,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
     D = grow[:, 0].copy()
     found = False
     for attempt in range(4):
-        end = struck_features(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        end = struck_features(z1[:, 0].copy(), plist, tol, _DEEP, n, geo)
         fpair, g1f, Wr, Q1 = end.pair, end.gap, end.W, end.Q
         found = True
         m = g1f.shape[0]
@@ -237,7 +239,7 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
         # the points that touched are held where each started (linearised), but never deeper than
         # half the tolerance (features slide as the slabs turn, and the linearised start drifts
         # with them); a point that was apart is not held (an arrival, for the caller)
-        kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
+        kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, plist, touch, tol, geo)
         target = np.minimum(np.maximum(g1f - Wr @ (z1[:, 0] - q0), -0.5 * tol), 0.0)
         short = g1f - target
         arg = np.ones(m)
@@ -263,9 +265,9 @@ def held_step(z, g0, g1, A, B, h, modes, held, contact, start, geo):
                 z0[i, 2] += df[i]
             f1[i] += df[i]
     if not found:  # the last pass moved the slabs: the features of the end state itself
-        end = struck_features(z1[:, 0].copy(), held, tol, _DEEP, n, geo)
+        end = struck_features(z1[:, 0].copy(), plist, tol, _DEEP, n, geo)
         fpair, g1f, Q1 = end.pair, end.gap, end.Q
-    kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, held, touch, tol, geo)
+    kept = _kept(fpair, Q1, pair0, Q0, touching, z1[:, 0] - q0, plist, touch, tol, geo)
     arrival = np.inf
     apair = -1
     for k in range(g1f.shape[0]):
@@ -407,7 +409,7 @@ def rows_where(mask, W):
 
 
 @njit
-def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo, spr):
+def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, geo, spr):
     """A held step of h [s] (:func:`held_step`) of a model with links with laws (yielding storey
     springs): the links' end remainders by a fixed point around it.
 
@@ -444,7 +446,7 @@ def held_fixed_point(laws, z, p0, p1, A, B, h, modes, held, contact, start, geo,
         for _ in range(4 * MAX_ITER):
             for i in range(n):
                 e1[i] = p1[i] - g[i]
-            st = held_step(z, e0, e1, A, B, h, modes, held, contact, start, geo)
+            st = held_step(z, e0, e1, A, B, h, modes, held, geo)
             z1 = st.z1
             for i in range(n):
                 q1[i] = z1[i, 0]
@@ -518,10 +520,11 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
         for i in range(n):
             g0[i] = modal_load(L, i, ag[k])
             g1[i] = modal_load(L, i, ag[k + 1])
+        now_held = HeldSet(held, contact, startS)
         if run is None:
-            st = held_step(z, g0, g1, A, B, dt, modes, held, contact, startS, geo)
+            st = held_step(z, g0, g1, A, B, dt, modes, now_held, geo)
         else:
-            fixed = held_fixed_point(laws, z, g0, g1, A, B, dt, modes, held, contact, startS, geo, spr)
+            fixed = held_fixed_point(laws, z, g0, g1, A, B, dt, modes, now_held, geo, spr)
             if fixed.status != Status.DONE:
                 for i in range(n):
                     z[i, 1] = v_before[i]
@@ -554,8 +557,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
         if run is None:
             _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
         else:
-            _book_links(tr, modes, dt, ag[k], ag[k + 1], g0, g1, z0, z1, f0, f1, E, run, spr.out,
-                        (per, w, ftot0, ftot1, gx0, gx1))
+            _book_links(tr, modes, dt, ag[k], ag[k + 1], g0, g1, st, E, run, spr.out, (per, w, ftot0, ftot1, gx0, gx1))
             _commit_held_links(now, spr.out, lrec.peak)
         for i in range(n):
             z[i, 0] = z1[i, 0]
@@ -595,14 +597,16 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
 
 
 @njit
-def _book_links(tr, modes, h, ag0, ag1, p0, p1, z0, z1, f0, f1, E, run, out, buf):
-    """Book a held step of h [s] with links as ``Driver.accumulate_with_springs`` does: the contact
-    forces f0, f1 and the remainders' loads -g (committed ``run.now.g`` at the start, the trial's
-    ``out.g`` at the end) in the energy audit E, the remainders' work (by the integrator's rule,
+def _book_links(tr, modes, h, ag0, ag1, p0, p1, st, E, run, out, buf):
+    """Book a held step ``st`` of h [s] (:class:`~pounding.framework.engine.bundles.HeldStep`) with
+    links as ``Driver.accumulate_with_springs`` does: its contact forces f0, f1 and the remainders'
+    loads -g (committed ``run.now.g`` at the start, the trial's ``out.g`` at the end) in the energy
+    audit E, the remainders' work (by the integrator's rule,
     :func:`~pounding.framework.engine.spring_core.spring_work`, on the ground loads p0, p1) to the
     contact column and ``run.record.work`` per building, the links between slabs' part of it to
     ``run.record.joined_work``. ``buf``: work arrays (per (nb,), then five (n,))."""
     per, w, ftot0, ftot1, gx0, gx1 = buf
+    z0, z1, f0, f1 = st.z0, st.z1, st.f0, st.f1
     bidx = modes.bidx
     g, g1 = run.now.g, out.g
     lrec = run.record

@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import LinkTrial, NewtonWork, Status
+from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkTrial, NewtonWork, Status
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.contact.geometry import clearance_bound
 from pounding.framework.engine.ground_load import modal_load
@@ -413,11 +413,12 @@ def _largest_group(bounds):
 
 
 @njit
-def newton_work(bounds):
-    """Fresh :class:`NewtonWork` for the links of groups ``bounds`` (:attr:`Links.bounds`)."""
+def newton_work(bounds, n):
+    """Fresh :class:`NewtonWork` for the links of groups ``bounds`` (:attr:`Links.bounds`) of a model
+    of n stacked modes."""
     ns = bounds[-1]
     m = _largest_group(bounds)
-    return NewtonWork(np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(4 * m),
+    return NewtonWork(np.empty(n), np.empty(ns), np.empty(ns), np.empty(ns), np.empty(ns), np.empty((m, m)), np.empty(4 * m),
                       np.empty(m, dtype=np.int64), np.empty(ns), np.empty(ns))
 
 
@@ -489,7 +490,7 @@ def fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
 
 
 @njit
-def contact_fixed_point(laws, spr, h, B1, Bv, W, gap, rate, q, prev0, g, solve, args):
+def contact_fixed_point(laws, spr, h, B1, Bv, pressed, q, prev0, g, solve, args):
     """The links' end remainders and the contact forces of a step of h [s], solved together: a fixed
     point on the remainders' end load g around the contact law's solve with the step.
 
@@ -497,7 +498,8 @@ def contact_fixed_point(laws, spr, h, B1, Bv, W, gap, rate, q, prev0, g, solve, 
     at the end, end load g on entry, end displacements q (n,), the links' end deformations prev0
     (ns,) [m]), a change dg of the end load moves the end displacements by -B1 dg and a contact
     force lambda (m,) [N] along the rows W (m, n) by B1 W^T lambda; the points' end gaps gap (m,) [m]
-    and rates rate (m,) [m/s] without contact forces move by -W (B1 dg), -W (Bv dg) (B1, Bv (n,) the
+    and rates rate (m,) [m/s] without contact forces (``pressed``, the
+    :class:`~pounding.framework.engine.bundles.PressedPoints`) move by -W (B1 dg), -W (Bv dg) (B1, Bv (n,) the
     step's end-load maps of displacement and velocity, B[:, 0, 1] and B[:, 1, 1]). Each pass asks the
     law's solve for the forces at the gaps and rates of the current load, ``solve(args, gap, rate) ->
     lambda`` (the contact law's :meth:`~pounding.contact.base.ContactLaw.forces_solver`), then the
@@ -511,11 +513,12 @@ def contact_fixed_point(laws, spr, h, B1, Bv, W, gap, rate, q, prev0, g, solve, 
     solve only Python knows (a third party's, or several laws on pairs that share a building) the
     driver runs this same function as Python (``py_func``).
 
-    Returns (status, lambda, gap, rate): Status.DONE or Status.DIVERGED (the last pass's then), the
-    forces, and the points' end gaps and rates without them at the converged load, which is left in
-    g (n,).
+    Returns a :class:`~pounding.framework.engine.bundles.ContactFixedPoint`: Status.DONE or
+    Status.DIVERGED (the last pass's then), the forces, and the points' end gaps and rates without
+    them at the converged load, which is left in g (n,).
     """
     links, now, out = spr.links, spr.now, spr.out
+    W, gap, rate = pressed.W, pressed.gap, pressed.rate
     n, m, ns = g.shape[0], gap.shape[0], prev0.shape[0]
     g_in = g.copy()
     prev = np.empty(ns)
@@ -542,8 +545,8 @@ def contact_fixed_point(laws, spr, h, B1, Bv, W, gap, rate, q, prev0, g, solve, 
                     acc += W[a, i] * lam[a]
                 q1[i] = q[i] + B1[i] * acc
             if fixed_point_pass(laws, links, h, q1, now, out, g, prev, w):
-                return Status.DONE, lam, gp, rp
-    return Status.DIVERGED, lam, gp, rp
+                return ContactFixedPoint(Status.DONE, lam, gp, rp)
+    return ContactFixedPoint(Status.DIVERGED, lam, gp, rp)
 
 
 @njit(borrowed=True)
@@ -581,13 +584,15 @@ def spring_work(tr, h, pg0, pg1, z0, z1, ftot0, ftot1, w0, w1, out):
 
 
 @njit(borrowed=True)
-def _step_with_links(laws, A, B, z0, p0, p1, h, links, S, now, out, ws, counts, qlin, z):
+def _step_with_links(laws, A, B, z0, p0, p1, h, spr, S, ws, counts, z):
     """z (n, 3) <- a step of h [s] from z0 (n, 3) with links: the integrator's linear step (A (n, 3, 3),
     B (n, 3, 2)) with the modal loads p0 (the start's, the links' -g0 in it) and p1 (n,) at its ends,
-    the links' Newton on its end displacements (written to qlin (n,)), and their end load
-    -B1 out.g. Writes the trial ``out`` (:class:`LinkTrial`); ``ws``, ``counts`` as
+    the links' Newton on its end displacements (written to ``ws.qlin``), and their end load
+    -B1 out.g. ``spr`` the :class:`LinkPass`: the links, the committed ``now`` and the trial ``out``
+    it writes (:class:`LinkTrial`); S (ns, ns) the step's compliance [m/N]; ``ws``, ``counts`` as
     :func:`_solve_springs`, with ``ws.sf`` = S now.f. Returns the index of a group whose Newton
     diverged (z is then the linear step's), or -1."""
+    links, now, out, qlin = spr.links, spr.now, spr.out, ws.qlin
     n = z0.shape[0]
     for i in range(n):
         for r in range(3):
@@ -622,11 +627,11 @@ def spring_step(laws, A, B, z, p0, p1, h, links, S, now, out):
     -g0); S (ns, ns) the step's compliance; writes the trial ``out``. Returns (j, z1): the index of a
     group whose Newton diverged, or -1, and the end state (n, 3)."""
     n = z.shape[0]
-    ws = newton_work(links.bounds)
+    ws = newton_work(links.bounds, n)
     compliance_load(now.f, S, links.bounds, ws.sf)
     z1 = np.empty((n, 3))
-    j = _step_with_links(laws, A, B, z, p0, p1, h, links, S, now, out, ws, np.zeros((links.tol.shape[0], 3), dtype=np.int64),
-                         np.empty(n), z1)
+    j = _step_with_links(laws, A, B, z, p0, p1, h, LinkPass(links, now, out), S, ws,
+                         np.zeros((links.tol.shape[0], 3), dtype=np.int64), z1)
     return j, z1
 
 
@@ -674,7 +679,6 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     ns = f.shape[0]
     nb = work.shape[0]
     z0 = np.empty((n, 3))
-    qlin = np.empty(n)
     f1 = np.empty(ns)
     g1 = np.empty(n)
     trial = state.copy()  # slots a law does not write (a narrower law than the widest) keep their values
@@ -690,7 +694,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     q1 = np.empty(n)  # the end displacements, for the pair check
     xw = np.empty(4)
     out = LinkTrial(f1, trial, g1)
-    ws = newton_work(bounds)
+    ws = newton_work(bounds, n)
+    spr = LinkPass(links, now, out)
     compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers spring_step computes)
     # the links between slabs: their modal load at the step's ends, whose work is booked apart
     joined = _has_joins(links)
@@ -710,7 +715,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             pg0[i] = modal_load(L, i, ag0)
             pg1[i] = modal_load(L, i, ag1)
             pp0[i] = (pg0[i] + 0.0) - g[i]
-        if _step_with_links(laws, A, B, z0, pp0, pg1, dt, links, S, now, out, ws, counts, qlin, z) >= 0:
+        if _step_with_links(laws, A, B, z0, pp0, pg1, dt, spr, S, ws, counts, z) >= 0:
             for i in range(n):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]

@@ -43,7 +43,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pounding.framework.engine.bundles import HeldPairs, LinkPass, LinkRecord, Links, LinkStepping, LinkTrial, Status
+from pounding.framework.engine.bundles import HeldPairs, LinkPass, LinkRecord, Links, LinkStepping, LinkTrial, PressedPoints, Status
 from pounding.framework.engine.inelastic import NEWTON_TOL, SpringSet, spring_set
 
 #: what a diverged Newton of the links suggests: a smaller step, or, for a damper whose force rises
@@ -283,15 +283,15 @@ class Yielding:
         out = self._trial()
         g = trial.g.copy()
         solver = contact_fixed_point if is_compiled(solve) else contact_fixed_point.py_func
-        status, lam, gap1, rate1 = solver(self.updates, LinkPass(self.links, self.now, out), float(h),
-                                          np.ascontiguousarray(B[:, 0, 1]), np.ascontiguousarray(B[:, 1, 1]),
-                                          np.ascontiguousarray(W), np.ascontiguousarray(gap, dtype=float),
-                                          np.ascontiguousarray(rate, dtype=float), np.ascontiguousarray(z1[:, 0]),
-                                          np.ascontiguousarray(trial.state[:, 0]), g, solve, args)
-        if status != Status.DONE:
+        pressed = PressedPoints(np.ascontiguousarray(W), np.ascontiguousarray(gap, dtype=float),
+                                np.ascontiguousarray(rate, dtype=float))
+        fixed = solver(self.updates, LinkPass(self.links, self.now, out), float(h), np.ascontiguousarray(B[:, 0, 1]),
+                       np.ascontiguousarray(B[:, 1, 1]), pressed, np.ascontiguousarray(z1[:, 0]),
+                       np.ascontiguousarray(trial.state[:, 0]), g, solve, args)
+        if fixed.status != Status.DONE:
             raise self.fixed_point_error()
-        load = W.T @ lam - (g - trial.g)  # the forces' modal load and the links' change of end load
-        return z1 + B[:, :, 1] * load[:, None], lam, gap1, rate1, out
+        load = W.T @ fixed.lam - (g - trial.g)  # the forces' modal load and the links' change of end load
+        return z1 + B[:, :, 1] * load[:, None], fixed.lam, fixed.gap, fixed.rate, out
 
     @staticmethod
     def fixed_point_error() -> FloatingPointError:
@@ -299,7 +299,7 @@ class Yielding:
         return FloatingPointError("the fixed point between the links (yielding storey springs, dampers, links between slabs) "
                                   f"and the contact forces did not converge ({NEWTON_HINT})")
 
-    def held_step(self, z, p0, p1, A, B, h: float, modes, held, contact, start, geo):
+    def held_step(self, z, p0, p1, A, B, h: float, modes, held, geo):
         """A held step of h [s] with the links' end remainders by the fixed point around it
         (:func:`pounding.framework.engine.held.held_fixed_point`; arguments as there).
         Returns (step, trial): the :class:`~pounding.framework.engine.bundles.HeldStep` (contact forces
@@ -307,7 +307,7 @@ class Yielding:
         from pounding.framework.engine.held import held_fixed_point
 
         out = self._trial()
-        fixed = held_fixed_point(self.updates, z, p0, p1, A, B, h, modes, held, contact, start, geo, LinkPass(self.links, self.now, out))
+        fixed = held_fixed_point(self.updates, z, p0, p1, A, B, h, modes, held, geo, LinkPass(self.links, self.now, out))
         if fixed.status != Status.DONE:
             raise self.fixed_point_error()
         return fixed.step, out
