@@ -204,6 +204,16 @@ class HeldSet(NamedTuple):
     start: Features
 
 
+class StepEnds(NamedTuple):
+    """A step's start and end states and the modal contact forces at its ends, as the links' booking
+    reads them (:func:`pounding.framework.engine.spring_core.book_links`; a :class:`HeldStep` serves too)."""
+
+    z0: np.ndarray  #: (n, 3) the start state
+    z1: np.ndarray  #: (n, 3) the end state
+    f0: np.ndarray  #: (n,) modal contact force at the start [N/kg^0.5]
+    f1: np.ndarray  #: (n,) at the end
+
+
 class HeldStep(NamedTuple):
     """One step with held pairs in rigid sustained contact (:func:`pounding.framework.engine.held.held_step`)."""
 

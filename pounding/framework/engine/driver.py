@@ -511,8 +511,8 @@ class Driver:
         if self.every > 1:
             self.model.update_peaks(self.z, self.z, 0.0, self.peak)
         _record(self.z, k, self.rec)
-        if k % self.every == 0 and self.springs is not None:
-            self.springs.record(self.spring_hist[:, k // self.every])
+        if self.springs is not None:
+            self.springs.record(k, self.every)
 
 
     # ---------------------------------------------------------------- one step in Python
@@ -576,21 +576,17 @@ class Driver:
 
     def accumulate_with_springs(self, st: Step, t: float, h: float) -> None:
         """Book a step with yielding springs: their remainders' modal loads -g are loads like the
-        contact forces; their work goes to the springs' account, not the contact column."""
-        from pounding.framework.engine.yielding import force_work
+        contact forces; their work goes to the springs' account, not the contact column
+        (:func:`~pounding.framework.engine.spring_core.book_links`, the compiled stretches' own booking)."""
+        from pounding.framework.engine.bundles import StepEnds
+        from pounding.framework.engine.spring_core import book_links
 
-        g0, g1 = self.springs.g, st.sp.g
-        ftot0, ftot1 = st.f0 - g0, st.f1 - g1
-        self.accumulate(st.z0, st.z1, t, h, ftot0, ftot1)
-        if not h > 0.0:
+        if not h > 0.0:  # an impact located at the step's very start: a step of no length books nothing
             return
-        w = force_work(self.transition(h), float(h), self.load(t), self.load(t + h), st.z0, st.z1, ftot0, ftot1, g0, g1)
-        per = np.bincount(self.model.bidx, weights=w, minlength=len(self.model.systems))
-        self.E[:, 2] += per  # the contact column holds the contact forces' work only
-        self.springs.work += per
-        if self.springs.joined:  # the links between slabs' part of it, by the same rule
-            self.springs.joined_work += self.springs.joined_part(
-                force_work, self.transition(h), float(h), self.load(t), self.load(t + h), st, ftot0, ftot1, self.model.bidx)
+        c = np.ascontiguousarray
+        ends = StepEnds(c(st.z0), c(st.z1), c(st.f0, dtype=float), c(st.f1, dtype=float))
+        book_links(self.transition(h), self.model.modes, float(h), self.ag_at(t), self.ag_at(t + h), self.load(t),
+                   self.load(t + h), ends, self.E, self.springs.stepping(), st.sp, self.springs.booking_buffers())
 
     def overlapping(self, z1) -> list[int]:
         """Pairs that end the trial overlapping beyond the tolerance and are not held by forces."""

@@ -41,7 +41,7 @@ from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.kernel import _accumulate_forces, _record, update_peaks
 from pounding.framework.engine.inelastic import MAX_ITER
 from pounding.framework.engine.pairs import closing, pair_features, pair_gap, slab_dofs, struck_features
-from pounding.framework.engine.spring_core import RELAXATION, _has_joins, fixed_point_pass, joined_load, spring_work
+from pounding.framework.engine.spring_core import RELAXATION, book_links, commit_trial, fixed_point_pass, record_links
 from pounding.framework.engine.modal_step import stepped
 
 #: struck_features's ``deep`` from compiled callers: a typed bool, not a literal True, so that they
@@ -502,12 +502,8 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
         now, lrec = run.now, run.record
         spr = LinkPass(run.links, now, LinkTrial(np.empty(now.f.shape[0]), now.state.copy(), np.empty(n)))
         nb = lrec.work.shape[0]
-        per = np.empty(nb)
-        w = np.empty(n)
-        ftot0 = np.empty(n)
-        ftot1 = np.empty(n)
-        gx0 = np.empty(n)
-        gx1 = np.empty(n)
+        per, w, ftot0, ftot1 = np.empty(nb), np.empty(n), np.empty(n), np.empty(n)
+        buf = (per, w, ftot0, ftot1, np.empty(n), np.empty(n), np.empty(4))
     for k in range(k0, k1):
         held = np.nonzero(held_mask)[0]
         if not have:
@@ -557,8 +553,8 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
         if run is None:
             _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
         else:
-            _book_links(tr, modes, dt, ag[k], ag[k + 1], g0, g1, st, E, run, spr.out, (per, w, ftot0, ftot1, gx0, gx1))
-            _commit_held_links(now, spr.out, lrec.peak)
+            book_links(tr, modes, dt, ag[k], ag[k + 1], g0, g1, st, E, run, spr.out, buf)
+            commit_trial(now, spr.out, lrec.peak)
         for i in range(n):
             z[i, 0] = z1[i, 0]
             z[i, 1] = z1[i, 1]
@@ -567,12 +563,8 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
         if every > 1:
             update_peaks(rows, z0, z1, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
-        if run is not None and (k + 1) % every == 0:
-            row = (k + 1) // every
-            hist, state = lrec.hist, now.state
-            for s in range(state.shape[0]):
-                for c in range(3):
-                    hist[c, row, s] = state[s, c]
+        if run is not None:
+            record_links(now.state, k + 1, every, lrec.hist)
         # release the held pairs that opened beyond the tolerance
         q = z[:, 0].copy()
         any_held = False
@@ -596,58 +588,5 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     return k1, Status.DONE, -1
 
 
-@njit
-def _book_links(tr, modes, h, ag0, ag1, p0, p1, st, E, run, out, buf):
-    """Book a held step ``st`` of h [s] (:class:`~pounding.framework.engine.bundles.HeldStep`) with
-    links as ``Driver.accumulate_with_springs`` does: its contact forces f0, f1 and the remainders'
-    loads -g (committed ``run.now.g`` at the start, the trial's ``out.g`` at the end) in the energy
-    audit E, the remainders' work (by the integrator's rule,
-    :func:`~pounding.framework.engine.spring_core.spring_work`, on the ground loads p0, p1) to the
-    contact column and ``run.record.work`` per building, the links between slabs' part of it to
-    ``run.record.joined_work``. ``buf``: work arrays (per (nb,), then five (n,))."""
-    per, w, ftot0, ftot1, gx0, gx1 = buf
-    z0, z1, f0, f1 = st.z0, st.z1, st.f0, st.f1
-    bidx = modes.bidx
-    g, g1 = run.now.g, out.g
-    lrec = run.record
-    n = z0.shape[0]
-    for i in range(n):
-        ftot0[i] = f0[i] - g[i]
-        ftot1[i] = f1[i] - g1[i]
-    _accumulate_forces(tr, modes, h, ag0, ag1, z0, z1, ftot0, ftot1, E)
-    spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, g, g1, w)
-    _add_per_building(w, bidx, per)
-    work, joined_work = lrec.work, lrec.joined_work
-    for b in range(per.shape[0]):
-        E[b, 2] += per[b]
-        work[b] += per[b]
-    if _has_joins(run.links):  # the links between slabs' part of it, by the same rule
-        joined_load(run.now.f, run.links, gx0)
-        joined_load(out.f, run.links, gx1)
-        spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, gx0, gx1, w)
-        _add_per_building(w, bidx, per)
-        for b in range(per.shape[0]):
-            joined_work[b] += per[b]
 
 
-@njit(borrowed=True)
-def _add_per_building(w, bidx, per):
-    """per (nb,) <- the sum of w (n,) over each building's modes (bidx), in mode order (numpy's bincount)."""
-    for b in range(per.shape[0]):
-        per[b] = 0.0
-    for i in range(w.shape[0]):
-        per[bidx[i]] += w[i]
-
-
-@njit(borrowed=True)
-def _commit_held_links(now, out, peak):
-    """Commit a held step's trial links ``out`` into ``now`` as ``Yielding.commit`` does: remainders,
-    states, their modal load, and the running peaks |deformation| ``peak`` (ns,)."""
-    f, state, g, f1, trial, g1 = now.f, now.state, now.g, out.f, out.state, out.g
-    for s in range(f.shape[0]):
-        f[s] = f1[s]
-        for c in range(state.shape[1]):
-            state[s, c] = trial[s, c]
-        peak[s] = max(peak[s], abs(trial[s, 0]))
-    for i in range(g.shape[0]):
-        g[i] = g1[i]

@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkTrial, NewtonWork, Status
+from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkTrial, NewtonWork, Status, StepEnds
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.contact.geometry import clearance_bound
 from pounding.framework.engine.ground_load import modal_load
@@ -666,7 +666,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     """
     # the bundles unpacked once, by name: the leaves called at every step take arrays
     A, B = tr.A, tr.B
-    L, bidx = modes.L, modes.bidx
+    L = modes.L
     dt, ag = ground.dt, ground.ag
     every, E, slab_peak = rec.every, rec.E, rec.peak
     rows, n_modes, slab_building = geo.rows, geo.n_modes, modes.slab_building
@@ -674,7 +674,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     links, S, now, lrec = run.links, run.S, run.now, run.record
     bounds = links.bounds
     f, g, state = now.f, now.g, now.state
-    work, counts, hist, joined_work = lrec.work, lrec.counts, lrec.hist, lrec.joined_work
+    work, counts, hist = lrec.work, lrec.counts, lrec.hist
     n = z.shape[0]
     ns = f.shape[0]
     nb = work.shape[0]
@@ -697,12 +697,9 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
     ws = newton_work(bounds, n)
     spr = LinkPass(links, now, out)
     compliance_load(f, S, bounds, ws.sf)  # S f, kept until f changes (the same numbers spring_step computes)
-    # the links between slabs: their modal load at the step's ends, whose work is booked apart
-    joined = _has_joins(links)
-    gx0 = np.zeros(n)
-    gx1 = np.zeros(n)
-    if joined:
-        joined_load(f, links, gx0)
+    none = np.zeros(n)  # no contact force in a free step
+    ends = StepEnds(z0, z, none, none)
+    buf = (per, w, ftot0, ftot1, np.zeros(n), np.zeros(n), xw)
     for k in range(k0, k1):
         ag0 = ag[k]
         ag1 = ag[k + 1]
@@ -746,65 +743,107 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
                     z[i, 2] = z0[i, 2]
                 return k, Status.OVERLAP, p
         # the energy audit, as Driver.commit books a step with links (accumulate_with_springs)
-        for i in range(n):
-            ftot0[i] = 0.0 - g[i]
-            ftot1[i] = 0.0 - g1[i]
-        _accumulate(tr, modes, dt, ag0, ag1, z0, z, ftot0, ftot1, E, xw)
-        spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, g, g1, w)
-        for b in range(nb):
-            per[b] = 0.0
-        for i in range(n):
-            per[bidx[i]] += w[i]
-        for b in range(nb):
-            E[b, 2] += per[b]
-            work[b] += per[b]
-        if joined:  # the links between slabs' share of that work, by the same rule
-            joined_load(f1, links, gx1)
-            spring_work(tr, dt, pg0, pg1, z0, z, ftot0, ftot1, gx0, gx1, w)
-            for b in range(nb):
-                per[b] = 0.0
-            for i in range(n):  # per building first, then booked: the Python step's order (bincount)
-                per[bidx[i]] += w[i]
-                gx0[i] = gx1[i]
-            for b in range(nb):
-                joined_work[b] += per[b]
+        book_links(tr, modes, dt, ag0, ag1, pg0, pg1, ends, E, run, out, buf)
         # commit the links
-        for i in range(n):
-            g[i] = g1[i]
         if changed:
             compliance_load(f1, S, bounds, ws.sf)
         _commit_links(links, out, ws.kt, now, lrec)
         if every > 1:
             update_peaks(rows, z0, z, dt, n_modes, slab_building, slab_peak)
         _record(z, k + 1, rec)
-        if (k + 1) % every == 0:
-            j = (k + 1) // every
-            for s in range(ns):
-                hist[0, j, s] = state[s, 0]
-                hist[1, j, s] = state[s, 1]
-                hist[2, j, s] = state[s, 2]
+        record_links(state, k + 1, every, hist)
     return k1, Status.DONE, -1
 
 
 @njit(borrowed=True)
 def _commit_links(links, out, kt, now, lrec):
-    """Commit a step's trial links ``out`` (:class:`LinkTrial`: remainders, trial states) and their
-    tangents kt (ns,) into ``now``; count the tangent changes (a link yields or unloads: its tangent
-    moves by more than 1e-9 of the larger of k0 and its last tangent) per group in ``lrec.counts[:, 2]``, remembering the tangents, and
-    update the running peaks (:class:`LinkRecord`)."""
+    """Commit a step's trial links ``out`` and their tangents kt (ns,) into ``now`` (:func:`commit_trial`),
+    counting the tangent changes (a link yields or unloads: its tangent moves by more than 1e-9 of the
+    larger of k0 and its last tangent) per group in ``lrec.counts[:, 2]`` and remembering the tangents
+    (:class:`LinkRecord`)."""
     bounds, k0 = links.bounds, links.k0
-    f1, trial, f, state = out.f, out.state, now.f, now.state
-    peak, tangent, counts = lrec.peak, lrec.tangent, lrec.counts
+    tangent, counts = lrec.tangent, lrec.counts
     for j in range(bounds.shape[0] - 1):
         for s in range(bounds[j], bounds[j + 1]):
             if abs(kt[s] - tangent[s]) > 1e-9 * max(k0[s], abs(tangent[s])):  # (a damper: k0 = 0)
                 counts[j, 2] += 1
             tangent[s] = kt[s]
-            f[s] = f1[s]
-            for c in range(state.shape[1]):
-                state[s, c] = trial[s, c]
-            if abs(trial[s, 0]) > peak[s]:
-                peak[s] = abs(trial[s, 0])
+    commit_trial(now, out, lrec.peak)
+
+
+@njit(borrowed=True)
+def book_links(tr, modes, h, ag0, ag1, p0, p1, st, E, run, out, buf):
+    """Book a step of h [s] with links: ``st`` its start and end states z0, z1 and modal contact forces
+    f0, f1 (:class:`~pounding.framework.engine.bundles.StepEnds`, or a held step), ``run`` the links
+    (:class:`~pounding.framework.engine.bundles.LinkStepping`: the committed remainders' load -g at
+    the start, ``run.now.g``; ``out`` the trial's, at the end). The contact forces and the remainders'
+    loads go to the energy audit E (:func:`~pounding.framework.engine.kernel._accumulate`), the
+    remainders' work (by the integrator's rule, :func:`spring_work`, on the ground loads p0, p1) to
+    the contact column and ``run.record.work`` per building, and the links between slabs' part of it
+    to ``run.record.joined_work``: what the driver's Python step books
+    (``Driver.accumulate_with_springs``), for the compiled stretch and the held steps alike. ``buf``:
+    work arrays (per (nb,), then five (n,), then (4,))."""
+    per, w, ftot0, ftot1, gx0, gx1, xw = buf
+    z0, z1, f0, f1 = st.z0, st.z1, st.f0, st.f1
+    bidx = modes.bidx
+    g, g1 = run.now.g, out.g
+    lrec = run.record
+    n = z0.shape[0]
+    for i in range(n):
+        ftot0[i] = f0[i] - g[i]
+        ftot1[i] = f1[i] - g1[i]
+    _accumulate(tr, modes, h, ag0, ag1, z0, z1, ftot0, ftot1, E, xw)
+    spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, g, g1, w)
+    _add_per_building(w, bidx, per)
+    work, joined_work = lrec.work, lrec.joined_work
+    for b in range(per.shape[0]):
+        E[b, 2] += per[b]
+        work[b] += per[b]
+    if _has_joins(run.links):  # the links between slabs' part of it, by the same rule
+        joined_load(run.now.f, run.links, gx0)
+        joined_load(out.f, run.links, gx1)
+        spring_work(tr, h, p0, p1, z0, z1, ftot0, ftot1, gx0, gx1, w)
+        _add_per_building(w, bidx, per)
+        for b in range(per.shape[0]):
+            joined_work[b] += per[b]
+
+
+@njit(borrowed=True)
+def _add_per_building(w, bidx, per):
+    """per (nb,) <- the sum of w (n,) over each building's modes (bidx), in mode order (numpy's bincount)."""
+    for b in range(per.shape[0]):
+        per[b] = 0.0
+    for i in range(w.shape[0]):
+        per[bidx[i]] += w[i]
+
+
+@njit(borrowed=True)
+def record_links(state, k, every, hist):
+    """hist (3, n_out, ns) <- at grid instant k, every ``every``-th, the committed deformation [m],
+    force [N] and dissipated energy [J] of every link (the common state slots, ``state`` (ns, n_state)):
+    the links' record, for every path that steps them."""
+    if k % every != 0:
+        return
+    row = k // every
+    for s in range(state.shape[0]):
+        for c in range(3):
+            hist[c, row, s] = state[s, c]
+
+
+@njit(borrowed=True)
+def commit_trial(now, out, peak):
+    """Commit the trial links ``out`` into ``now`` (:class:`LinkTrial`: remainders, law states and their
+    modal load) and raise the running peaks |deformation| ``peak`` (ns,): the links' commit, for every
+    path that steps them (the compiled stretches, the held steps and the driver's Python step)."""
+    f, state, g, f1, trial, g1 = now.f, now.state, now.g, out.f, out.state, out.g
+    for s in range(f.shape[0]):
+        f[s] = f1[s]
+        for c in range(state.shape[1]):
+            state[s, c] = trial[s, c]
+        if abs(trial[s, 0]) > peak[s]:
+            peak[s] = abs(trial[s, 0])
+    for i in range(g.shape[0]):
+        g[i] = g1[i]
 
 #: the unit roundoff [-]
 EPS = float(np.finfo(np.float64).eps)

@@ -138,6 +138,8 @@ class Yielding:
         self.f, self.state, self.g = self.now.f, self.now.state, self.now.g
         self.peak, self.work, self.joined_work = self.rec.peak, self.rec.work, self.rec.joined_work
         self._S: dict = {}
+        self._no_S = np.zeros((0, 0))  # the booking reads no compliance
+        self._buffers = None
 
     @classmethod
     def of(cls, scene, model, tolerance: float = NEWTON_TOL) -> "Yielding | None":
@@ -197,9 +199,13 @@ class Yielding:
             out = self._S[key] = compliance(self.links, np.ascontiguousarray(B1, dtype=float))
         return out
 
-    def record(self, row: np.ndarray) -> None:
-        """row (3, ns): deformation, force and dissipated energy of every spring, groups in order."""
-        row[:, :] = self.state[:, :3].T
+    def record(self, k: int, every: int) -> None:
+        """Record grid instant k, every ``every``-th, into the output rows' histories
+        (:func:`~pounding.framework.engine.spring_core.record_links`: deformation, force and dissipated
+        energy of every link, groups in order)."""
+        from pounding.framework.engine.spring_core import record_links
+
+        record_links(self.state, int(k), int(every), self.rec.hist)
 
     def block_rows(self, blk: Block) -> np.ndarray:
         """The rows (ns_b, n_b) of a building's storey springs over its own modes."""
@@ -312,23 +318,24 @@ class Yielding:
             raise self.fixed_point_error()
         return fixed.step, out
 
-    def joined_part(self, force_work, tr, h: float, load0, load1, st, ftot0, ftot1, bidx) -> np.ndarray:
-        """Work per building [J] of the links between slabs' modal loads in the step ``st`` of h [s]
-        (from the committed remainders to the trial's ``st.sp``), by the integrator's rule ``force_work``;
-        bidx (n,) the building of every mode."""
-        from pounding.framework.engine.spring_core import joined_load
+    def stepping(self) -> LinkStepping:
+        """The links as the compiled booking and stretches read them (the compliance is the stretch's
+        own: none here)."""
+        return LinkStepping(self.links, self._no_S, self.now, self.rec)
 
-        gx0, gx1 = np.empty(self.n), np.empty(self.n)
-        joined_load(self.f, self.links, gx0)
-        joined_load(np.ascontiguousarray(st.sp.f), self.links, gx1)
-        w = force_work(tr, h, load0, load1, st.z0, st.z1, ftot0, ftot1, gx0, gx1)
-        return np.bincount(bidx, weights=w, minlength=self.joined_work.shape[0])
+    def booking_buffers(self) -> tuple:
+        """Work arrays of :func:`~pounding.framework.engine.spring_core.book_links` (per building, five
+        per mode, four), made once."""
+        if self._buffers is None:
+            n, nb = self.n, self.rec.work.shape[0]
+            self._buffers = (np.empty(nb), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(n), np.empty(4))
+        return self._buffers
 
     def commit(self, sp: LinkTrial) -> None:
-        self.f[:] = sp.f
-        self.state[:] = sp.state
-        np.maximum(self.peak, np.abs(sp.state[:, 0]), out=self.peak)
-        self.g[:] = sp.g
+        """Commit the links' trial ``sp`` of a step the driver took in Python (:func:`~pounding.framework.engine.spring_core.commit_trial`)."""
+        from pounding.framework.engine.spring_core import commit_trial
+
+        commit_trial(self.now, sp, self.peak)
 
     def energy(self, building: int, q: np.ndarray, omega: np.ndarray, start: int) -> dict:
         """Strain and hysteretic energy of a building's storey springs [J] at modal displacements q (n,),
@@ -477,17 +484,3 @@ def check_springs(scene) -> None:
             spring_set(b, i)
         except InputError as exc:
             raise exc.located(file=str(scene.source) if scene.source else None) from None
-
-
-def force_work(tr, h, L_load0, L_load1, z0, z1, ftot0, ftot1, w0, w1):
-    """Work (n,) [J] of a modal load w linear in a step of h [s] (w0 at its start, w1 at its end), on
-    the integrator's trajectory driven by the modal ground loads L_load0, L_load1 (n,) and the total
-    extra loads ftot (n,): :func:`pounding.framework.engine.spring_core.spring_work` (the compiled
-    stretch books its steps with the same function)."""
-    from pounding.framework.engine.spring_core import spring_work
-
-    out = np.empty(z0.shape[0])
-    c = np.ascontiguousarray
-    spring_work(tr, float(h), c(L_load0, dtype=float), c(L_load1, dtype=float), c(z0), c(z1), c(ftot0, dtype=float),
-                c(ftot1, dtype=float), c(w0, dtype=float), c(w1, dtype=float), out)
-    return out
