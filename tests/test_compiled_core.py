@@ -338,6 +338,12 @@ def _total(a):
 
 
 @compiler.njit
+def _scaled_total(pair):
+    a, k = pair
+    return k * a.sum()
+
+
+@compiler.njit
 def _twice(x):
     return 2.0 * x
 
@@ -358,22 +364,25 @@ def _first_of(laws, x):
 
 
 @needs_numba
-def test_calls_from_python_run_the_machine_code_numba_chose_for_their_argument_types():
-    """A compiled function called from Python runs, for each fingerprint of its arguments, the machine
+def test_calls_passing_tuples_run_the_machine_code_numba_chose_for_their_argument_types():
+    """A compiled function called from Python with a plain tuple, a law tuple or a compiled function
+    (which numba types slowly at every call) runs, for each fingerprint of its arguments, the machine
     code numba's dispatcher chose for their types (pounding.compiler._Entries): a C-ordered array, a
-    read-only copy, a strided view and a Fortran-ordered one are four numba types and get four entries,
-    each call summing its own array (integers: exact); compiled functions and law tuples passed as
-    arguments are told apart by identity, each call running its own law."""
+    read-only copy, a strided view and a Fortran-ordered one inside the tuple are four numba types and
+    get four entries, each call summing its own array (integers: exact); compiled functions and law
+    tuples passed as arguments are told apart by identity, each call running its own law. A function
+    called with arrays alone keeps numba's own dispatch (faster there)."""
     a = np.arange(12.0).reshape(3, 4)
     ro = a.copy()
     ro.flags.writeable = False
     views = (a, ro, a[:, ::2], a.T)
     for v in views + views:  # the second round runs the kept entries
-        assert _total(v) == v.sum()
-    assert len(_total._call.entries) == 4
+        assert _scaled_total((v, 2.0)) == 2.0 * v.sum()
+    assert len(_scaled_total._call.entries) == 4
     assert [_call_with(f, 1.5) for f in (_twice, _thrice, _twice)] == [3.0, 4.5, 3.0]
     assert [_first_of(kernel_tuple((f,)), 2.0) for f in (_thrice, _twice, _thrice)] == [6.0, 4.0, 6.0]
     assert len(_call_with._call.entries) == 2 and len(_first_of._call.entries) == 2
+    assert _total(a) == a.sum() and not isinstance(_total._call, compiler._Entries)
 
 
 @needs_numba

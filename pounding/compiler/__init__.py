@@ -141,7 +141,10 @@ class Kernel:
             finally:
                 _loading[0] -= 1
         _load_time[0] += time.perf_counter() - t0
-        return _Entries(d) if hasattr(d, "overloads") else d
+        # numba's own dispatch types arrays, scalars and named bundles fast enough (an array-only
+        # call: 0.2 us, against 2 us for a fingerprint); a plain tuple of laws and arrays it types in
+        # Python, element by element (70 us): only such calls keep their machine code by fingerprint
+        return _Entries(d) if hasattr(d, "overloads") and any(map(_typed_slowly, args)) else d
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
@@ -180,12 +183,19 @@ def _fix_identity(dispatcher, func) -> None:
         return
 
 
+def _typed_slowly(a) -> bool:
+    """Whether numba types the argument ``a`` slowly at every call: a plain tuple (its elements one by
+    one, in Python), a law tuple or a compiled function (through its first-class function typing)."""
+    return type(a) is tuple or getattr(type(a), "typed_by_identity", False)
+
+
 class _Entries:
     """numba's dispatcher, with the machine code it ran for each argument fingerprint kept by that
-    fingerprint (:func:`pounding.compiler.prebuilt.dispatch_print`).
+    fingerprint (:func:`pounding.compiler.prebuilt.dispatch_print`), for a function whose calls pass a
+    plain tuple, a law tuple or a compiled function (:func:`_typed_slowly`).
 
     numba's dispatcher types every argument at every call to choose the machine code, and types a
-    tuple or named bundle element by element in Python: a call of the contact solve with its
+    plain tuple element by element in Python: a call of the contact solve with its
     arguments' tuple (the laws' kernels, seven arrays) spent 70 us there against 2 us in the code
     itself. The fingerprint says the same as numba's types (an array's dtype, dimensions, layout,
     mutability and alignment; a bundle's class and fields; a law tuple or a compiled function by

@@ -108,22 +108,32 @@ def work_maps(w, zeta, h):
     where x = (q0, v0, p0, p1) is the state at the start of the step and the
     load values at both ends (load linear in time, unit mass).
     """
-    # fresh contiguous float arrays: one argument type for the compiled regime A, whatever the caller passes
-    w, zeta = (np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(np.asarray(w, dtype=float),
-                                                                                np.asarray(zeta, dtype=float)))
+    w, zeta = _flat(w, zeta)
     h = float(h)
     n = w.size
     a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
     if n == 0:
         return a1, a2, M
-    if not (h > 0 and np.all(w > 0) and np.all(zeta >= 0)):
+    if not (h > 0 and w.min() > 0 and zeta.min() >= 0):
         raise ValueError("need h > 0, w > 0, zeta >= 0")
     done = np.zeros(n, dtype=np.bool_)
     work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes
-    rest = np.flatnonzero(~done)
-    if rest.size:
+    if not done.all():
+        rest = np.flatnonzero(~done)
         a1[rest], a2[rest], M[rest] = _oscillator_maps(w[rest], zeta[rest], h)
     return a1, a2, M
+
+
+def _flat(w, zeta) -> tuple[np.ndarray, np.ndarray]:
+    """w, zeta as writable contiguous float arrays (n,), one argument type for the compiled regime A
+    whatever the caller passes; the driver's (its modes') already are and pass through untouched
+    (the crossing locator asks the maps of a one-off step length at every located impact)."""
+    if (type(w) is np.ndarray and type(zeta) is np.ndarray and w.ndim == 1 and w.shape == zeta.shape
+            and w.dtype == np.float64 and zeta.dtype == np.float64 and w.flags.c_contiguous and zeta.flags.c_contiguous
+            and w.flags.writeable and zeta.flags.writeable):
+        return w, zeta
+    return tuple(np.array(x, dtype=float).reshape(-1) for x in np.broadcast_arrays(np.asarray(w, dtype=float),
+                                                                                  np.asarray(zeta, dtype=float)))
 
 
 def _oscillator_maps(w, zeta, h):
