@@ -122,8 +122,8 @@ def test_an_arriving_corner_is_struck_where_it_touches_with_the_laws_restitution
     z_start, E_start = d.z.copy(), d.E.copy()
     if use_kernel:
         d.prepare()
-        k, status, p = d.advance_held(0, 1)
-        assert (k, Status(status), p) == (0, Status.OVERLAP, 0)
+        end = d.advance_held(0, 1)
+        assert (end.k, Status(end.status), end.pair) == (0, Status.OVERLAP, 0)
         assert np.array_equal(d.z, z_start) and np.array_equal(d.E, E_start)
     seen = strikes(d)
     d.python_step(0)

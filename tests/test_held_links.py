@@ -113,9 +113,9 @@ class CountingHeldSteps(Driver):
     held_steps = 0
 
     def advance_held(self, k0, k1):
-        k, status, pair = super().advance_held(k0, k1)
-        self.held_steps += k - k0
-        return k, status, pair
+        end = super().advance_held(k0, k1)
+        self.held_steps += end.k - k0
+        return end
 
 
 def test_the_compiled_held_stretch_with_yielding_springs_gives_the_python_path():

@@ -845,8 +845,8 @@ def test_an_arriving_corner_of_a_held_pair_closes_until_it_touches(use_kernel):
     gap0, closing = _corner_b(d)
     if use_kernel:
         d.prepare()
-        k, status, _ = d.advance_held(0, 1)
-        assert (k, Status(status)) == (1, Status.DONE)
+        end = d.advance_held(0, 1)
+        assert (end.k, Status(end.status)) == (1, Status.DONE)
     else:
         d.python_step(0)
     gap1, _ = _corner_b(d)

@@ -204,6 +204,15 @@ class HeldSet(NamedTuple):
     start: Features
 
 
+class StretchEnd(NamedTuple):
+    """Where a compiled stretch of grid steps stopped (:func:`pounding.framework.engine.kernel.advance`,
+    :func:`pounding.framework.engine.spring_core.stretch`, :func:`pounding.framework.engine.held.held_stretch`)."""
+
+    k: int  #: the grid index reached (the start of the step that stopped it, or of the next one: see ``status``)
+    status: int  #: a :class:`Status`: DONE, OVERLAP, CONTACT, HELD, RELEASED or DIVERGED
+    pair: int  #: the pair that stopped it (-1: none)
+
+
 class StepEnds(NamedTuple):
     """A step's start and end states and the modal contact forces at its ends, as the links' booking
     reads them (:func:`pounding.framework.engine.spring_core.book_links`; a :class:`HeldStep` serves too)."""

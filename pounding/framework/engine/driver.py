@@ -323,16 +323,16 @@ class Driver:
         while k < self.nsteps:
             if self.use_kernel and self.sustained:  # (only impulses hold pairs)
                 k_end = min(self.nsteps, k + 4096)
-                k_new, status, _ = self.advance_held(k, k_end)
+                end = self.advance_held(k, k_end)
             elif self.needs_python(k):
                 self.python_step(k)
                 k += 1
                 continue
             else:
                 k_end = min(self.nsteps, k + 4096)
-                k_new, status, _ = self.advance(k, k_end)
+                end = self.advance(k, k_end)
             self.drain_kernel_events()
-            status = Status(status)
+            k_new, status = end.k, Status(end.status)
             if status in (Status.DONE, Status.RELEASED):
                 k = k_new
             elif status == Status.HELD:  # the kernel applied impulses and a pair's rebounds accumulate: hold it

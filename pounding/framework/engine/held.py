@@ -35,7 +35,7 @@ import numpy as np
 
 from pounding.contact.base import keep_pushing, newton_lcp, solve_small
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import Features, HeldContact, HeldFixedPoint, HeldSet, HeldStep, LinkPass, LinkTrial, Status
+from pounding.framework.engine.bundles import Features, HeldContact, HeldFixedPoint, HeldSet, HeldStep, LinkPass, LinkTrial, Status, StretchEnd
 from pounding.framework.engine.crossing import suspect
 from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.kernel import _accumulate_forces, _record, update_peaks
@@ -474,7 +474,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     links: the contact forces' and the remainders' loads in the energy audit, the remainders' work
     to ``run.record.work``, the links committed and recorded).
 
-    Returns (k, status, pair): the grid index reached and a
+    Returns a :class:`~pounding.framework.engine.bundles.StretchEnd` (k, status, pair): the grid index reached and a
     :class:`~pounding.framework.engine.bundles.Status`: DONE (k1 reached), RELEASED (every held
     pair let go at the end of step k - 1), OVERLAP (in step k a point of held pair ``pair``
     arrives, or free pair ``pair`` would overlap: the state and the energy account are as at its
@@ -525,7 +525,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
                 for i in range(n):
                     z[i, 1] = v_before[i]
                 E[:, :] = E_before
-                return k, Status.DIVERGED, -1
+                return StretchEnd(k, Status.DIVERGED, -1)
             st = fixed.step
         z0, z1, f0, f1, startS, arrival, apair = st.z0, st.z1, st.f0, st.f1, st.end, st.arrival, st.apair
         have = True
@@ -533,7 +533,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
             for i in range(n):
                 z[i, 1] = v_before[i]
             E[:, :] = E_before
-            return k, Status.OVERLAP, apair
+            return StretchEnd(k, Status.OVERLAP, apair)
         # a free pair that would overlap: the driver locates the impact
         for p in range(P):
             if held_mask[p]:
@@ -548,7 +548,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
                 for i in range(n):
                     z[i, 1] = v_before[i]
                 E[:, :] = E_before
-                return k, Status.OVERLAP, p
+                return StretchEnd(k, Status.OVERLAP, p)
         book_velocity_change(E, bidx, z[:, 1].copy(), z0[:, 1].copy())  # pressed points' start velocity projected (held_step)
         if run is None:
             _accumulate_forces(tr, modes, dt, ag[k], ag[k + 1], z0, z1, f0, f1, E)
@@ -582,10 +582,10 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
                 if held_mask[p]:
                     continue
                 if pair_gap(q, p, tol, geo) <= tol and closing(q, z[:, 1].copy(), p, tol, v_min, n, geo):
-                    return k + 1, Status.CONTACT, p
+                    return StretchEnd(k + 1, Status.CONTACT, p)
         if not any_held:
-            return k + 1, Status.RELEASED, -1
-    return k1, Status.DONE, -1
+            return StretchEnd(k + 1, Status.RELEASED, -1)
+    return StretchEnd(k1, Status.DONE, -1)
 
 
 

@@ -25,7 +25,7 @@ import numpy as np
 from pounding.compiler import njit
 from pounding.contact.base import newton_group
 from pounding.contact.geometry import MAX_FEATURES, axis_separation, clearance_bound
-from pounding.framework.engine.bundles import Status
+from pounding.framework.engine.bundles import Status, StretchEnd
 from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, point_bounds, slab_state, suspect_given
 from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.modal_step import stepped
@@ -87,7 +87,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
 
     Returns
     -------
-    (k, status, pair) : the grid index reached, a :class:`~pounding.framework.engine.bundles.Status`
+    :class:`~pounding.framework.engine.bundles.StretchEnd` (k, status, pair) : the grid index reached, a :class:`~pounding.framework.engine.bundles.Status`
     (DONE, CONTACT, OVERLAP or HELD), the pair index (or -1).
     """
     A, B = tr.A, tr.B
@@ -153,7 +153,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                         z[i, 0] = z0[i, 0]
                         z[i, 1] = z0[i, 1]
                         z[i, 2] = z0[i, 2]
-                    return k, Status.OVERLAP, p
+                    return StretchEnd(k, Status.OVERLAP, p)
             else:
                 _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
                 _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
@@ -170,7 +170,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                         z[i, 0] = z0[i, 0]
                         z[i, 1] = z0[i, 1]
                         z[i, 2] = z0[i, 2]
-                    return k, Status.OVERLAP, p
+                    return StretchEnd(k, Status.OVERLAP, p)
                 if g <= tol and status == Status.DONE and closing(z[:, 0].copy(), z[:, 1].copy(), p, tol, v_min, n, geo):
                     # keep checking the other pairs: one of them may overlap in this same step
                     status = Status.CONTACT
@@ -184,12 +184,12 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                 P = pair_a.shape[0]
                 if restitution < 0 or log.n_impacts[0] + P * MAX_FEATURES > log.impacts.shape[0] or log.n_events[0] >= log.t.shape[0]:
                     _record(z, k + 1, rec)  # the driver applies the impulses and records again
-                    return k + 1, Status.CONTACT, hit
+                    return StretchEnd(k + 1, Status.CONTACT, hit)
                 _, held = impulses_at(None, (k + 1) * dt, ag[k + 1], z, no_force, modes, settings, dt, log, geo, free)
         _record(z, k + 1, rec)
         if held:
-            return k + 1, Status.HELD, -1
-    return k1, Status.DONE, -1
+            return StretchEnd(k + 1, Status.HELD, -1)
+    return StretchEnd(k1, Status.DONE, -1)
 
 
 @njit
@@ -210,7 +210,7 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
         if every > 1:
             update_peaks(rows, z0, z, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
-    return k1, Status.DONE, -1
+    return StretchEnd(k1, Status.DONE, -1)
 
 
 @njit(borrowed=True)

@@ -36,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from pounding.compiler import njit
-from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkTrial, NewtonWork, Status, StepEnds
+from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkTrial, NewtonWork, Status, StepEnds, StretchEnd
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.contact.geometry import clearance_bound
 from pounding.framework.engine.ground_load import modal_load
@@ -661,7 +661,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
 
     Returns
     -------
-    (k, status, pair) : grid index reached; Status.DONE, OVERLAP (the state is the start of step k)
+    :class:`~pounding.framework.engine.bundles.StretchEnd` (k, status, pair): grid index reached; Status.DONE, OVERLAP (the state is the start of step k)
     or DIVERGED (Newton failed in step k, state at its start); the pair that stopped it, or -1.
     """
     # the bundles unpacked once, by name: the leaves called at every step take arrays
@@ -717,7 +717,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
                 z[i, 0] = z0[i, 0]
                 z[i, 1] = z0[i, 1]
                 z[i, 2] = z0[i, 2]
-            return k, Status.DIVERGED, -1
+            return StretchEnd(k, Status.DIVERGED, -1)
         changed = False  # (S f is renewed on commit when the remainders changed)
         for s in range(ns):
             if f1[s] != f[s]:
@@ -741,7 +741,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
                     z[i, 0] = z0[i, 0]
                     z[i, 1] = z0[i, 1]
                     z[i, 2] = z0[i, 2]
-                return k, Status.OVERLAP, p
+                return StretchEnd(k, Status.OVERLAP, p)
         # the energy audit, as Driver.commit books a step with links (accumulate_with_springs)
         book_links(tr, modes, dt, ag0, ag1, pg0, pg1, ends, E, run, out, buf)
         # commit the links
@@ -752,7 +752,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             update_peaks(rows, z0, z, dt, n_modes, slab_building, slab_peak)
         _record(z, k + 1, rec)
         record_links(state, k + 1, every, hist)
-    return k1, Status.DONE, -1
+    return StretchEnd(k1, Status.DONE, -1)
 
 
 @njit(borrowed=True)

@@ -364,12 +364,12 @@ class Yielding:
         tr = driver.transition(driver.dt)
         S = self.S(np.ascontiguousarray(tr.B[:, 0, 1]))
         run = LinkStepping(self.links, S, self.now, self.rec)
-        k, status, pair = stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
-                                  driver.kgeo, float(driver.tol), run)
-        if status == Status.DIVERGED:
+        end = stretch(self.updates, tr, driver.model.modes, driver.ground, driver.z, int(k0), int(k1), driver.rec,
+                      driver.kgeo, float(driver.tol), run)
+        if end.status == Status.DIVERGED:
             raise FloatingPointError(f"the links' Newton iteration did not converge in the step starting at "
-                                     f"t = {k * driver.dt:g} s ({NEWTON_HINT})")
-        return k, status, pair
+                                     f"t = {end.k * driver.dt:g} s ({NEWTON_HINT})")
+        return end
 
     def advance_held(self, driver, mask: np.ndarray, k0: int, k1: int):
         """Grid steps k0 -> k1 with the pairs ``mask`` (P,) bool held (updated in place), compiled
@@ -379,11 +379,11 @@ class Yielding:
 
         tr = driver.transition(driver.dt)
         run = LinkStepping(self.links, self.S(np.ascontiguousarray(tr.B[:, 0, 1])), self.now, self.rec)
-        k, status, pair = held_stretch(tr, driver.model.modes, driver.ground, driver.z, HeldPairs(driver.fc, mask), int(k0),
-                                       int(k1), driver.rec, driver.model.geo, driver.settings, driver.rules, self.updates, run)
-        if status == Status.DIVERGED:
+        end = held_stretch(tr, driver.model.modes, driver.ground, driver.z, HeldPairs(driver.fc, mask), int(k0),
+                           int(k1), driver.rec, driver.model.geo, driver.settings, driver.rules, self.updates, run)
+        if end.status == Status.DIVERGED:
             raise self.fixed_point_error()
-        return k, status, pair
+        return end
 
 
 class _Layout:
