@@ -154,7 +154,8 @@ def test_a_face_pressed_flat_carries_one_contacts_force():
     sl = slice(int(model.mode_start[0]), int(model.mode_start[0]) + low.n_dof)
     q[sl] = np.linalg.solve(low.modes, x)
     qd[sl] = np.linalg.solve(low.modes, x / (GAP + delta) * rate)
-    pair, gap, W, _, _, share = model.touching_shares(q, model.all_pairs, TOL)
+    pts = model.touching_shares(q, model.all_pairs, TOL)
+    pair, gap, W, share = pts.pair, pts.gap, pts.W, pts.share
     assert np.bincount(pair).tolist() == [2, 2, 2] and share.tolist() == [0.5] * 6
     assert np.allclose(-gap, delta, rtol=0, atol=64 * EPS * 30.0)
     m = len(pair)

@@ -670,13 +670,14 @@ class Driver:
         and normals (m, 2)."""
         from pounding.contact.base import ContactState
 
-        pair, gap, Wr, Qf, Nf, share = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol)
-        near, near_gap, near_rows = pair, gap, Wr
-        keep = gap < 0
+        pts = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol)
+        near, near_gap, near_rows = pts.pair, pts.gap, pts.W
+        keep = pts.gap < 0
         if not keep.any():
             return near, near_gap, near_rows, None
         if not keep.all():
-            pair, gap, Wr, Qf, Nf, share = pair[keep], gap[keep], Wr[keep], Qf[keep], Nf[keep], share[keep]
+            pts = pts.take(keep)
+        pair, gap, Wr, Qf, Nf, share = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T

@@ -24,6 +24,8 @@ to 1 there). A face pressed flat at both ends still carries F(delta): 2 * F / 2.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from pounding.compiler import njit
@@ -71,10 +73,24 @@ def point_shares(ends, pair, who, idx, face):
     return share
 
 
-def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, geo, ends: np.ndarray):
+class SharedPoints(NamedTuple):
+    """Touching points of slab pairs with the share of one contact each stands for (:func:`touching_with_shares`)."""
+
+    pair: np.ndarray  #: (m,) int, each point's pair
+    gap: np.ndarray  #: (m,) its gap [m] (negative: penetrating)
+    W: np.ndarray  #: (m, n) its modal row
+    Q: np.ndarray  #: (m, 2) the point [m]
+    N: np.ndarray  #: (m, 2) the unit normal from slab a towards slab b
+    share: np.ndarray  #: (m,) the share of one whole contact it stands for (:func:`point_shares`)
+
+    def take(self, keep: np.ndarray) -> "SharedPoints":
+        """The points where ``keep`` (m,) bool is True."""
+        return SharedPoints(*(x[keep] for x in self))
+
+
+def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, geo, ends: np.ndarray) -> SharedPoints:
     """Touching features of the pairs ``plist`` with every penetrating one found (``deep``), stacked,
-    and their shares: (pair (m,), gap (m,), W (m, n), Q, N (m, 2), share (m,)) for modal
-    displacements q (n,), contact tolerance ``tol`` [m] and the rest faces ``ends``
-    (:func:`rest_face_ends`)."""
+    and their shares (:class:`SharedPoints`) for modal displacements q (n,), contact tolerance
+    ``tol`` [m] and the rest faces ``ends`` (:func:`rest_face_ends`)."""
     f = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol), True, n, geo)
-    return f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face)
+    return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face))

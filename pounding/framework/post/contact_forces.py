@@ -102,11 +102,12 @@ def contact_force_history(result) -> ContactForces:
     ends = rest_face_ends(result.geo)
     for k in range(nt):
         q = np.ascontiguousarray(result.q[k])
-        pair, gap, Wr, Q, N, share = touching_with_shares(q, forced, tol, n, result.geo, ends)
-        keep = gap < 0  # the pressed points, as the driver keeps them
+        pts = touching_with_shares(q, forced, tol, n, result.geo, ends)
+        keep = pts.gap < 0  # the pressed points, as the driver keeps them
         if not np.any(keep):
             continue
-        pair, gap, Wr, Q, N, share = pair[keep], gap[keep], Wr[keep], Q[keep], N[keep], share[keep]
+        pts = pts.take(keep)
+        pair, gap, Wr, Q, N, share = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share
         m = len(pair)
         start, approach = _episode_history(result, pair, float(result.t[k]))
         zero = np.zeros((m, m))
