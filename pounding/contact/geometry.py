@@ -75,6 +75,7 @@ from Python (the rest gaps of a scene at load) run interpreted
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 
@@ -951,6 +952,19 @@ def _on_partner(I, r, partner, nT):
     return v == partner or v == p1
 
 
+class ContactPoints(NamedTuple):
+    """The contact features of two polygons (:func:`contact_points`), MAX_FEATURES rows of which the
+    first ``count`` hold features."""
+
+    count: int  #: number of valid rows (0..MAX_FEATURES)
+    Q: np.ndarray  #: (MAX_FEATURES, 2) contact points [m]
+    N: np.ndarray  #: (MAX_FEATURES, 2) unit normals from A towards B
+    gap: np.ndarray  #: (MAX_FEATURES,) signed gaps [m], negative when penetrating
+    who: np.ndarray  #: (MAX_FEATURES,) int64, 0: a point of A strikes B; 1: a point of B strikes A
+    idx: np.ndarray  #: (MAX_FEATURES,) int64, that vertex's index in its polygon (-1: not a vertex)
+    pair: np.ndarray  #: (MAX_FEATURES,) int64, the face-to-face pair id of an overlap's ends (-1: a point feature)
+
+
 @njit
 def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
     """Contact features of two polygons that touch or overlap.
@@ -970,6 +984,8 @@ def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
 
     Returns
     -------
+    :class:`ContactPoints`, whose fields are:
+
     count : int
         Number of valid rows (0..MAX_FEATURES); the other rows hold zeros
         and -1.
@@ -1020,7 +1036,7 @@ def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
         if F[r, _F_GAP] < g0:
             g0 = F[r, _F_GAP]
     if not g0 <= tol:
-        return 0, Q, N, gap, who, idx, pair
+        return ContactPoints(0, Q, N, gap, who, idx, pair)
     k = A.shape[0]
     l = B.shape[0]
 
@@ -1138,4 +1154,4 @@ def contact_points(A, B, tol, ang_tol=FACE_ANGLE):
         who[nf] = I[best, _I_WHO]
         idx[nf] = I[best, _I_IDX]
         nf += 1
-    return nf, Q, N, gap, who, idx, pair
+    return ContactPoints(nf, Q, N, gap, who, idx, pair)

@@ -131,12 +131,13 @@ def pair_features(q, p, tol, n, geo):
     modal displacements q (n,): a :class:`~pounding.framework.engine.bundles.PairFeatures` (the
     points, normals, gaps and strikers as :func:`pounding.contact.geometry.contact_points` gives them)."""
     A, B, sa, sb = pair_polygons(q, p, np.empty(3), np.empty(3), geo)
-    count, Q, N, gap, who, idx, face = contact_points(A, B, tol)
+    cp = contact_points(A, B, tol)
+    Q, N = cp.Q, cp.N
     W = np.zeros((MAX_FEATURES, n))
     a, b = geo.pa[p, 0], geo.pb[p, 0]
-    for k in range(count):
+    for k in range(cp.count):
         contact_row(geo, q, a, sa, b, sb, Q[k, 0], Q[k, 1], N[k, 0], N[k, 1], W[k])
-    return PairFeatures(count, Q, N, gap, who, idx, face, W)
+    return PairFeatures(cp.count, Q, N, cp.gap, cp.who, cp.idx, cp.pair, W)
 
 
 @njit
@@ -256,10 +257,10 @@ def rest_axis(A: np.ndarray, B: np.ndarray, rest_gap: float) -> np.ndarray:
     from pounding.compiler import interpreted
 
     with interpreted():
-        count, Q, N, gap, *_ = contact_points(A, B, max(rest_gap, 0.0) + 1e-9 * (1.0 + abs(rest_gap)))
-    if count == 0:
+        cp = contact_points(A, B, max(rest_gap, 0.0) + 1e-9 * (1.0 + abs(rest_gap)))
+    if cp.count == 0:
         return np.zeros(2)
-    return N[int(np.argmin(gap[:count]))].copy()
+    return cp.N[int(np.argmin(cp.gap[: cp.count]))].copy()
 
 
 @njit
@@ -275,7 +276,8 @@ def closing(q, v, p, tol, v_min, n, geo):
     A, B, sa, sb = pair_polygons(q, p, da, db, geo)
     slab_dofs(geo.rows, geo.off, geo.n_modes, pa[p, 0], pa[p, 1], v, va)
     slab_dofs(geo.rows, geo.off, geo.n_modes, pb[p, 0], pb[p, 1], v, vb)
-    count, Q, N, _, _, _, _ = contact_points(A, B, tol)
+    cp = contact_points(A, B, tol)
+    count, Q, N = cp.count, cp.Q, cp.N
     cax, cay = centres[sa, 0] + da[0], centres[sa, 1] + da[1]
     cbx, cby = centres[sb, 0] + db[0], centres[sb, 1] + db[1]
     for j in range(count):
