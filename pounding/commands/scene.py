@@ -114,16 +114,15 @@ def describe(scene, path: Path | None = None) -> str:
                  f"PGA {gm.pga / G:.4g} g = {gm.pga:.4g} m/s2, " + (
                      f"along {gm.angle:g} deg from x" if len(gm.components) == 1 else
                      f"components along {gm.angle:g} and {gm.angle + 90:g} deg from x (PGA the larger one's)"))
-    from pounding.contact.rules import pair_laws
+    from pounding.contact.rules import scene_laws
     from pounding.framework.engine.contact_step import run_dt
     from pounding.framework.engine.stacked_model import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
-    from pounding.framework.model.registry import CONTACT_LAWS
 
     integrator = chosen_integrator(scene)
     int_src = "" if an.integrator else " (chosen for the scene)"
     m = Model(scene)  # as the driver chooses (pounding.framework.engine.timestep, contact_step)
-    dt, contact_time = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls), integrator)
+    dt, contact_time = run_dt(scene, m, *scene_laws(scene, m.pairs, m.walls), integrator)
     if an.dt:
         dt_src = ""
     elif contact_time.duration < float("inf"):

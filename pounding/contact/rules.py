@@ -108,3 +108,12 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     for p, wall in (walls or {}).items():
         which[p] = by_wall[wall.name]
     return laws, which
+
+
+def scene_laws(scene, pairs: list, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
+    """:func:`pair_laws` with the default of ``scene``'s ``[analysis] contact`` (its law with its
+    parameters, index 0): the laws of a run of ``scene`` on its ``pairs`` and ``walls`` as the
+    driver, the export, ``pounding check``, the rebuilt contact forces and a run folder read back
+    all resolve them."""
+    an = scene.analysis
+    return pair_laws(scene, pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), walls)

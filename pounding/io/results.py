@@ -417,12 +417,10 @@ def load_result(folder: str | Path):
 
 def run_law_names(scene, model) -> list[str]:
     """The name of every slab pair's contact law of ``scene`` on the pairs of ``model``, by the rule
-    the run resolves them with (:func:`pounding.contact.rules.pair_laws`)."""
-    from pounding.contact.rules import law_name, pair_laws
-    from pounding.framework.model.registry import CONTACT_LAWS
+    the run resolves them with (:func:`pounding.contact.rules.scene_laws`)."""
+    from pounding.contact.rules import law_name, scene_laws
 
-    an = scene.analysis
-    laws, which = pair_laws(scene, model.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), model.walls)
+    laws, which = scene_laws(scene, model.pairs, model.walls)
     return [law_name(laws[j]) for j in which]
 
 

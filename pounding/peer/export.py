@@ -200,16 +200,15 @@ def _time_grid(scene) -> tuple[float, int, str | None]:
     (pounding.framework.engine.timestep), and a note when the scene's own step spans a force law's
     shortest contact in fewer steps than the default takes (the tool's run warns of it too; OpenSees'
     Newton may then fail inside the contact), else None."""
-    from pounding.contact.rules import pair_laws
+    from pounding.contact.rules import scene_laws
     from pounding.framework.engine.contact_step import run_dt
     from pounding.framework.engine.stacked_model import Model
     from pounding.framework.engine.integrator_choice import chosen_integrator
     from pounding.framework.engine.timestep import STEPS_PER_CONTACT
-    from pounding.framework.model.registry import CONTACT_LAWS
 
     an, gm = scene.analysis, scene.ground_motion
     m = Model(scene)  # as the driver chooses: the modes and the shortest contact (pounding.framework.engine.contact_step)
-    dt, contact = run_dt(scene, m, *pair_laws(scene, m.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), m.walls),
+    dt, contact = run_dt(scene, m, *scene_laws(scene, m.pairs, m.walls),
                          chosen_integrator(scene))
     note = None
     per = contact.duration / dt

@@ -41,7 +41,7 @@ from pounding.framework.engine.ground_load import modal_loads
 from pounding.framework.engine.bundles import (EventLog, Ground, HeldContact, HeldPairs, HeldSet, PairArrays, Recorder, Settings, Status,
                                                Transition)
 from pounding.framework.model.scene import Scene
-from pounding.framework.model.registry import CONTACT_LAWS, INTEGRATORS
+from pounding.framework.model.registry import INTEGRATORS
 from pounding.framework.engine.results import Impact, Result
 from pounding.framework.engine.stacked_model import Model
 from pounding.solvers.base import TransitionCache
@@ -80,13 +80,13 @@ class Driver:
         gm = scene.ground_motion
         self.gm = gm
         from pounding.framework.engine.contact_step import run_dt
-        from pounding.contact.rules import pair_laws
+        from pounding.contact.rules import scene_laws
         from pounding.framework.engine.integrator_choice import chosen_integrator
 
         integrator = chosen_integrator(scene)
-        self.law = CONTACT_LAWS.get(an.contact)(**an.contact_params)
-        #: every pair's law (:func:`~pounding.contact.rules.pair_laws`): self.laws[self.pair_law[p]]
-        self.laws, self.pair_law = pair_laws(scene, self.model.pairs, self.law, self.model.walls)
+        #: every pair's law (:func:`~pounding.contact.rules.scene_laws`): self.laws[self.pair_law[p]]
+        self.laws, self.pair_law = scene_laws(scene, self.model.pairs, self.model.walls)
+        self.law = self.laws[0]  # [analysis] contact's
         # without a dt the step is chosen for accuracy from the significant modes and the shortest
         # contact (pounding.framework.engine.timestep, contact_step); contact_time goes to Result.info
         self.dt, self.contact_time = run_dt(scene, self.model, self.laws, self.pair_law, integrator)

@@ -246,6 +246,7 @@ CONTACT_LAWS: Registry = Registry(
     "contact law",
 )
 
+
 def watches_contact(analysis) -> bool:
     """Whether the contact law of ``analysis`` (a scene's ``[analysis]``: its ``contact``, a name,
     ``module:Class`` or a class) watches slab pairs at all: False for a law that switches contact

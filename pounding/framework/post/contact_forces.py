@@ -57,14 +57,12 @@ class ContactForces:
 
 def run_laws(result) -> tuple[list, np.ndarray]:
     """The laws of a run, as the driver builds them from its scene: (laws, index (P,) of each pair's law)."""
-    from pounding.contact.rules import pair_laws
-    from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.contact.rules import scene_laws
 
     scene = result.scene
     if scene is None:
         raise ValueError("the result carries no scene (Result.scene): the contact laws are unknown")
-    an = scene.analysis
-    return pair_laws(scene, result.pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), getattr(result, "walls", {}))
+    return scene_laws(scene, result.pairs, getattr(result, "walls", {}))
 
 
 def _episode_history(result, pair: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:

@@ -127,10 +127,9 @@ def run_inelastic(scene: Scene, *, tolerance: float = NEWTON_TOL) -> InelasticRe
     from pounding.framework.engine.driver import Driver
     from pounding.framework.engine.integrator_choice import OTHERWISE
     from pounding.framework.engine.yielding import Yielding
-
-    an = scene.analysis
     from pounding.framework.model.registry import watches_contact
 
+    an = scene.analysis
     if watches_contact(an) and len(scene.buildings) > 1:
         raise InputError("run_inelastic steps buildings without contact: set contact = \"none\", or run the scene with "
                          "pounding.run (the driver steps yielding buildings with pounding)", field="analysis.contact")
