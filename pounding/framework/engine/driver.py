@@ -459,7 +459,7 @@ class Driver:
         return out
 
     def needs_python(self, k: int) -> bool:
-        if not self.use_kernel or self.sustained or np.any(self.fc != 0.0):
+        if not self.use_kernel or self.sustained or self.fc.any():
             return True
         if self.python_step_until_clear:
             if self.model.pairs and np.all(self.gaps(self.z[:, 0], cutoff=self.tol) > self.tol):
@@ -482,9 +482,12 @@ class Driver:
     def drain_kernel_events(self) -> None:
         """Move the impacts and event states the compiled core logged into the run's lists."""
         log = self.log
-        for j in range(int(log.n_events[0])):
+        n_events, n_impacts = int(log.n_events[0]), int(log.n_impacts[0])
+        if n_events == 0 and n_impacts == 0:  # (most calls: a stretch or a step that logged nothing)
+            return
+        for j in range(n_events):
             self.event_states.append((float(log.t[j]), log.q[j].copy(), log.v[j].copy()))
-        for r in log.impacts[: int(log.n_impacts[0])]:
+        for r in log.impacts[:n_impacts]:
             self.impacts.append(Impact.from_record(r))
         log.n_impacts[0] = 0
         log.n_events[0] = 0
@@ -617,14 +620,13 @@ class Driver:
 
     def trial(self, z, t, h) -> Step:
         """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
-        zero = np.zeros(self.model.n)
         if self.springs is not None:
             return self.spring_trial(z, t, h)
         if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
         if self.law.with_step:
             return self.force_trial(z, t, h)
-        return Step(z, self.step(z, t, h, self.fc), self.fc, zero)
+        return Step(z, self.step(z, t, h, self.fc), self.fc, np.zeros(self.model.n))
 
     def spring_trial(self, z, t, h) -> Step:
         """A trial step with yielding springs (:mod:`pounding.framework.engine.yielding`): Newton on the

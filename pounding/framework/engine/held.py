@@ -561,7 +561,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
             z[i, 2] = z1[i, 2]
             fc[i] = f1[i]
         if every > 1:
-            update_peaks(rows, z0, z1, dt, n_modes, slab_building, peak)
+            update_peaks(rows, geo.off, z0, z1, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
         if run is not None:
             record_links(now.state, k + 1, every, lrec.hist)

@@ -29,18 +29,8 @@ from pounding.framework.engine.bundles import Status, StretchEnd
 from pounding.framework.engine.crossing import SLAB_A, SLAB_B, motion_from, point_bounds, slab_state, suspect_given
 from pounding.framework.engine.ground_load import modal_load
 from pounding.framework.engine.modal_step import stepped
-from pounding.framework.engine.pairs import building_groups, closing, dofs_gap, touching_features
+from pounding.framework.engine.pairs import building_groups, closing, dofs_gap, slab_dofs, touching_features
 from pounding.framework.engine.peaks import cubic_abs_max
-
-
-@njit(borrowed=True)
-def _slab_dofs(rows, q, out):
-    # rows (3, n) of Phi for one slab, restricted to its building's modes
-    for r in range(3):
-        s = 0.0
-        for i in range(rows.shape[1]):
-            s += rows[r, i] * q[i]
-        out[r] = s
 
 
 @njit
@@ -108,8 +98,12 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
     kin = np.empty((pair_a.shape[0], 2, 18))  # the pairs' slab_state at the last two step ends, by k % 2
     kin_at = np.full((pair_a.shape[0], 2), -1, dtype=np.int64)  # the grid index each slot describes
     xw = np.empty(4)
+    q1 = np.empty(n)  # the step's end displacements, contiguous (the paper's rules: slab_dofs of them)
     for k in range(k0, k1):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
+        if rules is not None:
+            for i in range(n):
+                q1[i] = z[i, 0]
         # contact check on the pairs that could touch; a rejected step books no energy.
         # The cascade of pairs.pair_gap written out: a call per pair and step, with its many
         # array arguments, costs more than the check itself (0.8 -> 1.4 us/step measured).
@@ -155,8 +149,8 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                         z[i, 2] = z0[i, 2]
                     return StretchEnd(k, Status.OVERLAP, p)
             else:
-                _slab_dofs(rows[sa, :, : n_modes[ba, 1]], z[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1], 0], da)
-                _slab_dofs(rows[sb, :, : n_modes[bb, 1]], z[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1], 0], db)
+                slab_dofs(rows, off, n_modes, ba, pair_a[p, 1], q1, da)
+                slab_dofs(rows, off, n_modes, bb, pair_b[p, 1], q1, db)
                 # the rest-gap bound inline first (most pairs end there at most steps: a call per pair and
                 # step that reads the pair bundle cost more than the check, 15 -> 8 ms of the penalty run),
                 # then pairs.dofs_gap's cascade (a bound where it exceeds the tolerance)
@@ -177,7 +171,7 @@ def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules):
                     hit = p
         _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, xw)
         if every > 1:  # before any impulse at the step's end: the step's own end velocities
-            update_peaks(rows, z0, z, dt, n_modes, slab_building, peak)
+            update_peaks(rows, off, z0, z, dt, n_modes, slab_building, peak)
         held = False
         if rules is not None:  # (nested: numba prunes a branch on the None test alone)
             if status == Status.CONTACT:
@@ -199,7 +193,7 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
     Phi rows, for their peaks). Returns (k1, DONE, -1)."""
     A, B, L = tr.A, tr.B, modes.L
     dt, ag = ground.dt, ground.ag
-    E, every, peak, slab_building, rows, n_modes = rec.E, rec.every, rec.peak, modes.slab_building, geo.rows, geo.n_modes
+    E, every, peak, slab_building, rows, off, n_modes = rec.E, rec.every, rec.peak, modes.slab_building, geo.rows, geo.off, geo.n_modes
     n = z.shape[0]
     z0 = np.empty((n, 3))
     no_force = np.zeros(n)
@@ -208,7 +202,7 @@ def advance_free(tr, modes, ground, z, k0, k1, rec, geo):
         _free_step(A, B, L, ag[k], ag[k + 1], z0, z)
         _accumulate(tr, modes, dt, ag[k], ag[k + 1], z0, z, no_force, no_force, E, xw)
         if every > 1:
-            update_peaks(rows, z0, z, dt, n_modes, slab_building, peak)
+            update_peaks(rows, off, z0, z, dt, n_modes, slab_building, peak)
         _record(z, k + 1, rec)
     return StretchEnd(k1, Status.DONE, -1)
 
@@ -404,24 +398,18 @@ def group_features(pair, m, in_pair, g):
 
 
 @njit
-def update_peaks(rows, z0, z1, h, n_modes, slab_building, peak):
+def update_peaks(rows, off, z0, z1, h, n_modes, slab_building, peak):
     """peak (S, 3) <- max(peak, max over the step of |(u, v, phi)|) of every slab, from the modal
     states z0, z1 (n, 3) at the ends of a step of h [s] (z1 before any impulse at its end): the
     extreme of the cubic Hermite through (q, q') at both ends (:func:`pounding.framework.engine.peaks.cubic_abs_max`)."""
-    d0 = np.empty(3)
-    d1 = np.empty(3)
-    w0 = np.empty(3)
-    w1 = np.empty(3)
+    ends = np.empty(18)  # each end's (u, v, phi), rates and accelerations (crossing.slab_state)
     for s in range(peak.shape[0]):  # the real slabs (rows may hold facade slabs after them)
         b = slab_building[s]
-        i0, nb = n_modes[b, 0], n_modes[b, 1]
-        r = rows[s, :, :nb]
-        _slab_dofs(r, z0[i0 : i0 + nb, 0], d0)
-        _slab_dofs(r, z1[i0 : i0 + nb, 0], d1)
-        _slab_dofs(r, z0[i0 : i0 + nb, 1], w0)
-        _slab_dofs(r, z1[i0 : i0 + nb, 1], w1)
+        storey = s - off[b]
+        slab_state(rows, off, n_modes, b, storey, z0, ends, 0)
+        slab_state(rows, off, n_modes, b, storey, z1, ends, 9)
         for j in range(3):
-            y = cubic_abs_max(d0[j], d1[j], h * w0[j], h * w1[j])
+            y = cubic_abs_max(ends[j], ends[9 + j], h * ends[3 + j], h * ends[12 + j])
             if y > peak[s, j]:
                 peak[s, j] = y
 

@@ -40,8 +40,8 @@ from pounding.framework.engine.bundles import ContactFixedPoint, LinkPass, LinkT
 from pounding.framework.engine.inelastic import MAX_ITER, solve_in_place
 from pounding.contact.geometry import clearance_bound
 from pounding.framework.engine.ground_load import modal_load
-from pounding.framework.engine.kernel import _accumulate, _record, _slab_dofs, update_peaks
-from pounding.framework.engine.pairs import dofs_gap
+from pounding.framework.engine.kernel import _accumulate, _record, update_peaks
+from pounding.framework.engine.pairs import dofs_gap, slab_dofs
 from pounding.framework.engine.links import law_update
 from pounding.framework.engine.modal_step import stepped
 
@@ -732,8 +732,8 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             # tolerance (or overlapping) the Python step decides
             ba, bb = pa[p, 0], pb[p, 0]
             sa, sb = off[ba] + pa[p, 1], off[bb] + pb[p, 1]
-            _slab_dofs(rows[sa, :, : n_modes[ba, 1]], q1[n_modes[ba, 0] : n_modes[ba, 0] + n_modes[ba, 1]], da)
-            _slab_dofs(rows[sb, :, : n_modes[bb, 1]], q1[n_modes[bb, 0] : n_modes[bb, 0] + n_modes[bb, 1]], db)
+            slab_dofs(rows, off, n_modes, ba, pa[p, 1], q1, da)
+            slab_dofs(rows, off, n_modes, bb, pb[p, 1], q1, db)
             if clearance_bound(rest[p], da[0], da[1], da[2], radii[sa], db[0], db[1], db[2], radii[sb]) > tol:
                 continue
             if dofs_gap(da, db, p, tol, geo)[0] <= tol:
@@ -749,7 +749,7 @@ def stretch(laws, tr, modes, ground, z, k0, k1, rec, geo, tol, run):
             compliance_load(f1, S, bounds, ws.sf)
         _commit_links(links, out, ws.kt, now, lrec)
         if every > 1:
-            update_peaks(rows, z0, z, dt, n_modes, slab_building, slab_peak)
+            update_peaks(rows, off, z0, z, dt, n_modes, slab_building, slab_peak)
         _record(z, k + 1, rec)
         record_links(state, k + 1, every, hist)
     return StretchEnd(k1, Status.DONE, -1)

@@ -238,7 +238,7 @@ class Model:
         modal states z0, z1 (n, 3) (:func:`pounding.framework.engine.kernel.update_peaks`; h = 0: at z1)."""
         from pounding.framework.engine.kernel import update_peaks
 
-        update_peaks(self.rows, np.ascontiguousarray(z0, dtype=float), np.ascontiguousarray(z1, dtype=float), float(h),
+        update_peaks(self.rows, self.geo.off, np.ascontiguousarray(z0, dtype=float), np.ascontiguousarray(z1, dtype=float), float(h),
                      self.n_modes, self.slab_building, peak)
 
     def energy(self, z: np.ndarray, E: np.ndarray) -> dict:
@@ -260,9 +260,11 @@ class Model:
         return int(self.slab_off[building] + storey)
 
     def slab_dofs(self, x: np.ndarray, building: int, storey: int) -> np.ndarray:
-        """(u, v, phi) of a slab from a stacked modal vector x (ntot,)."""
-        i0, n = self.mode_start[building], self.systems[building].n_dof
-        return self.rows[self.slab_index(building, storey), :, :n] @ x[i0 : i0 + n]
+        """(u, v, phi) (3,) [m, m, rad] of a slab from a stacked modal vector x (n,) (or their rates from
+        modal velocities): :func:`pounding.framework.engine.pairs.slab_dofs`, the compiled core's."""
+        out = np.empty(3)
+        pg.slab_dofs(self.geo.rows, self.geo.off, self.geo.n_modes, int(building), int(storey), np.ascontiguousarray(x, dtype=float), out)
+        return out
 
     def pair_gap(self, q: np.ndarray, p: int, cutoff: float | None = None) -> float:
         """Signed gap [m] of pair p for modal displacements q.

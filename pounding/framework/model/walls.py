@@ -75,43 +75,50 @@ def side(p0: np.ndarray, p1: np.ndarray, point: np.ndarray) -> float:
     return float(np.sign(d[0] * r[1] - d[1] * r[0]))
 
 
+def segment_frame(p0: np.ndarray, p1: np.ndarray) -> tuple[float, np.ndarray, np.ndarray]:
+    """(length [m], unit direction (2,), unit left normal (2,)) of the segment p0 -> p1: a point x lies
+    ``(x - p0) @ direction`` along it and ``(x - p0) @ normal`` to its left (negative: to its right)."""
+    length = float(np.hypot(*(p1 - p0)))
+    along = (p1 - p0) / length
+    return length, along, np.array([-along[1], along[0]])  # the left normal is (-dy, dx)
+
+
 def wall_slab(wall: int, segment: int, p0: np.ndarray, p1: np.ndarray, slab_side: float) -> WallSlab:
     """The rectangle behind segment p0 -> p1 on the side away from slabs on ``slab_side`` (+1 left, -1 right)."""
-    d = (p1 - p0) / np.hypot(*(p1 - p0))
-    back = -slab_side * np.array([-d[1], d[0]])  # the left normal is (-dy, dx)
+    back = -slab_side * segment_frame(p0, p1)[2]
     rect = np.array([p0, p1, p1 + THICKNESS * back, p0 + THICKNESS * back])
     if slab_side > 0:  # behind on the right: p0, p1, ... turns clockwise
         rect = rect[::-1].copy()
     return WallSlab(wall, segment, rect, rect.mean(axis=0))
 
 
-def open_vertices(scene, i: int, f: int, p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """(facing, open) (m,) bool over the rest vertices of slab f of building i of ``scene``: those
-    whose foot on the line of the face segment p0 -> p1 falls within it, and among them those whose
-    straight path to that foot crosses no other building at the slab's level (a slab of it or its
-    facade: :func:`pounding.framework.model.placement.screened`). A facing vertex that is not open
-    strikes that building before it could reach the wall."""
+def open_vertices(scene, i: int, f: int, p0: np.ndarray, p1: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(facing, open, dist) (m,) over the rest vertices of slab f of building i of ``scene``: ``facing``
+    (bool) those whose foot on the line of the face segment p0 -> p1 falls within it, ``open`` (bool)
+    among them those whose straight path to that foot crosses no other building at the slab's level (a
+    slab of it or its facade: :func:`pounding.framework.model.placement.screened`), and ``dist`` [m]
+    each vertex's signed distance from the segment's line, positive on its left
+    (:func:`segment_frame`). A facing vertex that is not open strikes that building before it could
+    reach the wall."""
     from pounding.framework.model.placement import screened
 
     slab = scene.buildings[i].slabs[f]
     rest = np.asarray(slab.vertices, float)
-    length = float(np.hypot(*(p1 - p0)))
-    along = (p1 - p0) / length
-    n = np.array([-along[1], along[0]])
+    length, along, n = segment_frame(p0, p1)
     foot = (rest - p0) @ along
     dist = (rest - p0) @ n
     facing = (foot >= -LEVEL_TOL) & (foot <= length + LEVEL_TOL)
     open_ = facing.copy()
     for v in np.flatnonzero(facing):
         open_[v] = not screened(scene, i, -1, rest[v], rest[v] - dist[v] * n, float(slab.elevation))
-    return facing, open_
+    return facing, open_, dist
 
 
 def screened_from(scene, i: int, f: int, p0: np.ndarray, p1: np.ndarray) -> bool:
     """Whether slab f of building i of ``scene`` faces the wall segment p0 -> p1 only through other
     buildings (:func:`open_vertices`: some vertex faces it, none is open). A slab with no vertex facing
     the segment is not screened: it may still reach the segment's end by turning."""
-    facing, open_ = open_vertices(scene, i, f, p0, p1)
+    facing, open_, _ = open_vertices(scene, i, f, p0, p1)
     return bool(facing.any() and not open_.any())
 
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pounding.framework.model.levels import reaches
-from pounding.framework.model.walls import open_vertices, segments, side
+from pounding.framework.model.walls import open_vertices, segment_frame, segments, side
 
 
 @dataclass
@@ -79,16 +79,13 @@ def _clearance(scene, i: int, wall, result) -> WallClearance | None:
     for f, slab in enumerate(building.slabs):
         if not reaches(slab.elevation, wall.top):
             continue
-        rest = np.asarray(slab.vertices, float)
         for k, (p0, p1) in enumerate(segments(wall.face)):
             s = side(p0, p1, slab.centre)
             if s == 0.0:
                 continue
-            length = float(np.hypot(*(p1 - p0)))
-            along = (p1 - p0) / length
-            n = s * np.array([-along[1], along[0]])  # from the face toward the slab's side
-            dist = (rest - p0) @ n
-            facing = open_vertices(scene, i, f, p0, p1)[1]
+            _, facing, left = open_vertices(scene, i, f, p0, p1)
+            n = s * segment_frame(p0, p1)[2]  # from the face toward the slab's side
+            dist = s * left
             if not np.any(facing):
                 continue
             d = result.contact_offsets(building.name, f)[:, facing]  # (nt, m, 2), as the contact geometry moves them
