@@ -61,6 +61,8 @@ class Hertz(ContactLaw):
                 d0, r0 = -(c.gap[j] + others[0]), -(c.rate[j] + others[1])
                 if d0 <= 0.0:  # apart with the other points' forces: no force
                     new = 0.0
+                elif c.S_q[j, j] == 0.0:  # the force at a given state (forces rebuilt after a run)
+                    new = self.point_force(d0, r0, c, j)
                 else:
                     def residual(x):
                         return x - self.point_force(d0 - c.S_q[j, j] * x, r0 - c.S_v[j, j] * x, c, j)
@@ -124,3 +126,82 @@ class NewtonInPython(ContactLaw):
         from pounding.contact.base import newton_impulses
 
         return newton_impulses(W, b, self.restitution)
+
+
+class ElasticPlastic(ContactLaw):
+    """An elastic-perfectly-plastic contact spring with a plastic set, a law with a state of its own
+    (OpenSees' ``ImpactMaterial`` with no hardening):
+
+        F = min(k (delta - delta_p), F_y),   F >= 0,
+
+    delta_p [m] the point's plastic set: a committed step that presses the point beyond
+    delta_p + F_y / k moves it to delta - F_y / k, and the point reloads elastically from it. The
+    law keeps delta_p point by point (``ContactState.point``), reads it in every trial
+    (:meth:`forces`, which changes nothing) and moves it only in :meth:`commit`, with the step the
+    engine accepted.
+
+    Parameters
+    ----------
+    stiffness : float
+        k [N/m].
+    yield_force : float
+        F_y [N].
+    restitution : float
+        Accepted (every law takes it) and unused: the loss follows from k and F_y.
+    """
+
+    name: ClassVar[str] = "elastic_plastic"
+    kind: ClassVar[str] = "force"
+
+    def __init__(self, *, stiffness: float = 1e9, yield_force: float = 1e6, restitution: float = 0.5):
+        super().__init__(restitution=restitution)
+        for field, value in (("stiffness", stiffness), ("yield_force", yield_force)):
+            if not (isinstance(value, (int, float)) and value > 0):
+                raise InputError(f"expected a positive {field.replace('_', ' ')}, got {value!r}", field=field)
+        self.stiffness, self.yield_force = float(stiffness), float(yield_force)
+        #: committed plastic set [m] by point (private: describe() leaves it out of summary.json)
+        self._plastic: dict[tuple, float] = {}
+        self._commits = self._trials = 0  # calls of commit() and of forces()
+
+    def plastic_set(self, point) -> float:
+        """The committed plastic set [m] of ``point`` (pair, striking slab, vertex)."""
+        return self._plastic.get(tuple(int(x) for x in point), 0.0)
+
+    def point_force(self, delta: float, contact: ContactState, j: int) -> float:
+        """The force [N] at point j pressed to delta [m], from its committed plastic set."""
+        spring = self.stiffness * (delta - self.plastic_set(contact.point[j]))
+        return min(max(spring, 0.0), self.yield_force)
+
+    def forces(self, contact: ContactState) -> np.ndarray:
+        self._trials += 1
+        c = contact
+        share = np.ones(len(c.gap)) if c.share is None else c.share
+        lam = np.zeros(len(c.gap))
+        for _ in range(100):  # Gauss-Seidel over the points, each root by bracketing (as Hertz)
+            change = 0.0
+            for j in range(len(c.gap)):
+                d0 = -(c.gap[j] + c.S_q[j] @ lam - c.S_q[j, j] * lam[j])
+                hi = max(d0, 0.0) / c.S_q[j, j] if c.S_q[j, j] > 0.0 else np.inf  # the force that closes the penetration alone
+
+                def residual(x):
+                    return x - share[j] * self.point_force(d0 - c.S_q[j, j] * x, c, j)
+
+                if d0 <= 0.0 or residual(0.0) >= 0.0:
+                    new = 0.0
+                elif c.S_q[j, j] == 0.0:  # the force at a given state (forces rebuilt after a run)
+                    new = share[j] * self.point_force(d0, c, j)
+                else:
+                    new = brentq(residual, 0.0, hi, xtol=1e-14 * hi, rtol=1e-15)
+                change = max(change, abs(new - lam[j]))
+                lam[j] = new
+            if change <= 1e-13 * max(lam.max(initial=0.0), 1e-300):
+                break
+        return lam
+
+    def commit(self, contact: ContactState, forces: np.ndarray) -> None:
+        self._commits += 1
+        delta = -(contact.gap + contact.S_q @ forces)  # the accepted end penetrations
+        for j, d in enumerate(delta):
+            key = tuple(int(x) for x in contact.point[j])
+            if self.stiffness * (d - self.plastic_set(key)) > self.yield_force:
+                self._plastic[key] = float(d) - self.yield_force / self.stiffness

@@ -19,10 +19,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from contact_plugins import Hertz, Hertzdamp
+from contact_plugins import ElasticPlastic, Hertz, Hertzdamp
 from scenes_for_tests import box_building, contact_momentum_changes, modal_from_physical, physical, pointed_pair, pulse, scene
 from pounding.framework.engine.driver import Driver
+from pounding.framework.post.contact_forces import contact_force_history
 from pounding.framework.post.run import run
+from pounding.io.scene import load_scene
 
 ROOT = Path(__file__).resolve().parents[1]
 TESTS = Path(__file__).resolve().parent
@@ -32,7 +34,7 @@ K_H = 1e9  # [N/m^1.5] Hertz stiffness
 DT = 1e-4  # [s] ~560 steps per contact
 
 
-def free_slabs(law, **params):
+def free_slabs(law, dt: float = DT, **params):
     """A Driver of the pointed pair (a tip at (10, 5) touching the left box's face, gap 0) on soft
     undamped columns, no ground motion, the left slab moving at V0 towards the right one."""
     data = pointed_pair(tip_y=5.0)
@@ -40,7 +42,7 @@ def free_slabs(law, **params):
         b["damping"] = {"type": "modal", "ratio": 0.0}
         for el in b["element"]:
             el["column"] = {**el["column"], "b": 0.05, "h": 0.05}
-    data["analysis"] = {"integrator": "newmark", "dt": DT, "duration": 0.08, "contact": "penalty"}
+    data["analysis"] = {"integrator": "newmark", "dt": dt, "duration": 0.08, "contact": "penalty"}
     sc = scene(data).with_ground_motion(pulse(0.2, 0.0)).with_analysis(contact=law, contact_params=params)
     d = Driver(sc)
     d.z[:, 1] = modal_from_physical(d.model, {(0, 0): (V0, 0.0, 0.0)})
@@ -130,6 +132,71 @@ def test_a_history_dependent_law_gets_the_approach_speed_and_dissipates_what_the
     # the contact work the energy account booked is the episode's, to the rule's rounding
     work = sum(x["contact_forces"] for x in r.energy.values())
     assert -work == pytest.approx(e.energy_dissipated, rel=1e-9)
+
+
+def test_a_law_with_a_state_of_its_own_commits_its_plastic_set_with_the_accepted_steps():
+    """ElasticPlastic (contact_plugins) is an elastic-perfectly-plastic spring k, F_y whose plastic set
+    delta_p it keeps point by point and moves only when the engine commits a step
+    (:meth:`ContactLaw.commit`). Two free bodies closing at v0 with v0 sqrt(m_eff k) = 2 F_y: the spring
+    yields, the relative motion stops at delta_max = F_y / (2 k) + m_eff v0^2 / (2 F_y), the point unloads
+    along k to delta_p = delta_max - F_y / k, and the bodies part at v1 = F_y / sqrt(m_eff k) (the elastic
+    energy F_y^2 / (2 k) given back), the contact having dissipated F_y delta_p.
+
+    The committed plastic set is the episode's peak penetration less F_y / k to rounding: the engine
+    committed the end states of the steps it accepted, the deepest among them. The run differs from the
+    free bodies by the columns' impulse (:func:`column_share`) and by the step: the force's kinks (yield,
+    unloading) leave the step's error first order, bounded by its change when the step is halved."""
+    m_eff = effective_mass(free_slabs(Hertz, stiffness=K_H))
+    k = 1e9
+    fy = 0.5 * np.sqrt(m_eff * k) * V0
+    runs = []
+    for dt in (DT, DT / 2):
+        d = free_slabs(ElasticPlastic, dt=dt, stiffness=k, yield_force=fy)
+        runs.append((d, d.run()))
+    (d, r), (_, fine) = runs
+    assert len(r.contacts) == 1 and len(fine.contacts) == 1
+    e, law = r.contacts[0], d.laws[0]
+    assert len(law._plastic) == 1  # one point pressed, the pointed slab's tip
+    delta_p = law._plastic.popitem()[1]
+    assert delta_p == pytest.approx(e.peak_penetration - fy / k, abs=4 * np.finfo(float).eps * e.peak_penetration)
+    assert law._commits >= 2
+
+    delta_max = fy / (2 * k) + m_eff * V0**2 / (2 * fy)
+    v1_exact = fy / np.sqrt(m_eff * k)
+
+    def parting(run) -> float:  # the separation speed along the normal at the first step end after the contact
+        v = physical(d.model, run.qd[int(np.searchsorted(run.t, run.contacts[0].end))])
+        return float((v[(1, 0)][:2] - v[(0, 0)][:2]) @ e.normal)
+
+    v1 = parting(r)
+    change = abs(e.peak_penetration - fine.contacts[0].peak_penetration) / e.peak_penetration
+    change += abs(v1 - parting(fine)) / v1_exact
+    tol = column_share(d, e.duration, e.impulse) + change
+    assert e.peak_penetration == pytest.approx(delta_max, rel=tol)
+    assert v1 == pytest.approx(v1_exact, rel=tol)
+    assert 0.0 < e.energy_dissipated == pytest.approx(fy * (delta_max - fy / k), rel=tol)
+    # the forces rebuilt after the run (a fresh law committed at every recorded step in turn) follow the
+    # same plastic set: the episode's peak force comes back, to the solves' tolerance (as for every law)
+    assert contact_force_history(r).pair_force.max() == pytest.approx(e.peak_force, rel=1e-9)
+
+
+def test_the_trials_of_a_step_are_not_committed():
+    """With yielding storeys the engine solves a step's links and contact forces together by a fixed
+    point that asks the law for forces at every pass (trials), then commits the step once: the law
+    is asked more often than it commits, and what it committed is still the accepted states', its
+    plastic set at each pair the deepest accepted penetration less F_y / k (to rounding)."""
+    k, fy = 1e9, 5e5
+    sc = load_scene(ROOT / "examples" / "inelastic_pair" / "pair_yielding_gap_0.03.toml").with_analysis(
+        contact=ElasticPlastic, contact_params={"stiffness": k, "yield_force": fy}, duration=8.0)
+    d = Driver(sc)
+    r = d.run()
+    law = d.laws[0]
+    assert r.contacts and law._trials > law._commits > 0
+    for p in {e.pair for e in r.contacts}:
+        peak = max(e.peak_penetration for e in r.contacts if e.pair == p)
+        assert peak > fy / k  # (it yielded)
+        delta_p = max(v for key, v in law._plastic.items() if key[0] == p)
+        assert delta_p == pytest.approx(peak - fy / k, abs=4 * np.finfo(float).eps * peak)
 
 
 # --------------------------------------------------------------------------- three buildings, a law per pair

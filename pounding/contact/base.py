@@ -58,7 +58,10 @@ a default and its meaning:
    (never more positional arguments: a field added to the bundle breaks no law). Optionally
    :meth:`ContactLaw.forces_solver`, the same solve as a compiled function of the end gaps and
    rates, which the engine then calls inside its compiled step with yielding links (the default
-   calls :meth:`~ContactLaw.forces` from Python: correct, slower).
+   calls :meth:`~ContactLaw.forces` from Python: correct, slower). Every call of ``forces`` is a
+   trial; :meth:`ContactLaw.commit` is called once per accepted step with the state and forces
+   accepted, so a law may keep a state of its own point by point (``ContactState.point``) as an
+   OpenSees material does (trial, commit, revert: a plastic set, tests/contact_plugins.py).
 6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
    and approach speed (force laws; the default, inf, suits impulse laws). The default time step
    resolves it.
@@ -117,6 +120,8 @@ class ContactState(NamedTuple):
     S_q, S_v : ndarray (m, m)
         Compliances of the end-of-step gaps and gap rates to the end-of-step forces: a force
         vector lambda (m,) [N] changes them by ``S_q @ lambda`` [m] and ``S_v @ lambda`` [m/s].
+        Zero where the forces are asked at a given state (the forces rebuilt after a run,
+        :mod:`pounding.framework.post.contact_forces`): lambda is then the law at ``gap``, ``rate``.
     W : ndarray (m, m)
         Delassus matrix [1/kg]: its inverse is the pair's mass seen at the points (one point:
         W = 1/m_eff).
@@ -138,6 +143,11 @@ class ContactState(NamedTuple):
         corner. It does not change while the point stays in contact, so a law whose force is
         ``share * F(delta)`` is conservative. None (a state built without it): every point is
         a whole contact.
+    point : ndarray (m, 3) int or None
+        Each point's identity: (pair, striking slab (0: a vertex of the pair's first slab, 1: of its
+        second), that slab's vertex). It is the same at every step while the same vertex presses the
+        same slab, so a law with a state of its own keys it by point (:meth:`ContactLaw.commit`).
+        None (a state built without it): no identity is given.
     """
 
     t: float
@@ -152,6 +162,7 @@ class ContactState(NamedTuple):
     approach: np.ndarray
     local_stiffness: np.ndarray
     share: np.ndarray | None = None
+    point: np.ndarray | None = None
 
     @property
     def penetration(self) -> np.ndarray:
@@ -164,7 +175,8 @@ class ContactState(NamedTuple):
         return self._replace(gap=self.gap[idx], rate=self.rate[idx], S_q=self.S_q[ix], S_v=self.S_v[ix], W=self.W[ix],
                              pair=self.pair[idx], start=self.start[idx], approach=self.approach[idx],
                              local_stiffness=self.local_stiffness[idx],
-                             share=None if self.share is None else self.share[idx])
+                             share=None if self.share is None else self.share[idx],
+                             point=None if self.point is None else self.point[idx])
 
 
 class ContactLaw(ABC):
@@ -284,6 +296,18 @@ class ContactLaw(ABC):
         the gaps at the step's end are ``contact.gap + contact.S_q @ lambda`` (see
         :class:`ContactState` for the state and history of the m points)."""
         raise NotImplementedError
+
+    def commit(self, contact: ContactState, forces: np.ndarray) -> None:
+        """Accept a step (force laws): ``forces`` (m,) [N] are the forces of the m points of
+        ``contact`` at the end of a step the engine has accepted, solved from that state (the points'
+        end gaps are ``contact.gap + contact.S_q @ forces``). Called once per accepted step in which
+        the law's points press, after every call of :meth:`forces` for that step; every call of
+        :meth:`forces` is a trial (a located impact, a fixed-point pass, a rejected step) that must
+        not change what the law keeps. A law with a state of its own (a plastic set, a damage
+        variable) updates its committed state here, point by point (``contact.point``), and reads it
+        in :meth:`forces`: OpenSees' ``commitState``; a step that is not committed is reverted. A
+        point absent from a commit has no force in that step (it is apart). The default keeps
+        nothing (a law whose force is a function of the state and the contact's history)."""
 
     def forces_solver(self, contact: ContactState):
         """:meth:`forces` as a solve the engine can repeat with other end gaps and rates: ``(solve,

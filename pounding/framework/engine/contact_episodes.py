@@ -58,6 +58,8 @@ class StepContacts:
     near: np.ndarray
     near_gap: np.ndarray
     modal: np.ndarray | None = None  # the modal force of all the points (n,): rows.T @ force
+    #: the :class:`~pounding.contact.base.ContactState` the forces were solved from (None: no point pressed)
+    state: object = None
 
     @classmethod
     def empty(cls, near: np.ndarray, near_gap: np.ndarray, n: int) -> "StepContacts":

@@ -67,3 +67,16 @@ def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactStat
     warnings.warn(f"the forces of {len(members)} contact laws on pairs that share a building did not settle in "
                   f"{COUPLING_SWEEPS} sweeps at t = {contact.t:.6g} s (last change {change:.3g} N)", AnalysisWarning, stacklevel=2)
     return lam
+
+
+def commit_laws(laws: list[ContactLaw], pair_law: np.ndarray, contact: ContactState, forces: np.ndarray) -> None:
+    """Commit an accepted step to the laws (:meth:`~pounding.contact.base.ContactLaw.commit`): each law
+    its own points of ``contact`` and their forces (m,) [N]; ``pair_law`` (P,) is each pair's index
+    into ``laws``."""
+    which = pair_law[contact.pair]
+    if which.min() == which.max():  # one law (the common case)
+        laws[int(which[0])].commit(contact, forces)
+        return
+    for g in np.unique(which):
+        idx = np.flatnonzero(which == g)
+        laws[int(g)].commit(contact.take(idx), forces[idx])

@@ -38,6 +38,7 @@ from pounding.framework.model.units import G
 from pounding.framework.engine import held as hold
 from pounding.framework.engine import pairs as pg
 from pounding.framework.engine.ground_load import modal_loads
+from pounding.framework.engine.contact_laws import commit_laws
 from pounding.framework.engine.bundles import (EventLog, Ground, HeldContact, HeldPairs, HeldSet, PairArrays, Recorder, Settings, Status,
                                                Transition)
 from pounding.framework.model.scene import Scene
@@ -574,6 +575,8 @@ class Driver:
             self.model.update_peaks(st.z0, st.z1, h, self.peak)
         if st.contacts is not None or self.episodes.open:
             self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0], lambda p: self.model.pair_gap(st.z1[:, 0], p))
+        if st.contacts is not None and st.contacts.state is not None:
+            commit_laws(self.laws, self.pair_law, st.contacts.state, st.contacts.force)
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
 
@@ -679,7 +682,7 @@ class Driver:
             return near, near_gap, near_rows, None
         if not keep.all():
             pts = pts.take(keep)
-        pair, gap, Wr, Qf, Nf, share = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share
+        pair, gap, Wr, Qf, Nf, share, point = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share, pts.point
         tr = self.cache(h)
         S_q = (Wr * tr.B[:, 0, 1]) @ Wr.T
         S_v = (Wr * tr.B[:, 1, 1]) @ Wr.T
@@ -687,7 +690,7 @@ class Driver:
         # the history: each pair's episode, or where its gap closes in this step (from its start, linear in q)
         start, approach = self.episodes.history(t, h, pair, lambda: (gap - Wr @ (zf[:, 0] - z[:, 0]), gap, -(Wr @ z[:, 1]), -rate))
         state = ContactState(t + h, h, gap, rate, S_q, S_v, Wr @ Wr.T, pair, start, approach,
-                             self.model.local_stiffness(pair, Qf, Nf), share)
+                             self.model.local_stiffness(pair, Qf, Nf), share, point)
         return near, near_gap, near_rows, (state, Wr, Qf[:, :2], Nf[:, :2])
 
     def force_step(self, z, z1, near, near_gap, pressed, lam, sp=None) -> Step:
@@ -700,7 +703,7 @@ class Driver:
         state, Wr, Q, N = pressed
         f1 = Wr.T @ lam
         contacts = StepContacts(state.pair, lam, state.gap + state.S_q @ lam, Q, N, Wr, state.start, state.approach,
-                                near, near_gap, f1)
+                                near, near_gap, f1, state)
         return Step(z, z1, self.fc, f1, sp, contacts=contacts)
 
     def held_trial(self, z, t, h) -> Step:

@@ -82,6 +82,8 @@ class SharedPoints(NamedTuple):
     Q: np.ndarray  #: (m, 2) the point [m]
     N: np.ndarray  #: (m, 2) the unit normal from slab a towards slab b
     share: np.ndarray  #: (m,) the share of one whole contact it stands for (:func:`point_shares`)
+    #: (m, 3) int64, its identity: (pair, striking slab (0: a vertex of the pair's first, 1: of its second), vertex)
+    point: np.ndarray
 
     def take(self, keep: np.ndarray) -> "SharedPoints":
         """The points where ``keep`` (m,) bool is True."""
@@ -93,4 +95,5 @@ def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, g
     and their shares (:class:`SharedPoints`) for modal displacements q (n,), contact tolerance
     ``tol`` [m] and the rest faces ``ends`` (:func:`rest_face_ends`)."""
     f = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol), True, n, geo)
-    return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face))
+    return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face),
+                        np.stack([f.pair, f.who, f.idx], axis=1))

@@ -16,7 +16,10 @@ episode's peak force and impulse (the trapezoid over its step ends) come back to
 (``tests/test_contact_forces.py``). On the paper's pair, whose slabs twist, they come back to
 3.3e-5 (measured over its first 6 s with each force law at the default step).
 
-Only the recorded steps are seen: with ``output_every > 1`` the history is thinned.
+Only the recorded steps are seen: with ``output_every > 1`` the history is thinned. A law with a
+state of its own (:meth:`~pounding.contact.base.ContactLaw.commit`, a plastic set) is built afresh
+and committed at every recorded step in turn, as the driver commits it: with ``output_every = 1`` it
+follows the run's own sequence of accepted states; thinned, it skips the steps between them.
 """
 
 from __future__ import annotations
@@ -83,7 +86,7 @@ def contact_force_history(result) -> ContactForces:
     run's pair geometry (``Result.geo``) and scene (``Result.scene``).
     """
     from pounding.contact.base import ContactState
-    from pounding.framework.engine.contact_laws import solve_forces
+    from pounding.framework.engine.contact_laws import commit_laws, solve_forces
     from pounding.framework.engine.face_shares import rest_face_ends, touching_with_shares
     from pounding.framework.model.facade import struck_stiffness
 
@@ -105,13 +108,14 @@ def contact_force_history(result) -> ContactForces:
         if not np.any(keep):
             continue
         pts = pts.take(keep)
-        pair, gap, Wr, Q, N, share = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share
+        pair, gap, Wr, Q, N, share, point = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share, pts.point
         m = len(pair)
         start, approach = _episode_history(result, pair, float(result.t[k]))
         zero = np.zeros((m, m))
         state = ContactState(float(result.t[k]), 0.0, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
-                             struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share)
+                             struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share, point)
         lam = solve_forces(laws, which[pair], state)
+        commit_laws(laws, which, state, lam)  # (a law with a state of its own follows the recorded steps)
         np.add.at(pair_force[k], pair, lam)
         modal[k] = Wr.T @ lam
     return ContactForces(result.t.copy(), pair_force, modal)
