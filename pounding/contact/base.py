@@ -69,7 +69,13 @@ a default and its meaning:
    :meth:`ContactLaw.point_law` (the default, None: a law given only as :meth:`~ContactLaw.forces`);
    a law built on others (a bumper's layer and slabs, :mod:`pounding.contact.bumper`) sums them
    point by point when both do.
-8. Register the class under the entry-point group ``pounding.contact``, or pass the
+8. Optionally :meth:`ContactLaw.opensees_material`: the law's OpenSees counterpart, the
+   ``uniaxialMaterial`` of the ``zeroLength`` contact elements the OpenSees peer of the tests
+   and ``pounding export opensees`` place between facing slabs or a slab and a wall
+   (:mod:`pounding.peer.opensees_contact`), and :meth:`ContactLaw.opensees_notes`, what that
+   material computes differently from the law. None (the default): OpenSees has no material
+   of this law, and the export leaves its contact out, saying so.
+9. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
    buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
@@ -339,6 +345,26 @@ class ContactLaw(ABC):
         step). inf (the default): the law acts at instants (impulses) or not at all, and puts
         no bound on the step."""
         return math.inf
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple | None:
+        """The law's OpenSees counterpart: the ``uniaxialMaterial`` arguments after its tag (the
+        material's name first) of a ``zeroLength`` contact element along the contact's normal, or
+        None (the default) when OpenSees has no material of this law, whatever the arguments.
+
+        The element carries ``share`` [-] of one contact (1/2 at each end of a face: the face rule,
+        :class:`ContactState`'s ``share``) at a point of effective mass ``m_eff`` [kg], the slabs
+        (or slab and wall) ``clear`` [m] apart at rest. Its deformation is the separation's change
+        [m], negative as the gap closes, so a gap material takes ``-clear`` as the deformation at
+        which contact begins and returns a negative (compressive) force [N]; ``zeroLength`` passes
+        it the deformation rate, and no Rayleigh damping: the material is the whole contact, as
+        the law is.
+        """
+        return None
+
+    def opensees_notes(self) -> list[str]:
+        """What :meth:`opensees_material` computes differently from the law, one sentence each (the
+        export writes them at the top of its script); empty (the default) when nothing."""
+        return []
 
     def describe(self) -> dict:
         """Name and parameters, for summary.json."""

@@ -94,3 +94,10 @@ class Hertz(PointwiseLaw):
         out = np.empty((np.asarray(m_eff).shape[0], 2))
         out[:, 0], out[:, 1] = self.stiffness, self.exponent
         return out
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple:
+        """OpenSees' ``Hertzdamp Kh 0 gap n``: with no damping (xiNorm = 0) it is k_h delta^n exactly
+        (OpenSees has no elastic Hertz material), Kh the share of the law's k_h. See
+        :meth:`ContactLaw.opensees_material`."""
+        k, n = self.params(np.array([m_eff]))[0]
+        return ("Hertzdamp", share * float(k), 0.0, -clear, float(n))

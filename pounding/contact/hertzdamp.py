@@ -137,3 +137,15 @@ class HertzDamp(PointwiseLaw):
         out = np.empty((np.asarray(m_eff).shape[0], 3))
         out[:, 0], out[:, 1], out[:, 2] = self.stiffness, self.exponent, self.damping_ratio
         return out
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple | None:
+        """OpenSees' ``Hertzdamp Kh xiNorm gap n``, Kh the share of the law's k_h, xiNorm its xi. See
+        :meth:`ContactLaw.opensees_material` and :meth:`opensees_notes`."""
+        k, n, xi = self.params(np.array([m_eff]))[0]
+        return ("Hertzdamp", share * float(k), float(xi), -clear, float(n))
+
+    def opensees_notes(self) -> list[str]:
+        """``Hertzdamp`` reads the impact velocity elsewhere, and may pull."""
+        return [f"contact law {self.name!r}: OpenSees' Hertzdamp reads the impact velocity at the end of the first step "
+                "in contact (pounding: where the gap closed), which agrees as dt shrinks, and pulls where "
+                "1 + xi delta'/v_i < 0 (pounding gives no force there)"]

@@ -110,3 +110,10 @@ class Jankowski(PointwiseLaw):
         out = np.empty((m_eff.shape[0], 3))
         out[:, 0], out[:, 1], out[:, 2] = self.stiffness, self.damping_ratio, m_eff
         return out
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple:
+        """OpenSees' ``JankowskiImpact Kh xi mEff gap 1.5``, Kh and mEff the share of the law's k_h and
+        of the point's effective mass (the share scales both: s F(delta; k_h, m) is the law with
+        s k_h and s m). See :meth:`ContactLaw.opensees_material`."""
+        k, xi, m = self.params(np.array([m_eff]))[0]
+        return ("JankowskiImpact", share * float(k), float(xi), share * float(m), -clear, 1.5)

@@ -132,3 +132,18 @@ class Kelvin(PointwiseLaw):
         out[:, 1] = 2.0 * self.damping_ratio * np.sqrt(self.stiffness * m_eff)
         out[:, 2] = 1.0 if self.tension else 0.0
         return out
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple:
+        """OpenSees' ``ViscoelasticGap K C gap``: K delta + C delta' with the share of the law's k and
+        c = 2 xi sqrt(k m_eff) at the point, which may pull (it is this law with ``tension = true``).
+        See :meth:`ContactLaw.opensees_material`."""
+        k, c, _ = self.params(np.array([m_eff]))[0]
+        return ("ViscoelasticGap", share * float(k), share * float(c), -clear)
+
+    def opensees_notes(self) -> list[str]:
+        """Without tension the law never pulls, while ``ViscoelasticGap`` does."""
+        if self.tension:
+            return []
+        return [f"contact law {self.name!r} with tension = false never pulls, but its OpenSees material ViscoelasticGap "
+                f"does at the end of a contact ({self.name} with tension = true): the script's contacts rebound with e "
+                "where pounding's rebound faster"]

@@ -104,6 +104,19 @@ class Penalty(ContactLaw):
         """Spring of every point (m,) [N/m]: k_p at each."""
         return np.full(len(contact.gap), self.stiffness)
 
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple | None:
+        """OpenSees' ``ElasticPPGap k -1e30 gap 0 noDamage``: the spring k_p at every point whatever its
+        share (this law puts a spring at each point, not a share of one), the huge negative yield force
+        keeping it elastic; no dashpot (:meth:`opensees_notes`). See :meth:`ContactLaw.opensees_material`."""
+        return ("ElasticPPGap", float(self.stiffness), -1e30, -clear, 0.0, "noDamage")
+
+    def opensees_notes(self) -> list[str]:
+        """The dashpot of a restitution below 1 has no counterpart in ``ElasticPPGap``."""
+        if self.restitution >= 1.0:
+            return []
+        return [f"contact law {self.name!r}: its dashpot (restitution {self.restitution:g}) has no counterpart in "
+                "ElasticPPGap: the script's contact springs are elastic and lose no energy in impacts"]
+
 
 @njit
 def dashpot_matrix(W, k, xi):
@@ -232,6 +245,12 @@ class FacadePenalty(Penalty):
     """
 
     name: ClassVar[str] = "facade_penalty"
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> None:
+        """None: no OpenSees material is declared for the facade springs (the peer's contact elements
+        join slab edges, where this law is :class:`Penalty`'s; export a scene with ``penalty`` to
+        write that)."""
+        return None
 
     def point_springs(self, contact: ContactState) -> np.ndarray:
         """Spring of every point (m,) [N/m]: k_p in series with the struck element's local stiffness."""

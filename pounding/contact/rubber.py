@@ -78,3 +78,8 @@ class Rubber(HertzDamp):
                              field="stiffness")
         # hertzdamp's spring, damping kernel, contact duration and parameters, with the rubber's calibrations
         super().__init__(stiffness=stiffness, exponent=exponent, restitution=restitution, damping=damping, tolerance=tolerance)
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> None:
+        """None: the layer is not exported to OpenSees (its law is ``hertzdamp``'s kernel with another
+        calibration of xi, which OpenSees' ``Hertzdamp`` has not been checked against here)."""
+        return None

@@ -16,7 +16,13 @@ reports
 5. :meth:`outline`: lines and panels in its own (s along the line, z up from
    its base) coordinates, for drawing;
 6. optionally :meth:`point_stiffness`: its local stiffness against a point load
-   between two floors (a neighbour's slab striking it), nan where it has none.
+   between two floors (a neighbour's slab striking it), nan where it has none;
+7. optionally :meth:`opensees_model`: its OpenSees counterpart, the nodes, materials
+   and elements an OpenSees user would build for it, which the OpenSees peer of the
+   tests and ``pounding export opensees`` add to their model (:mod:`pounding.peer`);
+   without it (the default raises NotImplementedError naming the type) a building
+   holding the element cannot be exported. :meth:`opensees_plane` places the nodes of
+   a structure in the element's plane.
 
 The framework places it: the displacement along ``direction`` at floor f with
 centre of mass c is ``d . (u, v) + phi * ((p - c) x d)`` (phi counter-clockwise,
@@ -211,6 +217,73 @@ class PlanarElement(ABC):
         neighbour striking it between floors meets (:mod:`pounding.framework.model.facade`).
         nan (the default): no local stiffness known, the struck point is as stiff as a slab edge."""
         return float("nan")
+
+    def opensees_model(self, ops, place) -> list[int]:
+        """Add the element to an OpenSees model (3-D, ``ndm 3, ndf 6``, SI units); return the tags of the
+        elements it added.
+
+        ``ops`` takes OpenSees' commands (``openseespy.opensees``, or a recorder that writes them
+        as a script). ``place`` is the peer's placement of this building
+        (:class:`pounding.peer.opensees.Placement`): ``place.tag()`` the next free tag (nodes,
+        elements, materials and transformations share it), ``place.node(x, y, z)`` a new node
+        [m], ``place.stand_on(tag, floor)`` a base node on the floor the element stands on
+        (:attr:`base_floor`; 0 the ground), ``place.on_floor(tag, floor)`` a node that moves with
+        a floor (1-based, the building's numbering: :attr:`building_floors`) through its rigid
+        diaphragm; ``place.storey_heights`` [m], ``place.out_of_plane`` (the fraction [-] of a
+        member's in-plane inertia to give it out of plane: a planar element has no out-of-plane
+        stiffness, OpenSees needs some) and ``place.boucwen_tol`` (for
+        :meth:`pounding.hysteresis.base.HysteresisLaw.opensees_material`); ``place.building`` is the
+        building's name. The peer adds the floors' master nodes, masses and diaphragms afterwards.
+
+        The returned elements get the building's stiffness-proportional Rayleigh damping. An
+        element that :attr:`yields` returns exactly its storey springs, one per storey, bottom
+        first: the peers read their forces in that order
+        (:func:`pounding.framework.engine.inelastic.spring_set`'s).
+
+        The default raises NotImplementedError: no OpenSees model for this element type.
+        """
+        raise NotImplementedError(
+            f"building {place.building!r}: no OpenSees model for element type {self.name or type(self).__name__!r} "
+            "(an element type gives one with PlanarElement.opensees_model; frame, shear_wall and storey_springs do)"
+        )
+
+    def opensees_plane(self, ops, place, positions: Sequence[float], heights: Sequence[float]) -> tuple[int, list[list[int]]]:
+        """The nodes of a structure in the element's plane, for :meth:`opensees_model`.
+
+        A ``geomTransf Linear`` whose vecxz is the plane's horizontal normal (for a column, local
+        x up, local y = +-direction; for a beam, local x = direction, local y vertical: bending
+        about local z, ``Iz``, is in the plane in both cases and ``Iy`` out of it), then a node at
+        every position s [m] along the line from ``point`` and at every level of the element
+        (its base, then the top of each of its storeys of ``heights`` [m], bottom first), level
+        by level: the base nodes stand on :attr:`base_floor` (``place.stand_on``), the others
+        move with their floors (``place.on_floor``).
+
+        Returns
+        -------
+        (transformation tag, grid) : grid[level][j] the node of level ``level`` (0: the base) at
+        ``positions[j]``.
+        """
+        p = np.asarray(self.point, dtype=float)
+        d = np.asarray(self.direction, dtype=float)
+        d = d / np.hypot(*d)
+        n_hat = (-d[1], d[0], 0.0)  # horizontal normal of the element plane
+        z = self.base_elevation(place.storey_heights) + np.concatenate([[0.0], np.cumsum(heights)])
+        transf = place.tag()
+        ops.geomTransf("Linear", transf, *n_hat)
+        floors = self.building_floors
+        grid = []
+        for level, zl in enumerate(z):
+            row = []
+            for s in positions:
+                x, y = p + s * d
+                tag = place.node(x, y, zl)
+                if level == 0:
+                    place.stand_on(tag, self.base_floor)
+                else:
+                    place.on_floor(tag, floors[level - 1])
+                row.append(tag)
+            grid.append(row)
+        return transf, grid
 
     @property
     def yields(self) -> bool:

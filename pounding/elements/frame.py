@@ -24,6 +24,12 @@ from pounding.elements.base import POINT_SCHEMA, SECTION_SCHEMA, PlanarElement, 
 from pounding.errors import InputError
 
 
+#: Poisson's ratio of the shear modulus G = E / (2 (1 + nu)) the frame's members get in OpenSees
+#: (:meth:`Frame.opensees_model`). G only multiplies the (negligible) torsional constant, so its
+#: value does not affect the in-plane response.
+OPENSEES_NU = 0.2
+
+
 def beam_column_stiffness(E: float, A: float, I: float, x0, x1) -> np.ndarray:
     """Global 6x6 stiffness of a 2-D beam-column from point x0 to x1 [m].
 
@@ -187,6 +193,31 @@ class Frame(PlanarElement):
         h = np.sqrt(12.0 * I / A)
         I_out = h * (A / h) ** 3 / 12.0
         return 1.0 / (c2 * point_compliance(E, I, L, a) + (1.0 - c2) * point_compliance(E, I_out, L, a))
+
+    def opensees_model(self, ops, place) -> list[int]:
+        """The frame as an OpenSees user builds it (see the base class for ``ops`` and ``place``): a planar
+        frame, a node at every column line and floor (:meth:`opensees_plane`), ``elasticBeamColumn``
+        columns (storey by storey) and beams (at each storey's top floor) with the sections' (E, A, I)
+        for bending in the frame's plane (``Iz``), ``Iy = J = place.out_of_plane * I`` out of it and
+        G = E / (2 (1 + :data:`OPENSEES_NU`)). Frames that cross in plan keep their own nodes.
+        Returns the members' tags, storey by storey (columns, then beams)."""
+        eps = place.out_of_plane
+        transf, grid = self.opensees_plane(ops, place, list(self.columns), self.heights)
+        members = []
+        for i in range(len(self.heights)):
+            E, A, I = self.column_sections[i]
+            G = E / (2.0 * (1.0 + OPENSEES_NU))
+            for j in range(len(self.columns)):
+                tag = place.tag()
+                ops.element("elasticBeamColumn", tag, grid[i][j], grid[i + 1][j], A, E, G, eps * I, eps * I, I, transf)
+                members.append(tag)
+            E, A, I = self.beam_sections[i]
+            G = E / (2.0 * (1.0 + OPENSEES_NU))
+            for j in range(len(self.columns) - 1):
+                tag = place.tag()
+                ops.element("elasticBeamColumn", tag, grid[i + 1][j], grid[i + 1][j + 1], A, E, G, eps * I, eps * I, I, transf)
+                members.append(tag)
+        return members
 
     def lateral_stiffness(self) -> np.ndarray:
         ns, nc = len(self.heights), len(self.columns)

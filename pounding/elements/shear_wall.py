@@ -131,6 +131,24 @@ class ShearWall(PlanarElement):
         GAs = self.G * self.shear_area
         return 1.0 / (c2 * point_compliance(self.E, I_in, L, a, GAs) + (1.0 - c2) * point_compliance(self.E, I_out, L, a, GAs))
 
+    def opensees_model(self, ops, place) -> list[int]:
+        """The wall as an OpenSees user builds it (see the base class for ``ops`` and ``place``): a chain of
+        ``ElasticTimoshenkoBeam`` elements, one per storey, on the wall's centre line (any point of the
+        line moves alike in its plane; :meth:`opensees_plane`) with E, G, A = t L, ``Iz`` = t L^3 / 12
+        and the shear area in plane, ``Iy = J = place.out_of_plane * Iz`` out of it: the exact Timoshenko
+        cantilever that :meth:`flexibility` condenses. Returns the elements' tags, bottom first."""
+        eps = place.out_of_plane
+        transf, grid = self.opensees_plane(ops, place, [0.5 * self.length], self.heights)
+        I = self.second_moment
+        A = self.thickness * self.length
+        chain = []
+        for i in range(len(self.heights)):
+            tag = place.tag()
+            ops.element("ElasticTimoshenkoBeam", tag, grid[i][0], grid[i + 1][0],
+                        self.E, self.G, A, eps * I, eps * I, I, self.shear_area, self.shear_area, transf)
+            chain.append(tag)
+        return chain
+
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point, self.point + self.length * self.direction
 

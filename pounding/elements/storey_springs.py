@@ -199,6 +199,38 @@ class StoreySprings(PlanarElement):
             raise ValueError("elastic storey springs have no hysteresis parameters")
         return np.array([self.law.pack(k, f, self.hardening) for k, f in zip(self.stiffness, self.yield_force)])
 
+    def opensees_model(self, ops, place) -> list[int]:
+        """The springs as an OpenSees user builds them (see the base class for ``ops`` and ``place``): one
+        ``twoNodeLink`` per storey between a node on the line at the floor below and one at the floor
+        above (each standing on its floor, ``place.stand_on``: fixed at the ground, else a slave of the
+        floor's diaphragm restrained in uz, rx, ry, which nothing else stiffens), acting along the line
+        only (``-dir 1 -orient d_x d_y 0 -d_y d_x 0``) with ``-doRayleigh``. Its material: ``Elastic(k0)``
+        for elastic springs, else the hysteresis law's
+        (:meth:`pounding.hysteresis.base.HysteresisLaw.opensees_material` with the storey's k0, Fy and b).
+        Returns the links' tags, bottom first."""
+        d = np.asarray(self.direction, dtype=float)
+        x, y = (float(c) for c in self.point)
+        z = np.concatenate([[0.0], np.cumsum(self.heights)]) + self.base_elevation(place.storey_heights)
+        links = []
+        for f, floors in enumerate(self.storey_floors()):  # (below, above) in the building's numbering, 0 = the ground
+            ends = []
+            for level, floor in zip((f, f + 1), floors):
+                tag = place.node(x, y, z[level])
+                place.stand_on(tag, floor)
+                ends.append(tag)
+            mat = place.tag()
+            k0 = float(self.stiffness[f])
+            if self.yields:
+                self.law.opensees_material(ops, mat, k0, float(self.yield_force[f]), float(self.hardening),
+                                           tags=place.tag, boucwen_tol=place.boucwen_tol)
+            else:
+                ops.uniaxialMaterial("Elastic", mat, k0)
+            tag = place.tag()
+            ops.element("twoNodeLink", tag, *ends, "-mat", mat, "-dir", 1,
+                        "-orient", float(d[0]), float(d[1]), 0.0, float(-d[1]), float(d[0]), 0.0, "-doRayleigh")
+            links.append(tag)
+        return links
+
     def plan_segment(self) -> tuple[np.ndarray, np.ndarray]:
         return self.point, self.point + self.length * self.direction
 

@@ -61,7 +61,12 @@ Contract for an implementer
    yield deformation Fy / k0 by default). It scales the stepping's Newton tolerance and the
    ductility outputs; a law without one (a linear spring, a damper) returns inf, and the
    engine takes the scale from the other links or the storey (:mod:`pounding.framework.engine.yielding`).
-10. Register the class under the entry-point group ``pounding.hysteresis`` (or
+10. Optionally :meth:`opensees_material`: the law's OpenSees counterpart, the
+   ``uniaxialMaterial`` a storey spring or a ``[[link]]`` with this law gets in the
+   OpenSees peer of the tests and in ``pounding export opensees``
+   (:mod:`pounding.peer`). Without it (the default raises NotImplementedError
+   naming the law) a scene using the law cannot be exported.
+11. Register the class under the entry-point group ``pounding.hysteresis`` (or
    pass the class itself): one module and one registration; the compiled
    stepping takes the law's ``update`` as an argument and is compiled once per
    run's set of laws, nothing else to write.
@@ -107,6 +112,21 @@ class HysteresisLaw(ABC):
         """The deformation [m] at which the law's behaviour changes, from one link's parameter vector
         ``params`` (n_params,): the yield deformation Fy / k0 by default; inf for a law without one."""
         return float(params[YIELD_FORCE] / params[STIFFNESS])
+
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """Define the law's OpenSees counterpart as ``uniaxialMaterial`` ``tag`` with ``ops`` (the
+        ``openseespy.opensees`` module, or a recorder of its commands), for a link of initial stiffness
+        ``k0`` [N/m], yield force ``fy`` [N] and hardening ``b`` [-] (a storey spring's, or a
+        ``[[link]]``'s from its parameter vector, :meth:`pack`'s first three values).
+
+        ``tags()`` gives further free tags, for a material made of several (a ``Parallel`` of two);
+        ``boucwen_tol`` [-] is the tolerance of OpenSees' ``BoucWen`` as a fraction of the yield
+        displacement, for a law that uses it. The material's deformation is the link's u [m] and
+        its stress the force [N].
+
+        The default raises NotImplementedError: no OpenSees material for this law.
+        """
+        raise NotImplementedError(f"no OpenSees material for hysteresis law {self.name or type(self).__name__!r}")
 
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""

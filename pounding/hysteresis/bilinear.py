@@ -84,3 +84,8 @@ class Bilinear(HysteresisLaw):
 
     def __init__(self):
         pass
+
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``Steel01(Fy, k0, b)``: the same kinematic hardening (its isotropic hardening a1..a4
+        left at 0). See :meth:`HysteresisLaw.opensees_material`."""
+        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)

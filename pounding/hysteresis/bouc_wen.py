@@ -186,3 +186,12 @@ class BoucWen(HysteresisLaw):
 
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         return np.array([stiffness, yield_force, hardening, self.n, self.beta, self.gamma], dtype=float)
+
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``BoucWen(b, k0, n, gamma / u_y^n, beta / u_y^n, 1, 0, 0, 0)``, u_y = Fy / k0 [m]:
+        OpenSees' z is a displacement, u_y times this law's, so its gamma and beta [1/m^n] are this
+        law's over u_y^n; no degradation; Newton on z to ``boucwen_tol * u_y`` [m] in at most 200
+        iterations. See :meth:`HysteresisLaw.opensees_material`."""
+        uy = fy / k0
+        n, beta, gamma = self.n, self.beta, self.gamma
+        ops.uniaxialMaterial("BoucWen", tag, b, k0, n, gamma / uy**n, beta / uy**n, 1.0, 0.0, 0.0, 0.0, float(boucwen_tol * uy), 200)

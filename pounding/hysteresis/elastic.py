@@ -57,3 +57,7 @@ class Elastic(NoYieldLaw):
         """(k, 0, 0): the stiffness is the law's; no yield force, no hardening."""
         return self.stiffness, 0.0, 0.0
 
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``Elastic(k)`` with the law's own k. See :meth:`HysteresisLaw.opensees_material`."""
+        ops.uniaxialMaterial("Elastic", tag, self.stiffness)
+

@@ -223,6 +223,16 @@ class FrictionPendulum(HysteresisLaw):
         k0 = self.pendulum_stiffness + self.slider_stiffness
         return k0, k0 * self.yield_displacement, self.pendulum_stiffness / k0
 
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """With constant friction, OpenSees' ``Steel01(Fy, k0, b)``: the pendulum's W/R beside the
+        elastic-perfectly-plastic slider (mu W / u_y, yield mu W) is kinematic hardening with the law's
+        k0, Fy and b (``singleFPBearing`` would also add F u / R to the normal force, which the law
+        leaves out). With velocity-dependent friction OpenSees has no uniaxial material of this law:
+        NotImplementedError. See :meth:`HysteresisLaw.opensees_material`."""
+        if self.friction_slow is not None:
+            raise NotImplementedError(f"no OpenSees material for hysteresis law {self.name!r} with velocity-dependent friction")
+        ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
+
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         slow = self.friction if self.friction_slow is None else self.friction_slow
         rate = 0.0 if self.rate is None else self.rate

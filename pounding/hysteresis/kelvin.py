@@ -81,3 +81,11 @@ class Kelvin(NoYieldLaw):
 
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         return np.array([stiffness, yield_force, hardening, self.coefficient, self.exponent], dtype=float)
+
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``Parallel`` of ``Elastic(k)`` and ``Viscous(c, alpha)``, the two parts tagged by
+        ``tags()``. See :meth:`HysteresisLaw.opensees_material`."""
+        spring, dashpot = tags(), tags()
+        ops.uniaxialMaterial("Elastic", spring, self.stiffness)
+        ops.uniaxialMaterial("Viscous", dashpot, self.coefficient, self.exponent)
+        ops.uniaxialMaterial("Parallel", tag, spring, dashpot)

@@ -165,3 +165,10 @@ class Maxwell(NoYieldLaw):
 
     def pack(self, stiffness: float, yield_force: float, hardening: float) -> np.ndarray:
         return np.array([stiffness, yield_force, hardening, self.stiffness, self.coefficient, self.exponent], dtype=float)
+
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``ViscousDamper(K, c, alpha)``, its adaptive Dormand-Prince integration to 1e-10
+        relative (1e-12 absolute, at most 20 halvings; its default is 1e-6). See
+        :meth:`HysteresisLaw.opensees_material`."""
+        ops.uniaxialMaterial("ViscousDamper", tag, self.stiffness, self.coefficient, self.exponent,
+                             0.0, 1, 1e-10, 1e-12, 20)

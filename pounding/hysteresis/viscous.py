@@ -125,3 +125,7 @@ class Viscous(NoYieldLaw):
     def pack(self, stiffness: float, yield_force: float, hardening: float):
         return np.array([stiffness, yield_force, hardening, self.coefficient, self.exponent], dtype=float)
 
+    def opensees_material(self, ops, tag: int, k0: float, fy: float, b: float, *, tags, boucwen_tol: float) -> None:
+        """OpenSees' ``Viscous(c, alpha)``. See :meth:`HysteresisLaw.opensees_material`."""
+        ops.uniaxialMaterial("Viscous", tag, self.coefficient, self.exponent)
+

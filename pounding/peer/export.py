@@ -118,11 +118,12 @@ def _model(ops: ScriptOps, scene, out_of_plane: float) -> tuple[dict[str, list[i
 def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
     """Contact elements where OpenSees has the pair's contact law (:mod:`pounding.peer.opensees_contact`);
     notes on what is left out or differs."""
+    from pounding.contact.rules import law_name
     from pounding.framework.model.registry import watches_contact
     from pounding.peer.opensees import face_springs
-    from pounding.peer.opensees_contact import has_material, law_material, material_notes, pair_law
+    from pounding.peer.opensees_contact import has_material, law_material, pair_law
 
-    if not watches_contact(scene.analysis) and not scene.contacts:
+    if not watches_contact(scene.analysis):  # as in a run: no pair is watched, whatever its [[contact]] rule
         ops.comment(f"none: the scene's contact law {scene.analysis.contact!r} switches contact off")
         return []
     if len(scene.buildings) == 1:
@@ -133,11 +134,17 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
         ops.comment(note)
         return [note]
     pair = sorted(scene.buildings, key=lambda b: float(np.mean(b.slabs[0].vertices[:, 0])))
-    law = pair_law(scene, *pair)
+    try:
+        law = pair_law(scene, *pair)
+    except ValueError as exc:
+        note = f"no contact elements ({exc}): the script has no contact"
+        ops.comment(note)
+        return [note]
     if not has_material(law):
-        note = (f"contact law {law.name!r} has no OpenSees material (OpenSees has no rigid impulse at events): "
+        why = " (OpenSees has no rigid impulse at events)" if law.at_events else ""
+        note = (f"contact law {law_name(law)!r} has no OpenSees material{why}: "
                 "the script has no contact; compare contact-free histories, or export a scene with a force law "
-                "(kelvin, hertz, hertzdamp, jankowski or penalty)")
+                "that has one (kelvin, hertz, hertzdamp, jankowski or penalty)")
         ops.comment(note)
         return [note]
     try:
@@ -146,7 +153,7 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
         note = f"no contact elements ({exc}; they are written for facades facing each other along x): the script has no contact"
         ops.comment(note)
         return [note]
-    notes = material_notes(law)
+    notes = law.opensees_notes()
     for note in notes:
         ops.comment(note)
     return notes

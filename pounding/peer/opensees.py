@@ -49,11 +49,6 @@ def load_opensees():
 # master node. Nothing here uses pounding's condensed stiffness: agreement with
 # :func:`pounding.framework.model.assembly.assemble` is an independent check.
 
-#: Poisson's ratio used for the shear modulus G = E / (2 (1 + nu)) of frame
-#: members. G only multiplies the (negligible) torsional constant, so its
-#: value does not affect the in-plane response.
-FRAME_NU = 0.2
-
 #: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
 MASTER_FIX = (0, 0, 1, 1, 1, 0)
 
@@ -69,95 +64,81 @@ class _Tags:
         return self.last
 
 
-def _elements_by_kind(building):
-    from pounding.elements.frame import Frame
-    from pounding.elements.shear_wall import ShearWall
-    from pounding.elements.storey_springs import StoreySprings
+class Placement:
+    """Where one building's elements go in the peer's OpenSees model: what the peer hands every
+    element's :meth:`~pounding.elements.base.PlanarElement.opensees_model`.
 
-    for e in building.elements:
-        if isinstance(e, Frame):
-            yield "frame", e
-        elif isinstance(e, ShearWall):
-            yield "wall", e
-        elif isinstance(e, StoreySprings):
-            yield "springs", e
-        else:
-            raise NotImplementedError(
-                f"building {building.name!r}: no OpenSees model for element type {getattr(e, 'name', '') or type(e).__name__!r} "
-                "(frame, shear_wall and storey_springs are modelled)"
-            )
+    The element adds its own nodes, materials and elements with ``ops``; through this object it
+    takes tags, creates nodes (recorded as the building's, for its Rayleigh damping) and ties them
+    to the building's floors, whose rigid diaphragms the peer closes once every element is placed.
+
+    Attributes
+    ----------
+    ops : module
+        ``openseespy.opensees`` or a recorder of its commands (:class:`pounding.peer.script.ScriptOps`).
+    building : str
+        The building's name (for messages).
+    storey_heights : tuple of float
+        The building's storey heights [m], bottom first (elevations: :meth:`PlanarElement.base_elevation`).
+    out_of_plane : float
+        Out-of-plane bending inertia and torsional constant of a member, as a fraction of its in-plane
+        inertia [-], > 0 (:func:`build_building`).
+    boucwen_tol : float
+        Tolerance of OpenSees' ``BoucWen`` material, as a fraction of the yield displacement [-]
+        (:meth:`pounding.hysteresis.base.HysteresisLaw.opensees_material`).
+    slaves : list of list of int
+        ``slaves[f - 1]``: the nodes tied to floor f's diaphragm so far.
+    nodes : list of int
+        Every node the building's elements created, in order.
+    """
+
+    def __init__(self, ops, building, tags, *, out_of_plane: float = 1e-6, boucwen_tol: float = 1e-13):
+        self.ops = ops
+        self.building = building.name
+        self.storey_heights = tuple(float(h) for h in building.storey_heights)
+        self.out_of_plane = float(out_of_plane)
+        self.boucwen_tol = float(boucwen_tol)
+        self.slaves: list[list[int]] = [[] for _ in building.slabs]
+        self.nodes: list[int] = []
+        self._tags = tags
+
+    def tag(self) -> int:
+        """The next free tag (nodes, elements, materials and transformations share one counter)."""
+        return self._tags()
+
+    def node(self, x: float, y: float, z: float) -> int:
+        """A new node at (x, y, z) [m] (``ops.node``), free in all six DOFs; its tag."""
+        tag = self._tags()
+        self.ops.node(tag, float(x), float(y), float(z))
+        self.nodes.append(tag)
+        return tag
+
+    def on_floor(self, tag: int, floor: int) -> None:
+        """Node ``tag`` moves with floor ``floor`` (1-based, the building's numbering) in ux, uy, rz: a
+        slave of its rigid diaphragm. Its uz, rx, ry stay free: the element's members hold them."""
+        self.slaves[floor - 1].append(tag)
+
+    def stand_on(self, tag: int, floor: int) -> None:
+        """Node ``tag`` is a base of the element on floor ``floor`` (0: the ground, fixed in all six DOFs;
+        above: a slave of the floor's diaphragm, fixed in uz, rx, ry): :func:`pounding.peer.opensees_links.stand_on`."""
+        from pounding.peer.opensees_links import stand_on
+
+        stand_on(self.ops, tag, floor, self.slaves)
 
 
 def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], list[int], list[int]]:
-    """Build one building; return (master tags per floor, all node tags, all element tags)."""
+    """Build one building; return (master tags per floor, all node tags, all element tags).
+
+    Every element places itself (:meth:`~pounding.elements.base.PlanarElement.opensees_model`, with a
+    :class:`Placement`); the floors' masters and diaphragms follow."""
     if not out_of_plane > 0.0:
         raise ValueError(f"out_of_plane must be > 0 (a zero out-of-plane stiffness leaves the frames unstable), got {out_of_plane}")
     ops.model("basic", "-ndm", 3, "-ndf", 6)
-    eps = float(out_of_plane)
-    slaves: list[list[int]] = [[] for _ in building.slabs]
-    nodes: list[int] = []
+    place = Placement(ops, building, tags, out_of_plane=out_of_plane)
     elements: list[int] = []
-
-    from pounding.peer.opensees_links import stand_on, storey_links
-
-    for kind, e in _elements_by_kind(building):
-        if kind == "springs":
-            elements.extend(storey_links(ops, e, tags, slaves, nodes, heights=building.storey_heights))
-            continue
-        p = np.asarray(e.point, dtype=float)
-        d = np.asarray(e.direction, dtype=float)
-        d = d / np.hypot(*d)
-        n_hat = (-d[1], d[0], 0.0)  # horizontal normal of the element plane
-        z = e.base_elevation(building.storey_heights) + np.concatenate([[0.0], np.cumsum(e.heights)])
-        # vecxz = the plane normal: for a column (local x = up) local y = +-d, for a
-        # beam (local x = d) local y = vertical, so bending about local z (Iz) is in
-        # the element plane in both cases; Iy is out of plane.
-        transf = tags()
-        ops.geomTransf("Linear", transf, *n_hat)
-        if kind == "frame":
-            positions = list(e.columns)
-        else:
-            positions = [0.5 * e.length]  # the wall's centre line; any point on the wall line moves alike in plane
-        grid = []  # grid[level][j] = node tag
-        for level, zl in enumerate(z):
-            row = []
-            for s in positions:
-                x, y = p + s * d
-                tag = tags()
-                ops.node(tag, float(x), float(y), float(zl))
-                nodes.append(tag)
-                if level == 0:
-                    stand_on(ops, tag, e.base_floor, slaves)
-                else:
-                    slaves[e.building_floors[level - 1] - 1].append(tag)
-                row.append(tag)
-            grid.append(row)
-        if kind == "frame":
-            for i in range(len(e.heights)):
-                E, A, I = e.column_sections[i]
-                G = E / (2.0 * (1.0 + FRAME_NU))
-                for j in range(len(positions)):
-                    tag = tags()
-                    ops.element("elasticBeamColumn", tag, grid[i][j], grid[i + 1][j], A, E, G, eps * I, eps * I, I, transf)
-                    elements.append(tag)
-                E, A, I = e.beam_sections[i]
-                G = E / (2.0 * (1.0 + FRAME_NU))
-                for j in range(len(positions) - 1):
-                    tag = tags()
-                    ops.element("elasticBeamColumn", tag, grid[i + 1][j], grid[i + 1][j + 1], A, E, G, eps * I, eps * I, I, transf)
-                    elements.append(tag)
-        else:
-            # Exact Timoshenko beam (shear flexibility with shear area As) per storey:
-            # the chain is the Timoshenko cantilever of ShearWall.flexibility.
-            I = e.second_moment
-            A = e.thickness * e.length
-            for i in range(len(e.heights)):
-                tag = tags()
-                ops.element(
-                    "ElasticTimoshenkoBeam", tag, grid[i][0], grid[i + 1][0],
-                    e.E, e.G, A, eps * I, eps * I, I, e.shear_area, e.shear_area, transf,
-                )
-                elements.append(tag)
+    for e in building.elements:
+        elements.extend(e.opensees_model(ops, place))
+    nodes = place.nodes
 
     masters = []
     for f, slab in enumerate(building.slabs):
@@ -166,8 +147,8 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
         ops.node(tag, cx, cy, float(slab.elevation))
         ops.fix(tag, *MASTER_FIX)
         ops.mass(tag, slab.mass, slab.mass, 0.0, 0.0, 0.0, slab.polar_inertia)
-        if slaves[f]:
-            ops.rigidDiaphragm(3, tag, *slaves[f])
+        if place.slaves[f]:
+            ops.rigidDiaphragm(3, tag, *place.slaves[f])
         masters.append(tag)
         nodes.append(tag)
     return masters, nodes, elements
@@ -176,22 +157,28 @@ def _build(ops, building, out_of_plane: float, tags: _Tags) -> tuple[list[int], 
 def build_building(ops, building, *, out_of_plane: float = 1e-6, tag_offset: int = 0) -> list[int]:
     """Add one pounding :class:`~pounding.framework.model.scene.Building` to the OpenSees domain.
 
-    The model is 3-D (``ndm 3, ndf 6``), in SI units (m, N, kg, s):
+    The model is 3-D (``ndm 3, ndf 6``), in SI units (m, N, kg, s). Every element places
+    itself: its :meth:`~pounding.elements.base.PlanarElement.opensees_model` adds its nodes,
+    materials and elements through a :class:`Placement` (an element type without one raises
+    NotImplementedError naming it). The built-in elements:
 
     * every frame is an independent planar structure: a node at every column
       line and floor (x, y = point + s direction, z = floor elevation [m]),
       ``elasticBeamColumn`` columns and beams with the frame's (E, A, I) for
       bending in the frame plane (``Iz``), ``Iy = J = out_of_plane * I`` out of
       it, G = E / (2 (1 + 0.2)); ``geomTransf Linear`` with vecxz = the plane's
-      horizontal normal. Frames that cross in plan keep their own nodes;
+      horizontal normal. Frames that cross in plan keep their own nodes
+      (:meth:`pounding.elements.frame.Frame.opensees_model`);
     * every shear wall is a chain of ``ElasticTimoshenkoBeam`` elements (one
       per storey) on the wall's centre line with E, G, A = t L, Iz = t L^3/12
       and shear area As in plane (``Iy = J = out_of_plane * Iz``): the exact
       Timoshenko cantilever that :class:`~pounding.elements.shear_wall.ShearWall`
       condenses;
+    * storey springs are one ``twoNodeLink`` per storey with the material of their
+      hysteresis law (:meth:`pounding.elements.storey_springs.StoreySprings.opensees_model`);
     * base nodes are fixed in all six DOFs on the ground; an element standing on floor b > 0
       (``first_storey`` = b + 1) has its base nodes at that floor's elevation, slaves of its
-      diaphragm and fixed in uz, rx, ry (:func:`pounding.peer.opensees_links.stand_on`);
+      diaphragm and fixed in uz, rx, ry (:meth:`Placement.stand_on`);
     * every floor has a master node at the slab's centre of mass carrying
       ``mass(m, m, 0, 0, 0, J)`` [kg, kg m^2], fixed in uz, rx, ry and free in
       ux, uy, rz, tied to all element nodes of that floor by

@@ -1,7 +1,10 @@
 """Force contact laws as the OpenSees materials of the same name, in zero-length elements between floors.
 
 OpenSees (since 3.1) models pounding with uniaxial gap materials in a ``zeroLength`` element
-between the two bodies; three of them are laws of :mod:`pounding.contact`:
+between the two bodies. Each contact law says which material is its counterpart
+(:meth:`pounding.contact.base.ContactLaw.opensees_material`, None for a law OpenSees has no
+material of) and what that material computes differently (``opensees_notes``); the peer asks
+the law, never its name. The built-in laws with one:
 
 ==============  =====================================================================
 pounding law    OpenSees material (arguments after the tag)
@@ -35,7 +38,7 @@ engine uses) with k (or k_h) and m_eff scaled by its share s = 1/2 (the two ends
 share is fixed in both, so the models are the same law whether both ends of a face press or one
 alone.
 
-What OpenSees computes differently (stated per material in :func:`material_notes`):
+What OpenSees computes differently (stated by each law's ``opensees_notes``):
 
 * ``Hertzdamp`` reads the impact velocity v_i from the first *trial* state in contact (the end
   of the first step that closes the gap, at every Newton iteration of it), where ``hertzdamp``
@@ -51,53 +54,12 @@ from __future__ import annotations
 
 from typing import Callable
 
-import numpy as np
-
-#: law name -> function (law, share, m_eff, clear) -> uniaxialMaterial arguments after the tag
-_MATERIALS: dict[str, Callable] = {}
-
-
-def _material(name: str):
-    def register(fn):
-        _MATERIALS[name] = fn
-        return fn
-
-    return register
-
-
-@_material("kelvin")
-def _viscoelastic_gap(law, share: float, m_eff: float, clear: float) -> tuple:
-    k, c, _ = law.params(np.array([m_eff]))[0]
-    return ("ViscoelasticGap", share * float(k), share * float(c), -clear)
-
-
-@_material("hertz")
-def _hertz(law, share: float, m_eff: float, clear: float) -> tuple:
-    k, n = law.params(np.array([m_eff]))[0]
-    return ("Hertzdamp", share * float(k), 0.0, -clear, float(n))
-
-
-@_material("hertzdamp")
-def _hertzdamp(law, share: float, m_eff: float, clear: float) -> tuple:
-    k, n, xi = law.params(np.array([m_eff]))[0]
-    return ("Hertzdamp", share * float(k), float(xi), -clear, float(n))
-
-
-@_material("jankowski")
-def _jankowski(law, share: float, m_eff: float, clear: float) -> tuple:
-    k, xi, m = law.params(np.array([m_eff]))[0]
-    return ("JankowskiImpact", share * float(k), float(xi), share * float(m), -clear, 1.5)
-
-
-@_material("penalty")
-def _penalty(law, share: float, m_eff: float, clear: float) -> tuple:
-    # penalty puts a spring k_p at every point (a face of two points is 2 k_p), not a share of one
-    return ("ElasticPPGap", float(law.stiffness), -1e30, -clear, 0.0, "noDamage")
-
 
 def has_material(law) -> bool:
-    """True when ``law`` (a contact law instance) has an OpenSees material here."""
-    return getattr(law, "name", None) in _MATERIALS
+    """True when ``law`` (a contact law instance) has an OpenSees material: it gives one
+    (:meth:`~pounding.contact.base.ContactLaw.opensees_material`, asked for a whole contact at a point
+    of 1 kg touching at rest; a law without one gives None whatever it is asked)."""
+    return law.opensees_material(1.0, 1.0, 0.0) is not None
 
 
 def law_material(law) -> Callable[[float, float, float], tuple]:
@@ -105,42 +67,39 @@ def law_material(law) -> Callable[[float, float, float], tuple]:
 
     It returns the ``uniaxialMaterial`` arguments after the tag of an element carrying ``share`` [-]
     of the contact at a point of effective mass ``m_eff`` [kg], the clear distance ``clear`` [m]
-    (module docstring). Raises ``NotImplementedError`` for a law with no OpenSees material.
+    (module docstring): the law's own
+    :meth:`~pounding.contact.base.ContactLaw.opensees_material`. Raises ``NotImplementedError`` for
+    a law with no OpenSees material.
     """
-    name = getattr(law, "name", None)
-    if name not in _MATERIALS:
-        raise NotImplementedError(f"contact law {name!r} has no OpenSees material (those with one: {', '.join(_MATERIALS)})")
-    fn = _MATERIALS[name]
-    return lambda share, m_eff, clear: fn(law, float(share), float(m_eff), float(clear))
+    from pounding.contact.rules import law_name
 
-
-def material_notes(law) -> list[str]:
-    """What the OpenSees material of ``law`` does differently (one sentence each; empty when nothing)."""
-    name = getattr(law, "name", None)
-    if name == "kelvin" and not law.tension:
-        return ["contact law 'kelvin' with tension = false never pulls, but its OpenSees material ViscoelasticGap "
-                "does at the end of a contact (kelvin with tension = true): the script's contacts rebound with e "
-                "where pounding's rebound faster"]
-    if name == "hertzdamp":
-        return ["contact law 'hertzdamp': OpenSees' Hertzdamp reads the impact velocity at the end of the first step "
-                "in contact (pounding: where the gap closed), which agrees as dt shrinks, and pulls where "
-                "1 + xi delta'/v_i < 0 (pounding gives no force there)"]
-    if name == "penalty" and law.restitution < 1.0:
-        return [f"contact law 'penalty': its dashpot (restitution {law.restitution:g}) has no counterpart in "
-                "ElasticPPGap: the script's contact springs are elastic and lose no energy in impacts"]
-    return []
+    if not has_material(law):
+        raise NotImplementedError(f"contact law {law_name(law)!r} has no OpenSees material "
+                                  "(its class gives none: ContactLaw.opensees_material)")
+    return lambda share, m_eff, clear: law.opensees_material(float(share), float(m_eff), float(clear))
 
 
 def pair_law(scene, low, high):
-    """The contact law instance of the slab pairs between buildings ``low`` and ``high`` of ``scene``: a
-    ``[[contact]]`` rule between them, else ``[analysis] contact``."""
-    from pounding.framework.model.registry import CONTACT_LAWS
+    """The contact law instance of the slab pairs between buildings ``low`` and ``high`` of ``scene``, as a
+    run of the scene gives them (:func:`pounding.contact.rules.scene_laws`: a ``[[contact]]`` rule
+    between them, else ``[analysis] contact``; with contact off, that law everywhere).
 
-    for rule in getattr(scene, "contacts", ()):
-        if frozenset(rule.between) == frozenset((low.name, high.name)):
-            return CONTACT_LAWS.get(rule.law)(**rule.params)
-    an = scene.analysis
-    return CONTACT_LAWS.get(an.contact)(**an.contact_params)
+    The pairs are the common storeys' (storey f of one with storey f of the other), the contact
+    elements' of :func:`pounding.peer.opensees.face_springs`. Raises ValueError when they do not all
+    take one law (a bumper in some of them): the peer writes one material per pair of buildings.
+    """
+    from pounding.contact.rules import law_name, scene_laws
+
+    names = [b.name for b in scene.buildings]
+    a, b = names.index(low.name), names.index(high.name)
+    pairs = [(a, f, b, f, 0.0) for f in range(min(low.n_storeys, high.n_storeys))]
+    laws, which = scene_laws(scene, pairs)
+    taken = sorted({int(j) for j in which})
+    if len(taken) > 1:
+        raise ValueError(f"the storeys between {low.name!r} and {high.name!r} take different contact laws "
+                         f"({', '.join(repr(law_name(laws[j])) for j in taken)}: a bumper in some of them), and the "
+                         "OpenSees model writes one material for the pair")
+    return laws[taken[0]]
 
 
 def run_law_pounding(ops, scene, dt: float, n_steps: int, *, out_of_plane: float = 1e-12, tol: float = 1e-12,

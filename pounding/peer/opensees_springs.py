@@ -19,8 +19,10 @@ The model an OpenSees user would build for :class:`~pounding.elements.storey_spr
 * damping C = a0 M + a1 K_initial per building (``region`` with ``-rayleigh``,
   links with ``-doRayleigh``): the classical damping of the initial elastic model.
 
-:func:`build_spring_building` models buildings of storey springs only; :func:`storey_links` is also
-what :mod:`pounding.peer.opensees` places for storey springs in a building of frames and walls.
+:func:`build_spring_building` models buildings of storey-spring lines only (elements that declare
+``spring_line``); each line places its own links
+(:meth:`~pounding.elements.base.PlanarElement.opensees_model`), as it does in a building of frames and
+walls (:mod:`pounding.peer.opensees`).
 """
 
 from __future__ import annotations
@@ -28,8 +30,6 @@ from __future__ import annotations
 from typing import Any, Sequence
 
 import numpy as np
-
-from pounding.peer.opensees_links import storey_links
 
 #: DOFs of a diaphragm master node that are fixed (uz, rx, ry); ux, uy, rz stay free.
 MASTER_FIX = (0, 0, 1, 1, 1, 0)
@@ -45,10 +45,14 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
     :func:`pounding.framework.engine.inelastic.spring_set`. ``extra_slaves(masters)`` may add
     nodes of other elements to the floors' diaphragms: a list of node lists, one per floor.
     """
-    from pounding.peer.opensees import _elements_by_kind, _Tags
+    from pounding.peer.opensees import Placement, _Tags
 
+    for e in building.elements:
+        if not e.spring_line:
+            raise NotImplementedError(f"building {building.name!r}: only lines of storey springs are modelled here, "
+                                      f"got element type {e.name or type(e).__name__!r}")
     tags = _Tags(tag_offset)
-    nodes, elements, yielding = [], [], []
+    elements, yielding = [], []
     masters = []
     for slab in building.slabs:
         tag = tags()
@@ -56,15 +60,13 @@ def build_spring_building(ops, building, tag_offset: int, boucwen_tol: float = 1
         ops.fix(tag, *MASTER_FIX)
         ops.mass(tag, slab.mass, slab.mass, 0.0, 0.0, 0.0, slab.polar_inertia)
         masters.append(tag)
-        nodes.append(tag)
-    slaves: list[list[int]] = [[] for _ in building.slabs]
-    for kind, e in _elements_by_kind(building):
-        if kind != "springs":
-            raise NotImplementedError(f"building {building.name!r}: only storey_springs elements are modelled here, got {kind}")
-        links = storey_links(ops, e, tags, slaves, nodes, boucwen_tol, heights=building.storey_heights)
+    place = Placement(ops, building, tags, boucwen_tol=boucwen_tol)
+    for e in building.elements:
+        links = e.opensees_model(ops, place)
         elements.extend(links)
-        if e.yields:
+        if e.yields:  # its links are its storey springs, bottom first (the base class's contract)
             yielding.extend(links)
+    nodes, slaves = masters + place.nodes, place.slaves
     if extra_slaves is not None:
         for f, more in enumerate(extra_slaves(masters)):
             slaves[f].extend(more)

@@ -90,12 +90,12 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     -------
     (elements, left_out, differs) : the element tags (scene order of walls, then buildings and slabs);
     one sentence per wall left out; one per wall whose material computes differently from its law
-    (:func:`pounding.peer.opensees_contact.material_notes`).
+    (:meth:`pounding.contact.base.ContactLaw.opensees_notes`).
     """
-    from pounding.contact.rules import wall_law
+    from pounding.contact.rules import law_name, wall_law
     from pounding.framework.model.registry import CONTACT_LAWS
     from pounding.framework.model.walls import screened_from
-    from pounding.peer.opensees_contact import has_material, material_notes
+    from pounding.peer.opensees_contact import has_material
 
     an = scene.analysis
     default = CONTACT_LAWS.get(an.contact)(**an.contact_params)
@@ -103,9 +103,10 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     for wall in scene.walls:
         law = wall_law(scene, wall, default)
         if not has_material(law):
-            left_out.append(f"wall {wall.name!r}: its contact law {law.name!r} has no OpenSees material (OpenSees has "
-                            "no rigid impulse at events), so the model's slabs strike nothing there; give the wall a "
-                            "force law (kelvin, hertz, hertzdamp, jankowski or penalty) to export it")
+            why = " (OpenSees has no rigid impulse at events)" if law.at_events else ""
+            left_out.append(f"wall {wall.name!r}: its contact law {law_name(law)!r} has no OpenSees material{why}, so the "
+                            "model's slabs strike nothing there; give the wall a force law that has one (kelvin, hertz, "
+                            "hertzdamp, jankowski or penalty) to export it")
             continue
         face = np.asarray(wall.face, float)
         behind = [frozenset(f for f in range(len(b.slabs)) if screened_from(scene, i, f, face[0], face[-1]))
@@ -118,7 +119,7 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
             continue
         for b, skip in zip(scene.buildings, behind):
             elements += wall_springs(ops, b, masters[b.name], wall, law, tags, skip)
-        differs += [f"wall {wall.name!r}: {n}" for n in material_notes(law)]
+        differs += [f"wall {wall.name!r}: {n}" for n in law.opensees_notes()]
     return elements, left_out, differs
 
 
