@@ -110,10 +110,15 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     return laws, which
 
 
-def scene_laws(scene, pairs: list, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
-    """:func:`pair_laws` with the default of ``scene``'s ``[analysis] contact`` (its law with its
-    parameters, index 0): the laws of a run of ``scene`` on its ``pairs`` and ``walls`` as the
-    driver, the export, ``pounding check``, the rebuilt contact forces and a run folder read back
-    all resolve them."""
+def default_law(scene) -> ContactLaw:
+    """The law of ``scene``'s ``[analysis] contact``, with its parameters."""
     an = scene.analysis
-    return pair_laws(scene, pairs, CONTACT_LAWS.get(an.contact)(**an.contact_params), walls)
+    return CONTACT_LAWS.get(an.contact)(**an.contact_params)
+
+
+def scene_laws(scene, pairs: list, walls: dict | None = None) -> tuple[list[ContactLaw], np.ndarray]:
+    """:func:`pair_laws` with the default of ``scene``'s ``[analysis] contact`` (:func:`default_law`,
+    index 0): the laws of a run of ``scene`` on its ``pairs`` and ``walls`` as the driver, the
+    export, ``pounding check``, the rebuilt contact forces and a run folder read back all resolve
+    them."""
+    return pair_laws(scene, pairs, default_law(scene), walls)

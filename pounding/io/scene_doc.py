@@ -468,7 +468,8 @@ under the entry-point group `pounding.contact`, or name it `"module:Class"` in t
 module is imported from the Python path or from a `module.py` beside the scene file. Every call of `forces` is a
 trial; once a step is accepted the engine calls the law's `commit(contact, forces)` with the state and forces it
 accepted, so a law may keep a state of its own point by point (`contact.point`: the pair, the striking slab and its
-vertex), as an OpenSees material commits its state: a plastic set, for one. A force law that runs
+vertex), as an OpenSees material commits its state: a plastic set, for one. `opensees_material` (optional) names
+the law's OpenSees material, so that `pounding export opensees` writes its contact elements. A force law that runs
 beside yielding storeys or links is asked for its forces once per pass of the step's solve; written as a
 compiled function of the end gaps and rates (`forces_solver`, optional: see the base class), that whole solve
 runs compiled. For a Hertz contact in `my_laws.py` next to the scene:

@@ -44,8 +44,10 @@ What OpenSees computes differently (stated by each law's ``opensees_notes``):
   of the first step that closes the gap, at every Newton iteration of it), where ``hertzdamp``
   uses the closing speed where the gap crossed zero: the two agree as the step shrinks, to first
   order. It pulls when 1 + xiNorm delta' / v_i < 0, where ``hertzdamp`` gives no force.
-* ``ViscoelasticGap`` may pull: it is ``kelvin`` with ``tension = true``; the default
-  ``tension = false`` clamps that pull and has no OpenSees material (the export says so).
+* ``ViscoelasticGap`` may pull: it is ``kelvin`` with ``tension = true``. The default
+  ``tension = false`` clamps that pull, which the material does not: it is exported with
+  ``ViscoelasticGap`` all the same, and the script says its contacts rebound with e where
+  pounding's rebound faster.
 * ``penalty`` with a restitution below 1 has a dashpot matrix shared by a face's points, which no
   uniaxial material holds: only its springs are exported.
 """

@@ -92,13 +92,11 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     one sentence per wall left out; one per wall whose material computes differently from its law
     (:meth:`pounding.contact.base.ContactLaw.opensees_notes`).
     """
-    from pounding.contact.rules import law_name, wall_law
-    from pounding.framework.model.registry import CONTACT_LAWS
+    from pounding.contact.rules import default_law, law_name, wall_law
     from pounding.framework.model.walls import screened_from
     from pounding.peer.opensees_contact import has_material
 
-    an = scene.analysis
-    default = CONTACT_LAWS.get(an.contact)(**an.contact_params)
+    default = default_law(scene)
     elements, left_out, differs = [], [], []
     for wall in scene.walls:
         law = wall_law(scene, wall, default)
