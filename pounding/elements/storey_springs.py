@@ -56,6 +56,7 @@ import numpy as np
 from pounding.elements.base import POINT_SCHEMA, PlanarElement, documented
 from pounding.elements.frame import _spanned_storeys, line_from_table
 from pounding.errors import InputError
+from pounding.framework.model.law_tables import make_law
 
 _PER_STOREY = {"oneOf": [{"type": "number"}, {"type": "array", "items": {"type": "number"}, "minItems": 1}]}
 
@@ -274,25 +275,3 @@ def _law_setting_its_values(table: Mapping[str, Any]):
         if key in table:
             raise InputError(f"the {law.name} law sets the storey's {key} from its own parameters; remove {key}", field=key)
     return law
-
-
-def make_law(law_cls, params: Mapping[str, Any], field: str):
-    """An instance of a hysteresis law from its scene parameters (InputError naming ``field.key``)."""
-    import inspect
-
-    try:
-        return law_cls(**params)
-    except TypeError:
-        sig = inspect.signature(law_cls.__init__)
-        accepted = [p for p in sig.parameters if sig.parameters[p].kind is inspect.Parameter.KEYWORD_ONLY]
-        bad = [k for k in params if k not in accepted]
-        missing = [p for p in accepted if sig.parameters[p].default is inspect.Parameter.empty and p not in params]
-        if missing and not bad:
-            raise InputError(f"hysteresis {law_cls.name!r} needs {', '.join(missing)}: give "
-                             f"{{ name = {law_cls.name!r}, {', '.join(m + ' = ...' for m in missing)} }}", field=field) from None
-        raise InputError(
-            f"unknown parameter(s) {', '.join(bad) or '?'} for hysteresis {law_cls.name!r}; accepted: {', '.join(accepted) or 'none'}",
-            field=field,
-        ) from None
-    except InputError as exc:
-        raise exc.located(field_prefix=field) from None

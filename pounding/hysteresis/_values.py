@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 from pounding.errors import InputError
+from pounding.framework.model.law_tables import number, positive
 from pounding.hysteresis.base import HysteresisLaw
+
+#: (number and positive are the scene tables' checks, pounding.framework.model.law_tables, named here for the laws)
+__all__ = ["EXPONENT_SCHEMA", "NoYieldLaw", "check_exponent", "number", "positive"]
 
 #: the scene schema of a damper's velocity exponent (viscous, maxwell, kelvin)
 EXPONENT_SCHEMA = {"type": "number", "units": "-", "default": 1.0, "description": "Velocity exponent alpha, in (0, 2]: 1 = linear."}
@@ -21,21 +23,6 @@ class NoYieldLaw(HysteresisLaw):
     def deformation_scale(params) -> float:
         """inf: no yield deformation."""
         return math.inf
-
-
-def number(key: str, value) -> float:
-    """``value`` as a float, or InputError naming ``key`` when it is not a finite number."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)) or not math.isfinite(value):
-        raise InputError(f"expected a finite number, got {value!r}", field=key)
-    return float(value)
-
-
-def positive(key: str, value, what: str) -> float:
-    """``value`` > 0 as a float (InputError naming ``key`` and saying what it is otherwise)."""
-    x = number(key, value)
-    if x <= 0.0:
-        raise InputError(f"{what} must be > 0, got {x:g}", field=key)
-    return x
 
 
 def check_exponent(key: str, value) -> float:

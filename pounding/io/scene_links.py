@@ -10,58 +10,13 @@ range (the law's own checks). The structure (keys, types) is checked with the re
 
 from __future__ import annotations
 
-from typing import Mapping
-
 import numpy as np
 
 from pounding.errors import InputError
+from pounding.framework.model.law_tables import link_law
 from pounding.framework.model.levels import LEVEL_TOL, distance_to_polygon
 from pounding.framework.model.scene import Building, Link
 
-#: the keys of a yielding law's table that the link gives it (a storey_springs element's own keys)
-SPRING_KEYS = ("stiffness", "yield_force", "hardening")
-
-
-def link_law(spec: Mapping, where: str):
-    """(law instance, parameter vector (n_params,)) of a link's ``law`` table; InputError naming ``where.key``.
-
-    A law that sets its stiffness, yield force and hardening from its own parameters (``own_values``:
-    elastic, viscous, maxwell, kelvin, friction_pendulum) takes only those; any other (bilinear,
-    bouc_wen, a plugin's) takes ``stiffness`` [N/m] > 0, ``yield_force`` [N] > 0 and ``hardening`` in
-    [0, 1) besides its own.
-    """
-    from pounding.elements.storey_springs import make_law
-    from pounding.framework.model.registry import HYSTERESIS
-    from pounding.hysteresis._values import number, positive
-
-    params = {k: v for k, v in spec.items() if k != "name"}
-    cls = HYSTERESIS.get(spec["name"], field=f"{where}.name")
-    takes = _own_keys(cls)
-    own = {k: v for k, v in params.items() if k in takes or k not in SPRING_KEYS}
-    probe = make_law(cls, own, where)
-    if probe.own_values() is not None:
-        extra = [k for k in params if k not in own]
-        if extra:
-            raise InputError(f"the {cls.name} law sets the link's {extra[0]} from its own parameters; remove {extra[0]}",
-                             field=f"{where}.{extra[0]}")
-        return probe, np.asarray(probe.pack(*probe.own_values()), dtype=float)
-    for key in ("stiffness", "yield_force"):
-        if key not in params:
-            raise InputError(f"hysteresis {cls.name!r} on a link needs stiffness [N/m] and yield_force [N]: give "
-                             f"{{ name = {cls.name!r}, stiffness = ..., yield_force = ..., hardening = ... }}", field=where)
-    k0 = positive(f"{where}.stiffness", params["stiffness"], "the link's initial stiffness [N/m]")
-    fy = positive(f"{where}.yield_force", params["yield_force"], "the link's yield force [N]")
-    b = number(f"{where}.hardening", params.get("hardening", 0.0))
-    if not 0.0 <= b < 1.0:
-        raise InputError(f"expected the post-yield / initial stiffness ratio in [0, 1), got {b:g}", field=f"{where}.hardening")
-    return probe, np.asarray(probe.pack(k0, fy, b), dtype=float)
-
-
-def _own_keys(cls) -> set:
-    """The keyword parameters of the law class's ``__init__`` (its own scene parameters)."""
-    import inspect
-
-    return set(inspect.signature(cls.__init__).parameters) - {"self"}
 
 
 def parse_links(tables: list, buildings: list[Building]) -> tuple[Link, ...]:

@@ -241,6 +241,7 @@ CONTACT_LAWS: Registry = Registry(
         "hertzdamp": "pounding.contact.hertzdamp:HertzDamp",
         "jankowski": "pounding.contact.jankowski:Jankowski",
         "rubber": "pounding.contact.rubber:Rubber",
+        "material": "pounding.contact.material:MaterialContact",
         "none": "pounding.contact.none:NoContact",
     },
     "contact law",

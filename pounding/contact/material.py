@@ -1,0 +1,216 @@
+"""Any link law as a contact law (``material``): OpenSees' zero-length contact element with a
+uniaxial material, in series with a gap that carries no tension.
+
+The link laws (the ``pounding.hysteresis`` family: ``bilinear``, ``bouc_wen``, ``elastic``,
+``viscous``, ``maxwell``, ``kelvin``, ``friction_pendulum``, a plugin's) are pounding's uniaxial
+materials: the storey springs and the ``[[link]]`` tables step them. ``material`` puts one at every
+contact point of the pairs it serves, the law named by a table ``material`` as a ``[[link]]``'s ``law`` is::
+
+    [analysis]
+    contact = { name = "material", material = { name = "bilinear", stiffness = 2.0e9, yield_force = 4.0e6, hardening = 0.02 } }
+
+At each point the material's deformation u [m] is the penetration delta (zero at the first touch)
+and its rate the mean over the step, (u - u_c) / h with u_c its committed deformation, as the links
+are stepped. The point carries
+
+    lambda_i = share_i r(u_i, u'_i; state_i)    while r > 0 (the material pushes),
+
+and nothing where the material would pull: the surfaces part. The material then unloads within the
+step to where it carries no force (an elastic spring to zero, a bilinear one to its plastic set, a
+dashpot stays where it was, a spring beside a dashpot relaxes by one implicit step) and keeps that
+state while apart, so the surfaces touch again where the penetration reaches that deformation (a
+plastic set is a permanent gap). It does not relax further while apart: exact for a
+rate-independent law and for a dashpot, while a spring beside a dashpot (``kelvin``, ``maxwell``)
+keeps what it had not recovered when the surfaces parted. ``share_i`` is the face rule's
+(:mod:`pounding.contact.pointwise`): 1/2 at each end of a face, so a face pressed flat carries one
+material's force.
+
+Every point keeps its material's state (``ContactState.point``); each call of :meth:`forces` is a
+trial from the committed states, and :meth:`commit` moves them with the step the engine accepted
+(:meth:`~pounding.contact.base.ContactLaw.commit`). The step's forces are solved with it by
+Newton's method on lambda - share r(delta_0 - S_q lambda, ...) with the material's tangent
+dr/du + (dr/du') / h (the links' Newton), backtracking on the residual's norm.
+
+Glossary: delta the penetration [m] (> 0 where the slabs overlap), u [m], u' [m/s], r [N],
+h the step [s], share [-].
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, ClassVar
+
+import numpy as np
+
+from pounding.contact.base import ContactLaw, ContactState
+from pounding.contact.pointwise import NEWTON_ITERATIONS, NEWTON_RTOL, check_tolerance
+from pounding.errors import InputError
+
+
+class MaterialContact(ContactLaw):
+    """A link law at every contact point, whose surfaces part rather than pull (module docstring).
+
+    Parameters
+    ----------
+    material : table
+        The link law, ``{ name = ..., ... }`` as a ``[[link]]``'s ``law``: a law that sets its own
+        stiffness (``elastic``, ``viscous``, ``maxwell``, ``kelvin``, ``friction_pendulum``) with its own
+        parameters; any other (``bilinear``, ``bouc_wen``, a plugin's) with ``stiffness`` [N/m],
+        ``yield_force`` [N] and ``hardening`` [-] beside its own.
+    restitution : float
+        Accepted (every law takes it) and unused: the loss follows from the material.
+    tolerance : float
+        Contact length tolerance [m]: a pair within it is watched.
+    """
+
+    name: ClassVar[str] = "material"
+    kind: ClassVar[str] = "force"
+    #: the scene table's schema (the scene reference is generated from it)
+    schema: ClassVar[dict] = {
+        "type": "object",
+        "description": "A link law (a uniaxial material: `bilinear`, `bouc_wen`, `elastic`, `viscous`, `maxwell`, `kelvin`, "
+                       "`friction_pendulum`, a plugin's) at every contact point, pushing only: where it would pull the "
+                       "surfaces part, and it keeps its state (a plastic set) for the next touch. OpenSees' zero-length "
+                       "contact element with a uniaxial material.",
+        "properties": {
+            "material": {"type": "object", "description": "The link law at each contact point, `{ name = ..., ... }` as a "
+                         "[[link]]'s `law`: stiffness [N/m], yield_force [N] and hardening [-] beside the law's own parameters, "
+                         "or only its own for a law that sets them (elastic, viscous, maxwell, kelvin, friction_pendulum).",
+                         "examples": [{"name": "bilinear", "stiffness": 2.0e9, "yield_force": 4.0e6, "hardening": 0.02}]},
+            "restitution": {"type": "number", "units": "-", "default": 1.0,
+                            "description": "Accepted (as by every contact law) and unused: the loss follows from the material."},
+            "tolerance": {"type": "number", "units": "m", "default": 1e-4,
+                          "description": "Contact length tolerance [m] (a pair within it is watched)."},
+        },
+        "required": ["material"],
+    }
+
+    def __init__(self, *, material: Any = None, restitution: float = 1.0, tolerance: float = 1e-4):
+        from pounding.framework.model.law_tables import link_law
+
+        super().__init__(restitution=restitution)
+        if not isinstance(material, dict) or "name" not in material:
+            raise InputError("expected the link law at each contact point as a table { name = ..., ... } (as a [[link]]'s law), "
+                             f"got {material!r}", field="material")
+        self.material, self.values = link_law(material, "material")
+        self.tolerance = check_tolerance(tolerance)
+        self._spec = dict(material)
+        #: by point (pair, striking slab, vertex): its material's committed state (n_state,)
+        self._state: dict[tuple, np.ndarray] = {}
+
+    def describe(self) -> dict:
+        """Name, the material's table and the tolerance, as written to summary.json."""
+        return {"name": self.name, "material": dict(self._spec), "restitution": self.restitution, "tolerance": self.tolerance}
+
+    def contact_duration(self, m_eff: float, approach_speed: float) -> float:
+        """Half the period of the material's initial stiffness k0 against ``m_eff`` [kg]: pi sqrt(m_eff / k0)
+        [s] (inf for a material without one, a dashpot)."""
+        k0 = float(self.values[0])
+        return math.pi * math.sqrt(m_eff / k0) if k0 > 0.0 and math.isfinite(k0) else math.inf
+
+    # ---------------------------------------------------------------- the points' committed states
+    def _committed(self, contact: ContactState) -> tuple[list[tuple], np.ndarray, np.ndarray]:
+        """(keys, committed states (m, n_state), parameters (m, n_params)) of the points of ``contact``
+        (a point never committed: the virgin state)."""
+        if contact.point is None:
+            raise ValueError("the material contact law keeps a state per point: the contact state must identify its points")
+        keys = [tuple(int(x) for x in p) for p in contact.point]
+        m = len(keys)
+        state = np.zeros((m, self.material.n_state))
+        for j, key in enumerate(keys):
+            row = self._state.get(key)
+            if row is not None:
+                state[j] = row
+        params = np.ascontiguousarray(np.broadcast_to(self.values, (m, len(self.values))))
+        return keys, state, params
+
+    def _material(self, u: np.ndarray, h: float, state, params, new) -> tuple[np.ndarray, np.ndarray]:
+        """The materials' forces r (m,) [N] and tangents dr/du + (dr/du') / h (m,) [N/m] at deformations
+        u (m,) [m], each at its mean rate over the step from its committed state; ``new`` receives the
+        trial states."""
+        update = self.material.update
+        r, k = np.empty(len(u)), np.empty(len(u))
+        for j in range(len(u)):
+            f, kt, kd = update(float(u[j]), (float(u[j]) - state[j, 0]) / h, state, params, new, j)
+            r[j], k[j] = f, kt + kd / h
+        return r, k
+
+    # ---------------------------------------------------------------- the contract
+    def forces(self, contact: ContactState) -> np.ndarray:
+        """End-of-step forces (m,) [N] of the points of ``contact`` (module docstring); a trial: the
+        committed states are read, never written."""
+        _, state, params = self._committed(contact)
+        return self._solve(contact, state, params)
+
+    def _solve(self, c: ContactState, state, params) -> np.ndarray:
+        m = len(c.gap)
+        share = np.ones(m) if c.share is None else np.asarray(c.share, dtype=float)
+        h = float(c.dt)
+        u0 = -np.asarray(c.gap, dtype=float)  # the materials' deformations without contact forces
+        S_q = np.asarray(c.S_q, dtype=float)
+        new = np.empty_like(state)
+
+        def residual(lam):
+            r, k = self._material(u0 - S_q @ lam, h, state, params, new)
+            push = r > 0.0
+            return lam - share * np.where(push, r, 0.0), np.where(push, share * k, 0.0)
+
+        lam = np.zeros(m)
+        res, k = residual(lam)
+        norm = float(np.max(np.abs(res), initial=0.0))
+        scale = max(norm, 1e-300)  # the forces at lambda = 0
+        for _ in range(NEWTON_ITERATIONS):
+            if norm <= NEWTON_RTOL * scale:
+                break
+            step = np.linalg.solve(np.eye(m) + k[:, None] * S_q, -res)
+            t = 1.0
+            for _ in range(40):  # backtrack: the force's kinks (the surfaces parting, a yield) can overshoot
+                trial = lam + t * step
+                trial_res, trial_k = residual(trial)
+                trial_norm = float(np.max(np.abs(trial_res), initial=0.0))
+                if trial_norm < norm:
+                    break
+                t *= 0.5
+            lam, res, k, norm = trial, trial_res, trial_k, trial_norm
+            scale = max(scale, float(np.max(np.abs(lam), initial=0.0)))
+        return lam
+
+    def commit(self, contact: ContactState, forces: np.ndarray) -> None:
+        """Move the points' materials to the accepted step's end: a point that pushes commits its
+        material's trial state at its end penetration; one that does not has parted: its material
+        unloads within the step to where it carries no force (:meth:`_unloaded`)."""
+        keys, state, params = self._committed(contact)
+        h = float(contact.dt)
+        delta = -(np.asarray(contact.gap, dtype=float) + np.asarray(contact.S_q, dtype=float) @ forces)
+        new = np.empty_like(state)
+        self._material(delta, h, state, params, new)
+        for j, key in enumerate(keys):
+            if not forces[j] > 0.0:
+                self._unloaded(float(delta[j]), h, state, params, new, j)
+            self._state[key] = new[j].copy()
+
+    def _unloaded(self, u_end: float, h: float, state, params, new, j: int) -> float:
+        """The deformation u [m] at which point j's material, from its committed state, carries no
+        force at the end of a step of h [s] (its rate the mean over the step), ``new[j]`` its state
+        there: a root of r between ``u_end`` (where it does not push) and its committed deformation
+        (Brent's method; r rises with u for a passive material). An elastic spring unloads to zero
+        deformation, a bilinear one to its plastic set, a dashpot stays where it was, a spring beside
+        a dashpot relaxes by one implicit step. A material that carries no force at its committed
+        deformation (it parted in an earlier step) stays as committed."""
+        from scipy.optimize import brentq
+
+        u_c = float(state[j, 0])
+        update = self.material.update
+
+        def force(u):
+            return update(u, (u - u_c) / h, state, params, new, j)[0]
+
+        if not force(u_c) > 0.0:  # unloaded already (parted in an earlier step): it stays as committed
+            new[j] = state[j]
+            return u_c
+        if force(u_end) <= 0.0:
+            u = brentq(force, min(u_end, u_c), max(u_end, u_c), xtol=1e-15 * max(abs(u_c), abs(u_end), 1e-300), rtol=4 * np.finfo(float).eps)
+        else:  # (it pushes at the step's end: a force of zero to the solve's tolerance)
+            u = u_end
+        force(u)  # (leaves new[j] at u)
+        return u

@@ -1,0 +1,117 @@
+"""Any link law as a contact law (``material``, :mod:`pounding.contact.material`): the law of the
+``pounding.hysteresis`` family at every contact point, in series with a gap that carries no
+tension, as OpenSees' zero-length contact element with a uniaxial material. The physics checks use
+the two nearly free slabs of tests/test_contact_law_contract.py (soft undamped columns, struck at
+v0 = 1 m/s), where the closed forms of two free bodies apply up to the columns' share."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from contact_plugins import Hertz
+from scenes_for_tests import physical, scene
+from test_contact_law_contract import DT, K_H, V0, column_share, effective_mass, free_slabs
+from pounding.contact.material import MaterialContact
+from pounding.errors import InputError
+from pounding.hysteresis.bilinear import PLASTIC
+
+K = 1e9  # [N/m] the materials' initial stiffness
+
+
+def test_an_elastic_material_is_the_undamped_kelvin_law():
+    """``elastic`` (k) at each point carries lambda = share k delta, the built-in ``kelvin`` law with
+    restitution 1 (its spring, no dashpot): the same contact episode, to the end-of-step solves'
+    tolerance accumulated over the contact's steps (1e-9)."""
+    a = free_slabs(MaterialContact, material={"name": "elastic", "stiffness": K}).run()
+    b = free_slabs("kelvin", stiffness=K, restitution=1.0).run()
+    assert len(a.contacts) == len(b.contacts) == 1
+    ea, eb = a.contacts[0], b.contacts[0]
+    for field in ("peak_force", "peak_penetration", "impulse", "end", "energy_dissipated"):
+        assert getattr(ea, field) == pytest.approx(getattr(eb, field), rel=1e-9, abs=1e-9 * 0.5 * ea.impulse * V0), field
+
+
+def test_a_bilinear_material_meets_the_elastic_plastic_impact_and_keeps_its_plastic_set():
+    """``bilinear`` with no hardening (k, F_y) is an elastic-perfectly-plastic spring: two free bodies
+    closing at v0 = 2 F_y / sqrt(m_eff k) reach delta_max = F_y / (2 k) + m_eff v0^2 / (2 F_y), part at
+    F_y / sqrt(m_eff k) and lose F_y (delta_max - F_y / k); the material keeps its plastic set
+    delta_max - F_y / k (to rounding of the deepest accepted step's penetration), where it unloaded to
+    no force as the surfaces parted. The run differs from the free bodies by the columns'
+    impulse and by the step, first order at the force's kinks: bounded by the change when it is halved."""
+    m_eff = effective_mass(free_slabs(Hertz, stiffness=K_H))
+    fy = 0.5 * np.sqrt(m_eff * K) * V0
+    spring = {"name": "bilinear", "stiffness": K, "yield_force": fy, "hardening": 0.0}
+    runs = []
+    for dt in (DT, DT / 2):
+        d = free_slabs(MaterialContact, dt=dt, material=spring)
+        runs.append((d, d.run()))
+    (d, r), (_, fine) = runs
+    assert len(r.contacts) == 1 and len(fine.contacts) == 1
+    e, contact = r.contacts[0], d.laws[0]
+    (key, state), = contact._state.items()  # one point pressed: the pointed slab's tip
+    eps = np.finfo(float).eps
+    assert state[PLASTIC] == pytest.approx(e.peak_penetration - fy / K, abs=4 * eps * e.peak_penetration)
+    assert state[0] == pytest.approx(state[PLASTIC], abs=4 * eps * e.peak_penetration)  # parted at its set, unloaded
+
+    def parting(run) -> float:  # the separation speed along the normal at the first step end after the contact
+        v = physical(d.model, run.qd[int(np.searchsorted(run.t, run.contacts[0].end))])
+        return float((v[(1, 0)][:2] - v[(0, 0)][:2]) @ e.normal)
+
+    delta_max = fy / (2 * K) + m_eff * V0**2 / (2 * fy)
+    v1 = fy / np.sqrt(m_eff * K)
+    change = abs(e.peak_penetration - fine.contacts[0].peak_penetration) / e.peak_penetration
+    change += abs(parting(r) - parting(fine)) / v1
+    tol = column_share(d, e.duration, e.impulse) + change
+    assert e.peak_penetration == pytest.approx(delta_max, rel=tol)
+    assert parting(r) == pytest.approx(v1, rel=tol)
+    assert 0.0 < e.energy_dissipated == pytest.approx(fy * (delta_max - fy / K), rel=tol)
+
+
+def test_a_dashpot_material_dissipates_and_never_pulls():
+    """``viscous`` (a linear dashpot c) pushes while the slabs close and parts as they open: the
+    contact only takes energy out, and its forces are never negative."""
+    d = free_slabs(MaterialContact, material={"name": "viscous", "coefficient": 2.0 * np.sqrt(4e4 * K), "exponent": 1.0})
+    r = d.run()
+    assert r.contacts
+    assert all(c.energy_dissipated > 0.0 and c.peak_force > 0.0 for c in r.contacts)
+    assert sum(x["contact_forces"] for x in r.energy.values()) < 0.0
+
+
+@pytest.mark.parametrize("material, field", [
+    (None, "material"),
+    ({"name": "no_such_law"}, "material.name"),
+    ({"name": "bilinear", "stiffness": K}, "material"),
+    ({"name": "elastic", "stiffness": -1.0}, "material.stiffness"),
+])
+def test_a_bad_material_is_named(material, field):
+    """The material's table is checked as a [[link]]'s law, the error naming the key under ``material``."""
+    with pytest.raises(InputError) as err:
+        MaterialContact(material=material)
+    assert err.value.field == field
+
+
+def test_a_scene_names_the_material_and_its_run_is_written(tmp_path):
+    """``contact = { name = "material", material = { ... } }`` in a scene: the paper's pair with a
+    bilinear material at every contact point runs, its contacts are episodes that only take energy
+    out, the energy account closes, and its run folder (summary.json with the law's table) is
+    written and read back."""
+    import json
+    import tomllib
+
+    from pounding.framework.post.energy_account import energy_balance
+    from pounding.framework.post.run import run
+    from pounding.io.results import load_result, write_results
+
+    data = tomllib.loads((Path(__file__).resolve().parents[1] / "examples" / "paper" / "pair_gap_0.03.toml").read_text())
+    spring = {"name": "bilinear", "stiffness": 2.0e9, "yield_force": 2.0e6, "hardening": 0.02}
+    data["analysis"] = {"contact": {"name": "material", "material": spring}, "duration": 6.0, "dt": 0.001}
+    r = run(scene(data))
+    assert r.contacts and all(c.energy_dissipated > 0.0 for c in r.contacts)
+    eb = energy_balance(r)
+    assert eb["ok"] and not eb["sign_violations"] and eb["contact_force_work"] < 0.0
+    folder = write_results(r, tmp_path / "run")
+    summary = json.loads((folder / "summary.json").read_text())
+    assert summary["contact"]["name"] == "material" and summary["contact"]["material"] == spring
+    assert len(load_result(folder)[1].contacts) == len(r.contacts)
