@@ -16,6 +16,7 @@ from scenes_for_tests import physical, scene
 from test_contact_law_contract import DT, K_H, V0, column_share, effective_mass, free_slabs
 from pounding.contact.material import MaterialContact
 from pounding.errors import InputError
+from pounding.framework.post.contact_forces import contact_force_history
 from pounding.hysteresis.bilinear import PLASTIC
 
 K = 1e9  # [N/m] the materials' initial stiffness
@@ -67,6 +68,8 @@ def test_a_bilinear_material_meets_the_elastic_plastic_impact_and_keeps_its_plas
     assert e.peak_penetration == pytest.approx(delta_max, rel=tol)
     assert parting(r) == pytest.approx(v1, rel=tol)
     assert 0.0 < e.energy_dissipated == pytest.approx(fy * (delta_max - fy / K), rel=tol)
+    # the forces rebuilt after the run (a fresh law committed at every recorded step) give the peak back
+    assert contact_force_history(r).pair_force.max() == pytest.approx(e.peak_force, rel=1e-9)
 
 
 def test_a_dashpot_material_dissipates_and_never_pulls():

@@ -112,7 +112,8 @@ def contact_force_history(result) -> ContactForces:
         m = len(pair)
         start, approach = _episode_history(result, pair, float(result.t[k]))
         zero = np.zeros((m, m))
-        state = ContactState(float(result.t[k]), 0.0, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
+        step = float(result.t[k] - result.t[k - 1]) if k > 0 else float(result.dt)  # (a law's mean rate over the step)
+        state = ContactState(float(result.t[k]), step, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
                              struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share, point)
         lam = solve_forces(laws, which[pair], state)
         commit_laws(laws, which, state, lam)  # (a law with a state of its own follows the recorded steps)
