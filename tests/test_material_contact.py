@@ -118,3 +118,31 @@ def test_a_scene_names_the_material_and_its_run_is_written(tmp_path):
     summary = json.loads((folder / "summary.json").read_text())
     assert summary["contact"]["name"] == "material" and summary["contact"]["material"] == spring
     assert len(load_result(folder)[1].contacts) == len(r.contacts)
+
+
+def test_the_solve_is_one_function_compiled_or_not():
+    """The forces of three points pressed together (a symmetric positive definite compliance) by the
+    compiled solve and by the same function with the compiler off agree to rounding (a few eps of
+    the largest force: the same arithmetic, the linear solves by LAPACK both); each point's force is
+    its share of the material's at its end deformation (the residual the solve drives to zero)."""
+    from pounding.compiler import interpreted
+    from pounding.contact.material import material_forces
+
+    law = MaterialContact(material={"name": "bilinear", "stiffness": K, "yield_force": 2e6, "hardening": 0.05})
+    m = 3
+    rng = np.random.default_rng(7)
+    R = rng.normal(size=(m, m)) * 1e-9
+    S_q = R @ R.T + np.eye(m) * 2e-9  # [m/N]
+    u0 = np.array([4e-3, 2.5e-3, 1e-3])  # [m]
+    share = np.array([0.5, 0.5, 1.0])
+    state = np.zeros((m, law.material.n_state))
+    params = np.ascontiguousarray(np.broadcast_to(law.values, (m, len(law.values))))
+    args = (law._laws, u0, share, S_q, 0.01, state, params)
+    lam = material_forces(*args)
+    with interpreted():
+        lam_py = material_forces(*args)
+    assert np.max(np.abs(lam - lam_py)) <= 8 * np.finfo(float).eps * lam.max()
+    u = u0 - S_q @ lam
+    new = np.empty_like(state)
+    r = np.array([law.material.update(u[i], u[i] / 0.01, state, params, new, i)[0] for i in range(m)])
+    assert lam == pytest.approx(share * np.maximum(r, 0.0), rel=1e-11)

@@ -29,7 +29,9 @@ Every point keeps its material's state (``ContactState.point``); each call of :m
 trial from the committed states, and :meth:`commit` moves them with the step the engine accepted
 (:meth:`~pounding.contact.base.ContactLaw.commit`). The step's forces are solved with it by
 Newton's method on lambda - share r(delta_0 - S_q lambda, ...) with the material's tangent
-dr/du + (dr/du') / h (the links' Newton), backtracking on the residual's norm.
+dr/du + (dr/du') / h (the links' Newton), backtracking on the residual's norm: one compiled function,
+:func:`material_forces`, that takes the law's update as a plugin (compiled once per law), or runs as
+Python around a law's update written without the compiler.
 
 Glossary: delta the penetration [m] (> 0 where the slabs overlap), u [m], u' [m/s], r [N],
 h the step [s], share [-].
@@ -42,9 +44,13 @@ from typing import Any, ClassVar
 
 import numpy as np
 
+from pounding.compiler import interpreted, is_compiled, njit
+from pounding.compiler.unroll import kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw, ContactState
 from pounding.contact.pointwise import NEWTON_ITERATIONS, NEWTON_RTOL, check_tolerance
 from pounding.errors import InputError
+
+unrolled_in(globals())  # this module's literal_unroll: numba's once numba is set up
 
 
 class MaterialContact(ContactLaw):
@@ -93,6 +99,7 @@ class MaterialContact(ContactLaw):
             raise InputError("expected the link law at each contact point as a table { name = ..., ... } (as a [[link]]'s law), "
                              f"got {material!r}", field="material")
         self.material, self.values = link_law(material, "material")
+        self._laws = kernel_tuple((self.material.update,))  # the law's update, as the compiled solve takes it
         self.tolerance = check_tolerance(tolerance)
         self._spec = dict(material)
         #: by point (pair, striking slab, vertex): its material's committed state (n_state,)
@@ -143,37 +150,15 @@ class MaterialContact(ContactLaw):
         return self._solve(contact, state, params)
 
     def _solve(self, c: ContactState, state, params) -> np.ndarray:
+        """:func:`material_forces` of the points of ``c`` from their committed states: compiled where the
+        law's update is, else the same function as Python (a third party's law written without the compiler)."""
         m = len(c.gap)
-        share = np.ones(m) if c.share is None else np.asarray(c.share, dtype=float)
-        h = float(c.dt)
-        u0 = -np.asarray(c.gap, dtype=float)  # the materials' deformations without contact forces
-        S_q = np.asarray(c.S_q, dtype=float)
-        new = np.empty_like(state)
-
-        def residual(lam):
-            r, k = self._material(u0 - S_q @ lam, h, state, params, new)
-            push = r > 0.0
-            return lam - share * np.where(push, r, 0.0), np.where(push, share * k, 0.0)
-
-        lam = np.zeros(m)
-        res, k = residual(lam)
-        norm = float(np.max(np.abs(res), initial=0.0))
-        scale = max(norm, 1e-300)  # the forces at lambda = 0
-        for _ in range(NEWTON_ITERATIONS):
-            if norm <= NEWTON_RTOL * scale:
-                break
-            step = np.linalg.solve(np.eye(m) + k[:, None] * S_q, -res)
-            t = 1.0
-            for _ in range(40):  # backtrack: the force's kinks (the surfaces parting, a yield) can overshoot
-                trial = lam + t * step
-                trial_res, trial_k = residual(trial)
-                trial_norm = float(np.max(np.abs(trial_res), initial=0.0))
-                if trial_norm < norm:
-                    break
-                t *= 0.5
-            lam, res, k, norm = trial, trial_res, trial_k, trial_norm
-            scale = max(scale, float(np.max(np.abs(lam), initial=0.0)))
-        return lam
+        args = (self._laws, -np.asarray(c.gap, dtype=float), np.ones(m) if c.share is None else np.asarray(c.share, dtype=float),
+                np.ascontiguousarray(c.S_q, dtype=float), float(c.dt), state, params)
+        if is_compiled(self.material.update):
+            return material_forces(*args)
+        with interpreted():
+            return material_forces(*args)
 
     def commit(self, contact: ContactState, forces: np.ndarray) -> None:
         """Move the points' materials to the accepted step's end: a point that pushes commits its
@@ -214,3 +199,70 @@ class MaterialContact(ContactLaw):
             u = u_end
         force(u)  # (leaves new[j] at u)
         return u
+
+
+@njit
+def material_forces(laws, u0, share, S_q, h, state, params):
+    """End-of-step forces lambda (m,) [N] of m points, each with the link law of ``laws`` (a
+    :class:`~pounding.compiler.unroll.LawTuple` of its one ``update``) from its committed state.
+
+    Solves ``lambda_i = share_i r_i`` where the material pushes (r_i > 0), else ``lambda_i = 0``, with
+    ``u = u0 - S_q lambda`` the end deformations [m] (u0 (m,) those without contact forces), each at its
+    mean rate over the step of h [s] from its committed deformation ``state[i, 0]``: Newton's method
+    with the tangent share (dr/du + (dr/du') / h), halving a step that does not lower the residual's
+    norm, to :data:`~pounding.contact.pointwise.NEWTON_RTOL` of the largest force. ``state`` (m, n_state)
+    and ``params`` (m, n_params) are the points' rows of the link-law contract
+    (:mod:`pounding.hysteresis.base`); ``share`` (m,) the face rule's; ``S_q`` (m, m) [m/N]."""
+    m = u0.shape[0]
+    new = np.empty(state.shape)
+    lam, trial, step = np.zeros(m), np.zeros(m), np.zeros(m)
+    res, k, trial_res, trial_k = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
+    J = np.empty((m, m))
+    norm = _material_residual(laws, u0, share, S_q, h, state, params, new, lam, res, k)
+    scale = max(norm, 1e-300)  # the forces at lambda = 0
+    for _ in range(NEWTON_ITERATIONS):
+        if norm <= NEWTON_RTOL * scale:
+            break
+        for i in range(m):
+            for j in range(m):
+                J[i, j] = (1.0 if i == j else 0.0) + k[i] * S_q[i, j]
+        step[:] = np.linalg.solve(J, -res)
+        t = 1.0
+        trial_norm = norm
+        for _ in range(40):  # backtrack: the force's kinks (the surfaces parting, a yield) can overshoot
+            for i in range(m):
+                trial[i] = lam[i] + t * step[i]
+            trial_norm = _material_residual(laws, u0, share, S_q, h, state, params, new, trial, trial_res, trial_k)
+            if trial_norm < norm:
+                break
+            t *= 0.5
+        for i in range(m):
+            lam[i] = trial[i]
+            res[i] = trial_res[i]
+            k[i] = trial_k[i]
+            scale = max(scale, abs(lam[i]))
+        norm = trial_norm
+    return lam
+
+
+@njit
+def _material_residual(laws, u0, share, S_q, h, state, params, new, lam, res, k):
+    """res (m,) <- lam - share r(u0 - S_q lam) where the material pushes (lam elsewhere), k (m,) <- the
+    residual's tangent share (dr/du + (dr/du') / h) there (0 elsewhere); returns max |res|."""
+    m = u0.shape[0]
+    norm = 0.0
+    for i in range(m):
+        u = u0[i]
+        for j in range(m):
+            u -= S_q[i, j] * lam[j]
+        f, ft, fd = 0.0, 0.0, 0.0
+        for law in literal_unroll(laws):  # (one law)
+            f, ft, fd = law(u, (u - state[i, 0]) / h, state, params, new, i)
+        if f > 0.0:
+            res[i] = lam[i] - share[i] * f
+            k[i] = share[i] * (ft + fd / h)
+        else:
+            res[i] = lam[i]
+            k[i] = 0.0
+        norm = max(norm, abs(res[i]))
+    return norm
