@@ -152,6 +152,7 @@ class ElasticPlastic(ContactLaw):
 
     name: ClassVar[str] = "elastic_plastic"
     kind: ClassVar[str] = "force"
+    keeps_state: ClassVar[bool] = True
 
     def __init__(self, *, stiffness: float = 1e9, yield_force: float = 1e6, restitution: float = 0.5):
         super().__init__(restitution=restitution)

@@ -30,8 +30,10 @@ def test_an_elastic_material_is_the_undamped_kelvin_law():
     b = free_slabs("kelvin", stiffness=K, restitution=1.0).run()
     assert len(a.contacts) == len(b.contacts) == 1
     ea, eb = a.contacts[0], b.contacts[0]
-    for field in ("peak_force", "peak_penetration", "impulse", "end", "energy_dissipated"):
-        assert getattr(ea, field) == pytest.approx(getattr(eb, field), rel=1e-9, abs=1e-9 * 0.5 * ea.impulse * V0), field
+    for field in ("peak_force", "peak_penetration", "impulse", "end"):
+        assert getattr(ea, field) == pytest.approx(getattr(eb, field), rel=1e-9), field
+    # elastic: no loss but the step's, a difference of two kinetic energies; to 1e-9 of the impact's energy
+    assert ea.energy_dissipated == pytest.approx(eb.energy_dissipated, abs=1e-9 * 0.5 * ea.impulse * V0)
 
 
 def test_a_bilinear_material_meets_the_elastic_plastic_impact_and_keeps_its_plastic_set():
@@ -80,6 +82,7 @@ def test_a_dashpot_material_dissipates_and_never_pulls():
     assert r.contacts
     assert all(c.energy_dissipated > 0.0 and c.peak_force > 0.0 for c in r.contacts)
     assert sum(x["contact_forces"] for x in r.energy.values()) < 0.0
+    assert contact_force_history(r).pair_force.min() >= 0.0
 
 
 @pytest.mark.parametrize("material, field", [
@@ -138,11 +141,76 @@ def test_the_solve_is_one_function_compiled_or_not():
     state = np.zeros((m, law.material.n_state))
     params = np.ascontiguousarray(np.broadcast_to(law.values, (m, len(law.values))))
     args = (law._laws, u0, share, S_q, 0.01, state, params)
-    lam = material_forces(*args)
+    lam, settled = material_forces(*args)
     with interpreted():
-        lam_py = material_forces(*args)
+        lam_py, settled_py = material_forces(*args)
+    assert settled and settled_py
     assert np.max(np.abs(lam - lam_py)) <= 8 * np.finfo(float).eps * lam.max()
     u = u0 - S_q @ lam
     new = np.empty_like(state)
     r = np.array([law.material.update(u[i], u[i] / 0.01, state, params, new, i)[0] for i in range(m)])
     assert lam == pytest.approx(share * np.maximum(r, 0.0), rel=1e-11)
+
+
+def test_a_bumper_refuses_a_law_with_a_state_of_its_own():
+    """A bumper sums its layer's and its slabs' forces, which no commit could split: a law that keeps
+    a state of its own (``keeps_state``) is refused as either, naming it."""
+    from pounding.contact.bumper import BumperLaw
+    from pounding.contact.kelvin import Kelvin
+
+    crushing = MaterialContact(material={"name": "bilinear", "stiffness": K, "yield_force": 2e6, "hardening": 0.0})
+    with pytest.raises(ValueError, match="material"):
+        BumperLaw(layer=crushing, slabs=Kelvin(), thickness=0.05, compressible=0.5)
+    with pytest.raises(ValueError, match="material"):
+        BumperLaw(layer=Kelvin(), slabs=crushing, thickness=0.05, compressible=0.5)
+
+
+def test_the_end_of_a_face_is_one_point_whichever_slab_presses_it():
+    """Two boxes whose facing facades end in line: a face end is a vertex of the one or of the other
+    slab depending on the sign of their sliding along the face, and the contact names it the same
+    either way (the first slab's vertex), so a law's state at that end follows it."""
+    from scenes_for_tests import box_building, modal_from_physical
+    from pounding.framework.engine.stacked_model import Model
+
+    data = {"building": [box_building("A", 0.0, 10.0, 10.0, 1, 0.5, 0.5), box_building("B", 10.0, 10.0, 10.0, 1, 0.5, 0.5)],
+            "analysis": {"contact": {"name": "kelvin"}}}
+    model = Model(scene(data))
+    names = []
+    for slide in (1e-6, -1e-6):  # B slides along the face by +-1 um and presses 0.1 mm into A
+        q = modal_from_physical(model, {(1, 0): (-1e-4, slide, 0.0)})
+        pts = model.touching_shares(q, model.all_pairs, 1e-3)
+        names.append(sorted(map(tuple, pts.point[pts.gap < 0].tolist())))
+    assert len(names[0]) == 2 and names[0] == names[1]
+
+
+def test_laws_that_share_a_step_commit_the_gaps_their_forces_were_solved_at():
+    """Points of two laws pressed in one step are coupled through the compliance: each law solves its
+    points with the other's forces as known loads, and commits them as it saw them then, its end gaps
+    gap + S_q @ forces of the whole step (the contract's end gaps)."""
+    from pounding.contact.base import ContactLaw, ContactState
+    from pounding.framework.engine.contact_laws import commit_laws
+
+    class Recorder(ContactLaw):
+        kind = "force"
+
+        def forces(self, contact):
+            return np.zeros(len(contact.gap))
+
+        def commit(self, contact, forces):
+            self.seen = contact.gap + contact.S_q @ forces
+
+    laws = [Recorder(), Recorder()]
+    S_q = np.array([[2.0, 1.0, 0.5], [1.0, 3.0, 0.2], [0.5, 0.2, 1.5]]) * 1e-9
+    gap = np.array([-1e-3, -2e-3, -5e-4])
+    lam = np.array([3e5, 4e5, 1e5])
+    m = 3
+    state = ContactState(0.01, 0.01, gap, np.zeros(m), S_q, np.zeros((m, m)), np.eye(m), np.array([0, 0, 1]), np.zeros(m),
+                         np.zeros(m), np.full(m, np.inf), np.ones(m), np.array([[0, 0, 1], [0, 0, 2], [1, 1, 0]]))
+    pressing = commit_laws(laws, np.array([0, 1]), state, lam, set())
+    end = gap + S_q @ lam
+    assert pressing == {0, 1}
+    assert laws[0].seen == pytest.approx(end[:2], rel=1e-14) and laws[1].seen == pytest.approx(end[2:], rel=1e-14)
+    # the next accepted step with none of their points pressed commits each once more, with no point
+    laws[0].seen = laws[1].seen = None
+    assert commit_laws(laws, np.array([0, 1]), None, None, pressing) == set()
+    assert len(laws[0].seen) == 0 and len(laws[1].seen) == 0

@@ -151,9 +151,13 @@ class ContactState(NamedTuple):
         a whole contact.
     point : ndarray (m, 3) int or None
         Each point's identity: (pair, striking slab (0: a vertex of the pair's first slab, 1: of its
-        second), that slab's vertex). It is the same at every step while the same vertex presses the
-        same slab, so a law with a state of its own keys it by point (:meth:`ContactLaw.commit`).
-        None (a state built without it): no identity is given.
+        second), that slab's vertex), so a law with a state of its own keys it by point
+        (:meth:`ContactLaw.commit`). It is the same at every step while the same vertex presses the
+        same slab; where the two slabs' vertices stand at the same end of a face at rest (facades
+        that end in line), the end is one point whichever of the two presses (the first slab's
+        vertex names it). A point that is not a vertex (a midpoint of crossing edges, vertex -1)
+        shares one identity per pair and striking slab. None (a state built without it): no
+        identity is given.
     """
 
     t: float
@@ -174,6 +178,12 @@ class ContactState(NamedTuple):
     def penetration(self) -> np.ndarray:
         """-gap (m,) [m]: positive where the slabs overlap at the step's end without contact forces."""
         return -self.gap
+
+    @classmethod
+    def empty(cls, t: float = 0.0, dt: float = 0.0) -> "ContactState":
+        """A state with no point (m = 0), at the end t [s] of a step of dt [s]."""
+        z, zz = np.zeros(0), np.zeros((0, 0))
+        return cls(float(t), float(dt), z, z, zz, zz, zz, np.zeros(0, dtype=np.int64), z, z, z, z, np.zeros((0, 3), dtype=np.int64))
 
     def take(self, idx: np.ndarray) -> "ContactState":
         """The state of the points ``idx`` (k,) only (matrices cut to (k, k))."""
@@ -210,6 +220,9 @@ class ContactLaw(ABC):
     #: every subclass (:meth:`__init_subclass__`) unless the subclass sets them itself.
     at_events: ClassVar[bool] = True
     with_step: ClassVar[bool] = False
+    #: True for a force law that keeps a state of its own point by point (:meth:`commit`): a law
+    #: built on others (a bumper's) then knows it cannot stand in for it
+    keeps_state: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs):
         super().__init_subclass__(**kwargs)
@@ -307,13 +320,15 @@ class ContactLaw(ABC):
         """Accept a step (force laws): ``forces`` (m,) [N] are the forces of the m points of
         ``contact`` at the end of a step the engine has accepted, solved from that state (the points'
         end gaps are ``contact.gap + contact.S_q @ forces``). Called once per accepted step in which
-        the law's points press, after every call of :meth:`forces` for that step; every call of
-        :meth:`forces` is a trial (a located impact, a fixed-point pass, a rejected step) that must
-        not change what the law keeps. A law with a state of its own (a plastic set, a damage
-        variable) updates its committed state here, point by point (``contact.point``), and reads it
-        in :meth:`forces`: OpenSees' ``commitState``; a step that is not committed is reverted. A
-        point absent from a commit has no force in that step (it is apart). The default keeps
-        nothing (a law whose force is a function of the state and the contact's history)."""
+        the law's points press, after every call of :meth:`forces` for that step, and once more,
+        with no point (m = 0), at the first accepted step after its last points let go; every call
+        of :meth:`forces` is a trial (a located impact, a fixed-point pass, a rejected step) that
+        must not change what the law keeps. A law with a state of its own (a plastic set, a damage
+        variable) declares :attr:`keeps_state`, updates its committed state here, point by point
+        (``contact.point``), and reads it in :meth:`forces`: OpenSees' ``commitState``; a step that
+        is not committed is reverted. A point absent from a commit has no force in that step (it is
+        apart). The default keeps nothing (a law whose force is a function of the state and the
+        contact's history)."""
 
     def forces_solver(self, contact: ContactState):
         """:meth:`forces` as a solve the engine can repeat with other end gaps and rates: ``(solve,

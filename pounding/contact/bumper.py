@@ -64,6 +64,9 @@ class BumperLaw(ContactLaw):
             if not law.with_step:
                 raise ValueError(f"a bumper needs a force law (a layer compresses): its {what}' law "
                                  f"{law.name or type(law).__name__!r} acts by impulses")
+            if law.keeps_state:  # its forces are summed with the other law's: no commit could split them
+                raise ValueError(f"a bumper's {what}' law {law.name or type(law).__name__!r} keeps a state of its own "
+                                 "point by point, which a bumper cannot commit: give it a law without one")
         super().__init__(restitution=layer.restitution)
         self.layer, self.slabs = layer, slabs
         self.thickness, self.compressible = float(thickness), float(compressible)

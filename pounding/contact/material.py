@@ -20,8 +20,8 @@ step to where it carries no force (an elastic spring to zero, a bilinear one to 
 dashpot stays where it was, a spring beside a dashpot relaxes by one implicit step) and keeps that
 state while apart, so the surfaces touch again where the penetration reaches that deformation (a
 plastic set is a permanent gap). It does not relax further while apart: exact for a
-rate-independent law and for a dashpot, while a spring beside a dashpot (``kelvin``, ``maxwell``)
-keeps what it had not recovered when the surfaces parted. ``share_i`` is the face rule's
+rate-independent law and for a dashpot, while a law with a spring and a dashpot (``kelvin``, side
+by side; ``maxwell``, in series) keeps what it had not recovered when the surfaces parted. ``share_i`` is the face rule's
 (:mod:`pounding.contact.pointwise`): 1/2 at each end of a face, so a face pressed flat carries one
 material's force.
 
@@ -71,6 +71,7 @@ class MaterialContact(ContactLaw):
 
     name: ClassVar[str] = "material"
     kind: ClassVar[str] = "force"
+    keeps_state: ClassVar[bool] = True
     #: the scene table's schema (the scene reference is generated from it)
     schema: ClassVar[dict] = {
         "type": "object",
@@ -110,10 +111,22 @@ class MaterialContact(ContactLaw):
         return {"name": self.name, "material": dict(self._spec), "restitution": self.restitution, "tolerance": self.tolerance}
 
     def contact_duration(self, m_eff: float, approach_speed: float) -> float:
-        """Half the period of the material's initial stiffness k0 against ``m_eff`` [kg]: pi sqrt(m_eff / k0)
-        [s] (inf for a material without one, a dashpot)."""
+        """Duration [s] of a linear spring and dashpot's contact of effective mass ``m_eff`` [kg]
+        (:func:`~pounding.contact.kelvin.kelvin_contact_duration`, compression only), with the
+        material's initial stiffness k0 and the damping its tangent gives at the first touch at
+        ``approach_speed`` [m/s]: half the period pi sqrt(m_eff / k0) for a rate-independent material
+        (a yielding one's contact lasts longer, its elastic phases no shorter), shorter with a
+        dashpot; inf for a material without a stiffness (a dashpot alone)."""
+        from pounding.contact.kelvin import kelvin_contact_duration
+
         k0 = float(self.values[0])
-        return math.pi * math.sqrt(m_eff / k0) if k0 > 0.0 and math.isfinite(k0) else math.inf
+        if not (k0 > 0.0 and math.isfinite(k0) and m_eff > 0.0):
+            return math.inf
+        n = self.material.n_state
+        state, params, new = np.zeros((1, n)), self.values[None, :].copy(), np.empty((1, n))
+        u = 1e-9 * max(float(approach_speed), 1e-12) * math.sqrt(m_eff / k0)  # just after the touch
+        _, _, c = self.material.update(u, float(approach_speed), state, params, new, 0)
+        return kelvin_contact_duration(k0, m_eff, max(float(c), 0.0) / (2.0 * math.sqrt(k0 * m_eff)), False)
 
     # ---------------------------------------------------------------- the points' committed states
     def _committed(self, contact: ContactState) -> tuple[list[tuple], np.ndarray, np.ndarray]:
@@ -156,23 +169,39 @@ class MaterialContact(ContactLaw):
         args = (self._laws, -np.asarray(c.gap, dtype=float), np.ones(m) if c.share is None else np.asarray(c.share, dtype=float),
                 np.ascontiguousarray(c.S_q, dtype=float), float(c.dt), state, params)
         if is_compiled(self.material.update):
-            return material_forces(*args)
-        with interpreted():
-            return material_forces(*args)
+            lam, settled = material_forces(*args)
+        else:
+            with interpreted():
+                lam, settled = material_forces(*args)
+        if not settled:
+            import warnings
+
+            from pounding.errors import AnalysisWarning
+
+            warnings.warn(f"the material contact's forces did not settle in {NEWTON_ITERATIONS} Newton iterations at "
+                          f"t = {c.t:.6g} s (a smaller dt resolves the contact)", AnalysisWarning, stacklevel=3)
+        return np.maximum(lam, 0.0)
 
     def commit(self, contact: ContactState, forces: np.ndarray) -> None:
-        """Move the points' materials to the accepted step's end: a point that pushes commits its
-        material's trial state at its end penetration; one that does not has parted: its material
-        unloads within the step to where it carries no force (:meth:`_unloaded`)."""
+        """Move the points' materials to the accepted step's end: a point whose material pushes there
+        commits its trial state at its end penetration; one whose material does not has parted, and
+        so has every point this law kept that is no longer pressed: its material unloads within the
+        step to where it carries no force (:meth:`_unloaded`; a point apart, from zero penetration)."""
         keys, state, params = self._committed(contact)
         h = float(contact.dt)
         delta = -(np.asarray(contact.gap, dtype=float) + np.asarray(contact.S_q, dtype=float) @ forces)
         new = np.empty_like(state)
-        self._material(delta, h, state, params, new)
+        r, _ = self._material(delta, h, state, params, new)
         for j, key in enumerate(keys):
-            if not forces[j] > 0.0:
+            if not r[j] > 0.0:
                 self._unloaded(float(delta[j]), h, state, params, new, j)
             self._state[key] = new[j].copy()
+        pressed = set(keys)
+        for key, row in self._state.items():  # the points that let go: unloaded once, then kept as they are
+            if key not in pressed and row[1] > 0.0:
+                one, new = row[None, :].copy(), np.empty((1, row.shape[0]))
+                self._unloaded(min(0.0, float(row[0])), h, one, self.values[None, :].copy(), new, 0)
+                self._state[key] = new[0].copy()
 
     def _unloaded(self, u_end: float, h: float, state, params, new, j: int) -> float:
         """The deformation u [m] at which point j's material, from its committed state, carries no
@@ -203,8 +232,9 @@ class MaterialContact(ContactLaw):
 
 @njit
 def material_forces(laws, u0, share, S_q, h, state, params):
-    """End-of-step forces lambda (m,) [N] of m points, each with the link law of ``laws`` (a
-    :class:`~pounding.compiler.unroll.LawTuple` of its one ``update``) from its committed state.
+    """(lambda (m,) [N], settled) of m points, each with the link law of ``laws`` (a
+    :class:`~pounding.compiler.unroll.LawTuple` of its one ``update``) from its committed state:
+    the end-of-step forces, and whether the Newton iteration met its tolerance.
 
     Solves ``lambda_i = share_i r_i`` where the material pushes (r_i > 0), else ``lambda_i = 0``, with
     ``u = u0 - S_q lambda`` the end deformations [m] (u0 (m,) those without contact forces), each at its
@@ -222,7 +252,7 @@ def material_forces(laws, u0, share, S_q, h, state, params):
     scale = max(norm, 1e-300)  # the forces at lambda = 0
     for _ in range(NEWTON_ITERATIONS):
         if norm <= NEWTON_RTOL * scale:
-            break
+            return lam, True
         for i in range(m):
             for j in range(m):
                 J[i, j] = (1.0 if i == j else 0.0) + k[i] * S_q[i, j]
@@ -242,7 +272,7 @@ def material_forces(laws, u0, share, S_q, h, state, params):
             k[i] = trial_k[i]
             scale = max(scale, abs(lam[i]))
         norm = trial_norm
-    return lam
+    return lam, norm <= NEWTON_RTOL * scale
 
 
 @njit

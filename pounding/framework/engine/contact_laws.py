@@ -52,10 +52,7 @@ def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactStat
     for _ in range(COUPLING_SWEEPS):
         change = 0.0
         for law, idx, rest in members:
-            part = contact.take(idx)
-            part = part._replace(gap=part.gap + contact.S_q[np.ix_(idx, rest)] @ lam[rest],
-                                 rate=part.rate + contact.S_v[np.ix_(idx, rest)] @ lam[rest])
-            new = np.asarray(law.forces(part), dtype=float)
+            new = np.asarray(law.forces(law_part(contact, idx, rest, lam)), dtype=float)
             change = max(change, float(np.max(np.abs(new - lam[idx]), initial=0.0)))
             lam[idx] = new
         if change <= COUPLING_RTOL * max(float(np.max(np.abs(lam))), 1e-300):
@@ -69,14 +66,33 @@ def solve_forces(laws: list[ContactLaw], which: np.ndarray, contact: ContactStat
     return lam
 
 
-def commit_laws(laws: list[ContactLaw], pair_law: np.ndarray, contact: ContactState, forces: np.ndarray) -> None:
+def law_part(contact: ContactState, idx: np.ndarray, rest: np.ndarray, lam: np.ndarray) -> ContactState:
+    """The state of the points ``idx`` of ``contact`` as their law sees it when the other points ``rest``
+    carry the forces lam[rest] [N]: their gaps and rates moved by those forces (``S_q``, ``S_v``)."""
+    part = contact.take(idx)
+    return part._replace(gap=part.gap + contact.S_q[np.ix_(idx, rest)] @ lam[rest],
+                         rate=part.rate + contact.S_v[np.ix_(idx, rest)] @ lam[rest])
+
+
+def commit_laws(laws: list[ContactLaw], pair_law: np.ndarray, contact: ContactState | None, forces: np.ndarray,
+                pressed_before: set, t: float = 0.0, dt: float = 0.0) -> set:
     """Commit an accepted step to the laws (:meth:`~pounding.contact.base.ContactLaw.commit`): each law
-    its own points of ``contact`` and their forces (m,) [N]; ``pair_law`` (P,) is each pair's index
-    into ``laws``."""
-    which = pair_law[contact.pair]
-    if which.min() == which.max():  # one law (the common case)
-        laws[int(which[0])].commit(contact, forces)
-        return
-    for g in np.unique(which):
-        idx = np.flatnonzero(which == g)
-        laws[int(g)].commit(contact.take(idx), forces[idx])
+    its own points of ``contact`` (None: none pressed) as it saw them when the forces (m,) [N] were
+    solved (:func:`law_part`), and, with no point, each law in ``pressed_before`` (indices into
+    ``laws`` whose points pressed at the last accepted step) whose points all let go, at the end t [s]
+    of the step of dt [s]; ``pair_law`` (P,) is each pair's index into ``laws``. Returns the indices
+    of the laws whose points press now."""
+    now: set = set()
+    if contact is not None and len(contact.gap):
+        which = pair_law[contact.pair]
+        if which.min() == which.max():  # one law (the common case)
+            now.add(int(which[0]))
+            laws[int(which[0])].commit(contact, forces)
+        else:
+            for g in np.unique(which):
+                now.add(int(g))
+                idx, rest = np.flatnonzero(which == g), np.flatnonzero(which != g)
+                laws[int(g)].commit(law_part(contact, idx, rest, forces), forces[idx])
+    for g in pressed_before - now:  # its last points let go in this step
+        laws[g].commit(ContactState.empty(t, dt), np.zeros(0))
+    return now

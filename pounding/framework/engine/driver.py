@@ -101,6 +101,8 @@ class Driver:
 
         #: the force laws' contact episodes (the pairs' histories and what the run reports)
         self.episodes = Episodes()
+        #: the laws (indices into self.laws) whose points pressed at the last accepted step (commit_laws)
+        self._pressing_laws: set = set()
         self.tol = max(float(law.tolerance) for law in self.laws)
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
         #: resting contact and chatter (see :mod:`pounding.framework.engine.crossing`)
@@ -575,8 +577,10 @@ class Driver:
             self.model.update_peaks(st.z0, st.z1, h, self.peak)
         if st.contacts is not None or self.episodes.open:
             self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0], lambda p: self.model.pair_gap(st.z1[:, 0], p))
-        if st.contacts is not None and st.contacts.state is not None:
-            commit_laws(self.laws, self.pair_law, st.contacts.state, st.contacts.force)
+        if st.contacts is not None or self._pressing_laws:
+            state = st.contacts.state if st.contacts is not None else None
+            self._pressing_laws = commit_laws(self.laws, self.pair_law, state, st.contacts.force if state is not None else None,
+                                              self._pressing_laws, t + h, h)
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
         self.z = np.ascontiguousarray(st.z1)
 

@@ -50,6 +50,30 @@ def rest_face_ends(geo) -> np.ndarray:
     return out
 
 
+def rest_point_names(geo, ends: np.ndarray) -> np.ndarray:
+    """(P, 2, kmax, 2) int64: the name (striking slab, vertex) of each vertex of each pair's two slabs
+    as a contact point (``ContactState.point``): itself, except where a vertex of the second slab ends
+    a face at the same place as a vertex of the first at rest (facades that end in line, the two
+    corners facing each other across the rest gap), which one point of the face's end then names
+    whichever of the two presses: the first slab's vertex. ``ends``: :func:`rest_face_ends`."""
+    P, kmax = geo.pa.shape[0], geo.verts.shape[1]
+    out = np.empty((P, 2, kmax, 2), dtype=np.int64)
+    out[:, 0, :, 0], out[:, 1, :, 0] = 0, 1
+    out[:, :, :, 1] = np.arange(kmax)
+    for p in range(P):
+        sa = int(geo.off[geo.pa[p, 0]] + geo.pa[p, 1])
+        sb = int(geo.off[geo.pb[p, 0]] + geo.pb[p, 1])
+        A, B = geo.verts[sa, : geo.nvert[sa]], geo.verts[sb, : geo.nvert[sb]]
+        # facing corners are the rest gap apart, to the coordinates' rounding
+        near = float(geo.rest[p]) + 1e-9 * (1.0 + float(max(np.abs(A).max(), np.abs(B).max())))
+        for j in np.flatnonzero(ends[p, 1, : len(B)] > 0):
+            d = np.hypot(*(A - B[j]).T)
+            i = np.flatnonzero((ends[p, 0, : len(A)] > 0) & (d <= near))
+            if i.size:
+                out[p, 1, j] = (0, i[np.argmin(d[i])])
+    return out
+
+
 @njit
 def point_shares(ends, pair, who, idx, face):
     """Share (m,) of one whole contact each of m points carries (see the module docstring).
@@ -90,10 +114,17 @@ class SharedPoints(NamedTuple):
         return SharedPoints(*(x[keep] for x in self))
 
 
-def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, geo, ends: np.ndarray) -> SharedPoints:
+def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, geo, ends: np.ndarray,
+                         names: np.ndarray | None = None) -> SharedPoints:
     """Touching features of the pairs ``plist`` with every penetrating one found (``deep``), stacked,
-    and their shares (:class:`SharedPoints`) for modal displacements q (n,), contact tolerance
-    ``tol`` [m] and the rest faces ``ends`` (:func:`rest_face_ends`)."""
+    and their shares and names (:class:`SharedPoints`) for modal displacements q (n,), contact
+    tolerance ``tol`` [m], the rest faces ``ends`` (:func:`rest_face_ends`) and the vertices' names
+    ``names`` (:func:`rest_point_names`; None: each vertex its own)."""
     f = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol), True, n, geo)
+    who, idx = f.who, f.idx
+    if names is not None and len(idx):
+        vertex = idx >= 0
+        named = names[f.pair, who, np.where(vertex, idx, 0)]
+        who, idx = np.where(vertex, named[:, 0], who), np.where(vertex, named[:, 1], idx)
     return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face),
-                        np.stack([f.pair, f.who, f.idx], axis=1))
+                        np.stack([f.pair, who, idx], axis=1))

@@ -2,7 +2,7 @@
 
 A law of the ``pounding.hysteresis`` family is named in a scene by a table ``{ name = ..., ... }``
 (a storey spring's ``hysteresis``, a ``[[link]]``'s ``law``, the ``material`` contact law's
-``law``): :func:`make_law` builds it from its own parameters, :func:`link_law` with the initial
+``material``): :func:`make_law` builds it from its own parameters, :func:`link_law` with the initial
 stiffness, yield force and hardening a law that does not set them itself takes beside them, and
 :func:`number` and :func:`positive` are the checks every law's parameters use. Each raises
 :class:`~pounding.errors.InputError` naming the key.

@@ -87,7 +87,7 @@ def contact_force_history(result) -> ContactForces:
     """
     from pounding.contact.base import ContactState
     from pounding.framework.engine.contact_laws import commit_laws, solve_forces
-    from pounding.framework.engine.face_shares import rest_face_ends, touching_with_shares
+    from pounding.framework.engine.face_shares import rest_face_ends, rest_point_names, touching_with_shares
     from pounding.framework.model.facade import struck_stiffness
 
     if result.geo is None:
@@ -101,22 +101,25 @@ def contact_force_history(result) -> ContactForces:
     if forced.size == 0:
         return ContactForces(result.t.copy(), pair_force, modal)
     ends = rest_face_ends(result.geo)
+    names = rest_point_names(result.geo, ends)
+    pressing: set = set()  # (a law with a state of its own is committed at the recorded steps, as the driver commits it)
     for k in range(nt):
         q = np.ascontiguousarray(result.q[k])
-        pts = touching_with_shares(q, forced, tol, n, result.geo, ends)
+        step = float(result.t[k] - result.t[k - 1]) if k > 0 else float(result.dt)  # (a law's mean rate over the step)
+        pts = touching_with_shares(q, forced, tol, n, result.geo, ends, names)
         keep = pts.gap < 0  # the pressed points, as the driver keeps them
         if not np.any(keep):
+            pressing = commit_laws(laws, which, None, None, pressing, float(result.t[k]), step)
             continue
         pts = pts.take(keep)
         pair, gap, Wr, Q, N, share, point = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share, pts.point
         m = len(pair)
         start, approach = _episode_history(result, pair, float(result.t[k]))
         zero = np.zeros((m, m))
-        step = float(result.t[k] - result.t[k - 1]) if k > 0 else float(result.dt)  # (a law's mean rate over the step)
         state = ContactState(float(result.t[k]), step, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
                              struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share, point)
         lam = solve_forces(laws, which[pair], state)
-        commit_laws(laws, which, state, lam)  # (a law with a state of its own follows the recorded steps)
+        pressing = commit_laws(laws, which, state, lam, pressing)
         np.add.at(pair_force[k], pair, lam)
         modal[k] = Wr.T @ lam
     return ContactForces(result.t.copy(), pair_force, modal)
