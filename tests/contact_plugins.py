@@ -200,7 +200,7 @@ class ElasticPlastic(ContactLaw):
         return lam
 
     def commit(self, contact: ContactState, forces: np.ndarray) -> None:
-        self._commits += 1
+        self._commits += len(contact.gap) > 0  # (the commit with no point after the last let go is not counted)
         delta = -(contact.gap + contact.S_q @ forces)  # the accepted end penetrations
         for j, d in enumerate(delta):
             key = tuple(int(x) for x in contact.point[j])
