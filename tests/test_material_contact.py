@@ -178,7 +178,7 @@ def test_the_end_of_a_face_is_one_point_whichever_slab_presses_it():
     names = []
     for slide in (1e-6, -1e-6):  # B slides along the face by +-1 um and presses 0.1 mm into A
         q = modal_from_physical(model, {(1, 0): (-1e-4, slide, 0.0)})
-        pts = model.touching_shares(q, model.all_pairs, 1e-3)
+        pts = model.touching_shares(q, model.all_pairs, 1e-3, named=True)
         names.append(sorted(map(tuple, pts.point[pts.gap < 0].tolist())))
     assert len(names[0]) == 2 and names[0] == names[1]
 

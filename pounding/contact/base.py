@@ -59,9 +59,10 @@ a default and its meaning:
    :meth:`ContactLaw.forces_solver`, the same solve as a compiled function of the end gaps and
    rates, which the engine then calls inside its compiled step with yielding links (the default
    calls :meth:`~ContactLaw.forces` from Python: correct, slower). Every call of ``forces`` is a
-   trial; :meth:`ContactLaw.commit` is called once per accepted step with the state and forces
-   accepted, so a law may keep a state of its own point by point (``ContactState.point``) as an
-   OpenSees material does (trial, commit, revert: a plastic set, tests/contact_plugins.py).
+   trial; a law that declares ``keeps_state`` is given each point's identity
+   (``ContactState.point``) and :meth:`ContactLaw.commit` is called once per accepted step with
+   the state and forces accepted, so it may keep a state of its own point by point as an OpenSees
+   material does (trial, commit, revert: a plastic set, tests/contact_plugins.py).
 6. :meth:`ContactLaw.contact_duration`: how long one contact lasts for a given effective mass
    and approach speed (force laws; the default, inf, suits impulse laws). The default time step
    resolves it.
@@ -156,8 +157,8 @@ class ContactState(NamedTuple):
         same slab; where the two slabs' vertices stand at the same end of a face at rest (facades
         that end in line), the end is one point whichever of the two presses (the first slab's
         vertex names it). A point that is not a vertex (a midpoint of crossing edges, vertex -1)
-        shares one identity per pair and striking slab. None (a state built without it): no
-        identity is given.
+        shares one identity per pair and striking slab. None where no law of the run keeps a state
+        (:attr:`ContactLaw.keeps_state`: none asks it), or in a state built without it.
     """
 
     t: float
@@ -220,8 +221,9 @@ class ContactLaw(ABC):
     #: every subclass (:meth:`__init_subclass__`) unless the subclass sets them itself.
     at_events: ClassVar[bool] = True
     with_step: ClassVar[bool] = False
-    #: True for a force law that keeps a state of its own point by point (:meth:`commit`): a law
-    #: built on others (a bumper's) then knows it cannot stand in for it
+    #: True for a force law that keeps a state of its own point by point: the engine then names the
+    #: points (``ContactState.point``) and commits the accepted steps to it (:meth:`commit`), and a law
+    #: built on others (a bumper's) knows it cannot stand in for it
     keeps_state: ClassVar[bool] = False
 
     def __init_subclass__(cls, **kwargs):
@@ -317,10 +319,10 @@ class ContactLaw(ABC):
         raise NotImplementedError
 
     def commit(self, contact: ContactState, forces: np.ndarray) -> None:
-        """Accept a step (force laws): ``forces`` (m,) [N] are the forces of the m points of
-        ``contact`` at the end of a step the engine has accepted, solved from that state (the points'
-        end gaps are ``contact.gap + contact.S_q @ forces``). Called once per accepted step in which
-        the law's points press, after every call of :meth:`forces` for that step, and once more,
+        """Accept a step (force laws that declare :attr:`keeps_state`): ``forces`` (m,) [N] are the
+        forces of the m points of ``contact`` at the end of a step the engine has accepted, solved
+        from that state (the points' end gaps are ``contact.gap + contact.S_q @ forces``). Called,
+        for a law that declares :attr:`keeps_state`, once per accepted step in which the law's points press, after every call of :meth:`forces` for that step, and once more,
         with no point (m = 0), at the first accepted step after its last points let go; every call
         of :meth:`forces` is a trial (a located impact, a fixed-point pass, a rejected step) that
         must not change what the law keeps. A law with a state of its own (a plastic set, a damage

@@ -466,9 +466,10 @@ forces, their compliances to the forces, and the contact's history (its pair, wh
 then) and the share of one contact each point stands for (1/2 at each end of a face, fixed at rest). Register it
 under the entry-point group `pounding.contact`, or name it `"module:Class"` in the scene: the
 module is imported from the Python path or from a `module.py` beside the scene file. Every call of `forces` is a
-trial; once a step is accepted the engine calls the law's `commit(contact, forces)` with the state and forces it
-accepted, so a law may keep a state of its own point by point (`contact.point`: the pair, the striking slab and its
-vertex), as an OpenSees material commits its state: a plastic set, for one. `opensees_material` (optional) names
+trial; a law that declares `keeps_state = True` is given each point's identity (`contact.point`: the pair, the
+striking slab and its vertex) and, once a step is accepted, the engine calls its `commit(contact, forces)` with the
+state and forces it accepted, so it may keep a state of its own point by point, as an OpenSees material commits its
+state: a plastic set, for one. `opensees_material` (optional) names
 the law's OpenSees material, so that `pounding export opensees` writes its contact elements. A force law that runs
 beside yielding storeys or links is asked for its forces once per pass of the step's solve; written as a
 compiled function of the end gaps and rates (`forces_solver`, optional: see the base class), that whole solve

@@ -103,6 +103,8 @@ class Driver:
         self.episodes = Episodes()
         #: the laws (indices into self.laws) whose points pressed at the last accepted step (commit_laws)
         self._pressing_laws: set = set()
+        #: whether a law keeps a state by point and so needs the points named (ContactState.point)
+        self.named_points = any(law.keeps_state for law in self.laws)
         self.tol = max(float(law.tolerance) for law in self.laws)
         #: the crossing locator: impulses where the gap is zero (to rounding), the tolerance only for
         #: resting contact and chatter (see :mod:`pounding.framework.engine.crossing`)
@@ -577,7 +579,7 @@ class Driver:
             self.model.update_peaks(st.z0, st.z1, h, self.peak)
         if st.contacts is not None or self.episodes.open:
             self.episodes.commit(t, h, st.contacts, st.z1[:, 0] - st.z0[:, 0], lambda p: self.model.pair_gap(st.z1[:, 0], p))
-        if st.contacts is not None or self._pressing_laws:
+        if self.named_points and (st.contacts is not None or self._pressing_laws):  # (laws that keep a state)
             state = st.contacts.state if st.contacts is not None else None
             self._pressing_laws = commit_laws(self.laws, self.pair_law, state, st.contacts.force if state is not None else None,
                                               self._pressing_laws, t + h, h)
@@ -679,7 +681,7 @@ class Driver:
         and normals (m, 2)."""
         from pounding.contact.base import ContactState
 
-        pts = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol)
+        pts = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol, named=self.named_points)
         near, near_gap, near_rows = pts.pair, pts.gap, pts.W
         keep = pts.gap < 0
         if not keep.any():

@@ -106,12 +106,13 @@ class SharedPoints(NamedTuple):
     Q: np.ndarray  #: (m, 2) the point [m]
     N: np.ndarray  #: (m, 2) the unit normal from slab a towards slab b
     share: np.ndarray  #: (m,) the share of one whole contact it stands for (:func:`point_shares`)
-    #: (m, 3) int64, its identity: (pair, striking slab (0: a vertex of the pair's first, 1: of its second), vertex)
-    point: np.ndarray
+    #: (m, 3) int64, its identity: (pair, striking slab (0: a vertex of the pair's first, 1: of its second), vertex);
+    #: None where no law of the run keeps a state by point (none asks it)
+    point: np.ndarray | None
 
     def take(self, keep: np.ndarray) -> "SharedPoints":
         """The points where ``keep`` (m,) bool is True."""
-        return SharedPoints(*(x[keep] for x in self))
+        return SharedPoints(*(None if x is None else x[keep] for x in self))
 
 
 def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, geo, ends: np.ndarray,
@@ -119,12 +120,11 @@ def touching_with_shares(q: np.ndarray, plist: np.ndarray, tol: float, n: int, g
     """Touching features of the pairs ``plist`` with every penetrating one found (``deep``), stacked,
     and their shares and names (:class:`SharedPoints`) for modal displacements q (n,), contact
     tolerance ``tol`` [m], the rest faces ``ends`` (:func:`rest_face_ends`) and the vertices' names
-    ``names`` (:func:`rest_point_names`; None: each vertex its own)."""
+    ``names`` (:func:`rest_point_names`; None: the points are not named, ``point`` None)."""
     f = pg.struck_features(np.ascontiguousarray(q, dtype=float), plist, float(tol), True, n, geo)
-    who, idx = f.who, f.idx
-    if names is not None and len(idx):
-        vertex = idx >= 0
-        named = names[f.pair, who, np.where(vertex, idx, 0)]
-        who, idx = np.where(vertex, named[:, 0], who), np.where(vertex, named[:, 1], idx)
-    return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face),
-                        np.stack([f.pair, who, idx], axis=1))
+    point = None
+    if names is not None:
+        point = np.stack([f.pair, f.who, f.idx], axis=1)
+        vertex = f.idx >= 0
+        point[vertex, 1:] = names[f.pair[vertex], f.who[vertex], f.idx[vertex]]
+    return SharedPoints(f.pair, f.gap, f.W, f.Q, f.N, point_shares(ends, f.pair, f.who, f.idx, f.face), point)

@@ -284,15 +284,16 @@ class Model:
         """Touching features of the pairs ``plist``, stacked: a :class:`~pounding.framework.engine.bundles.Features`."""
         return pg.struck_features(np.ascontiguousarray(q), plist, float(tol), bool(deep), self.n, self.geo)
 
-    def touching_shares(self, q: np.ndarray, plist: np.ndarray, tol: float):
+    def touching_shares(self, q: np.ndarray, plist: np.ndarray, tol: float, named: bool = False):
         """:meth:`touching` with ``deep``, and the share (m,) of one whole contact each point stands
-        for, fixed by the rest faces (:mod:`pounding.framework.engine.face_shares`)."""
+        for, fixed by the rest faces (:mod:`pounding.framework.engine.face_shares`); with ``named``,
+        each point's identity too (``SharedPoints.point``, for a law that keeps a state by point)."""
         from pounding.framework.engine.face_shares import rest_face_ends, rest_point_names, touching_with_shares
 
         if getattr(self, "_face_ends", None) is None:  # found once, when a force law first needs them
             self._face_ends = rest_face_ends(self.geo)
             self._point_names = rest_point_names(self.geo, self._face_ends)
-        return touching_with_shares(q, plist, tol, self.n, self.geo, self._face_ends, self._point_names)
+        return touching_with_shares(q, plist, tol, self.n, self.geo, self._face_ends, self._point_names if named else None)
 
     def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.

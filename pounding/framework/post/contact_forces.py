@@ -101,7 +101,7 @@ def contact_force_history(result) -> ContactForces:
     if forced.size == 0:
         return ContactForces(result.t.copy(), pair_force, modal)
     ends = rest_face_ends(result.geo)
-    names = rest_point_names(result.geo, ends)
+    names = rest_point_names(result.geo, ends) if any(law.keeps_state for law in laws) else None
     pressing: set = set()  # (a law with a state of its own is committed at the recorded steps, as the driver commits it)
     for k in range(nt):
         q = np.ascontiguousarray(result.q[k])
@@ -109,7 +109,8 @@ def contact_force_history(result) -> ContactForces:
         pts = touching_with_shares(q, forced, tol, n, result.geo, ends, names)
         keep = pts.gap < 0  # the pressed points, as the driver keeps them
         if not np.any(keep):
-            pressing = commit_laws(laws, which, None, None, pressing, float(result.t[k]), step)
+            if names is not None:
+                pressing = commit_laws(laws, which, None, None, pressing, float(result.t[k]), step)
             continue
         pts = pts.take(keep)
         pair, gap, Wr, Q, N, share, point = pts.pair, pts.gap, pts.W, pts.Q, pts.N, pts.share, pts.point
@@ -119,7 +120,8 @@ def contact_force_history(result) -> ContactForces:
         state = ContactState(float(result.t[k]), step, gap, Wr @ result.qd[k], zero, zero, Wr @ Wr.T, pair, start, approach,
                              struck_stiffness(result.scene, result.systems, result.facades, pair, Q[:, :2], N[:, :2]), share, point)
         lam = solve_forces(laws, which[pair], state)
-        pressing = commit_laws(laws, which, state, lam, pressing)
+        if names is not None:
+            pressing = commit_laws(laws, which, state, lam, pressing)
         np.add.at(pair_force[k], pair, lam)
         modal[k] = Wr.T @ lam
     return ContactForces(result.t.copy(), pair_force, modal)
