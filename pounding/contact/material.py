@@ -144,16 +144,17 @@ class MaterialContact(ContactLaw):
         params = np.ascontiguousarray(np.broadcast_to(self.values, (m, len(self.values))))
         return keys, state, params
 
-    def _material(self, u: np.ndarray, h: float, state, params, new) -> tuple[np.ndarray, np.ndarray]:
-        """The materials' forces r (m,) [N] and tangents dr/du + (dr/du') / h (m,) [N/m] at deformations
-        u (m,) [m], each at its mean rate over the step from its committed state; ``new`` receives the
-        trial states."""
-        update = self.material.update
-        r, k = np.empty(len(u)), np.empty(len(u))
-        for j in range(len(u)):
-            f, kt, kd = update(float(u[j]), (float(u[j]) - state[j, 0]) / h, state, params, new, j)
-            r[j], k[j] = f, kt + kd / h
-        return r, k
+    def _run(self, fn, *args):
+        """``fn(*args)``, compiled where the law's update is, else the same function as Python (a third
+        party's law written without the compiler)."""
+        if is_compiled(self.material.update):
+            return fn(*args)
+        with interpreted():
+            return fn(*args)
+
+    def _force_at(self, u: float, h: float, state, params, new, j: int) -> float:
+        """Point j's material force [N] at deformation u [m] (:func:`material_at`); ``new[j]`` its trial state."""
+        return float(self._run(material_at, self._laws, float(u), h, state, params, new, j)[0])
 
     # ---------------------------------------------------------------- the contract
     def forces(self, contact: ContactState) -> np.ndarray:
@@ -166,13 +167,9 @@ class MaterialContact(ContactLaw):
         """:func:`material_forces` of the points of ``c`` from their committed states: compiled where the
         law's update is, else the same function as Python (a third party's law written without the compiler)."""
         m = len(c.gap)
-        args = (self._laws, -np.asarray(c.gap, dtype=float), np.ones(m) if c.share is None else np.asarray(c.share, dtype=float),
-                np.ascontiguousarray(c.S_q, dtype=float), float(c.dt), state, params)
-        if is_compiled(self.material.update):
-            lam, settled = material_forces(*args)
-        else:
-            with interpreted():
-                lam, settled = material_forces(*args)
+        lam, settled = self._run(material_forces, self._laws, -np.asarray(c.gap, dtype=float),
+                                 np.ones(m) if c.share is None else np.asarray(c.share, dtype=float),
+                                 np.ascontiguousarray(c.S_q, dtype=float), float(c.dt), state, params)
         if not settled:
             import warnings
 
@@ -191,9 +188,8 @@ class MaterialContact(ContactLaw):
         h = float(contact.dt)
         delta = -(np.asarray(contact.gap, dtype=float) + np.asarray(contact.S_q, dtype=float) @ forces)
         new = np.empty_like(state)
-        r, _ = self._material(delta, h, state, params, new)
         for j, key in enumerate(keys):
-            if not r[j] > 0.0:
+            if not self._force_at(delta[j], h, state, params, new, j) > 0.0:
                 self._unloaded(float(delta[j]), h, state, params, new, j)
             self._state[key] = new[j].copy()
         pressed = set(keys)
@@ -214,10 +210,9 @@ class MaterialContact(ContactLaw):
         from scipy.optimize import brentq
 
         u_c = float(state[j, 0])
-        update = self.material.update
 
         def force(u):
-            return update(u, (u - u_c) / h, state, params, new, j)[0]
+            return self._force_at(u, h, state, params, new, j)
 
         if not force(u_c) > 0.0:  # unloaded already (parted in an earlier step): it stays as committed
             new[j] = state[j]
@@ -285,14 +280,23 @@ def _material_residual(laws, u0, share, S_q, h, state, params, new, lam, res, k)
         u = u0[i]
         for j in range(m):
             u -= S_q[i, j] * lam[j]
-        f, ft, fd = 0.0, 0.0, 0.0
-        for law in literal_unroll(laws):  # (one law)
-            f, ft, fd = law(u, (u - state[i, 0]) / h, state, params, new, i)
+        f, tangent = material_at(laws, u, h, state, params, new, i)
         if f > 0.0:
             res[i] = lam[i] - share[i] * f
-            k[i] = share[i] * (ft + fd / h)
+            k[i] = share[i] * tangent
         else:
             res[i] = lam[i]
             k[i] = 0.0
         norm = max(norm, abs(res[i]))
     return norm
+
+
+@njit
+def material_at(laws, u, h, state, params, new, i):
+    """(r [N], dr/du + (dr/du') / h [N/m]) of point i's material (the link law of ``laws``, from its
+    committed state ``state[i]``) at deformation u [m] and its mean rate over the step of h [s],
+    (u - state[i, 0]) / h; ``new[i]`` receives its trial state."""
+    f, ft, fd = 0.0, 0.0, 0.0
+    for law in literal_unroll(laws):  # (one law)
+        f, ft, fd = law(u, (u - state[i, 0]) / h, state, params, new, i)
+    return f, ft + fd / h
