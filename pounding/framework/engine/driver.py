@@ -712,11 +712,15 @@ class Driver:
                                 near, near_gap, f1, state)
         return Step(z, z1, self.fc, f1, sp, contacts=contacts)
 
+    def held_pairs(self) -> np.ndarray:
+        """The pairs held in sustained contact (k,) int64, in order."""
+        return np.array(sorted(self.sustained), dtype=np.int64)
+
     def held_trial(self, z, t, h) -> Step:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`;
         with yielding springs :func:`pounding.framework.engine.held.held_fixed_point`, their trial in ``Step.sp``)."""
         m, tr = self.model, self.cache(h)
-        held = np.array(sorted(self.sustained), dtype=np.int64)
+        held = self.held_pairs()
         start = m.touching(z[:, 0], held, self.tol, deep=True)
         p0, p1 = self.load(t), self.load(t + h)
         contact = HeldContact(float(self.tol), float(self.touch))
@@ -736,7 +740,7 @@ class Driver:
         The one crossing search (:meth:`locate_crossing`) on the arrival gap: the smallest gap of
         the held pairs' points that were apart at t (``Step.arrival``), with the trial step's
         interpolant as its guide."""
-        held = np.array(sorted(self.sustained), dtype=np.int64)
+        held = self.held_pairs()
         gap0 = self.model.touching(self.z[:, 0], held, self.tol, deep=True).gap
         apart = gap0[gap0 > self.touch]
         # a point beyond the features listed is more than the tolerance away: the search only needs a
@@ -774,7 +778,7 @@ class Driver:
         (:func:`~pounding.framework.engine.held.touch_gap`) are stopped, as in
         :func:`~pounding.framework.engine.held.held_stretch`; the paper's rules stop every point within
         the tolerance."""
-        held = np.array(sorted(self.sustained), dtype=np.int64)
+        held = self.held_pairs()
         start = self.model.touching(self.z[:, 0], held, self.tol, deep=True)
         W = hold.rows_where(np.ascontiguousarray(start.gap <= self.touch), np.ascontiguousarray(start.W))  # (touch = inf: every point)
         v_before = self.z[:, 1].copy()
@@ -784,7 +788,7 @@ class Driver:
     def release_sustained(self) -> None:
         if not self.sustained:
             return
-        held = np.array(sorted(self.sustained), dtype=np.int64)
+        held = self.held_pairs()
         for p, g in zip(held, self.model.gaps(self.z[:, 0], held, self.tol)):
             if g > self.tol:
                 self.sustained.discard(int(p))
@@ -908,7 +912,7 @@ class Driver:
                 self._no_held = HeldSearch(HeldSet(none, HeldContact(float(self.tol), float(self.touch)), nothing), m.modes, False, 0.0,
                                            0.0)
             return self._no_held
-        held = np.array(sorted(self.sustained), dtype=np.int64)
+        held = self.held_pairs()
         start = m.touching(self.z[:, 0], held, self.tol, deep=True)
         return HeldSearch(HeldSet(held, HeldContact(float(self.tol), float(self.touch)), start), m.modes, bool(arrival), float(far),
                           float(g0))
