@@ -17,7 +17,8 @@ For every generated scene one run is checked against everything the package prom
 * impulse law: no grid step ends with a slab pair overlapping beyond the contact tolerance;
 * every impulse conserves the linear momentum sum m (u', v') and the angular momentum about the
   origin sum J phi' + m (c x v) of its slab pair, and leaves every other slab alone;
-* the energy balance closes, to a tolerance set by the integrator (see ``energy_class``).
+* the energy balance closes to 1e-8 for the schemes whose account is an exact identity, and for
+  every other scheme a run whose account is not ``ok`` says so (see ``energy_class``).
 
 Bugs found here have their minimal reproductions in test_hard_cases.py (xfail(strict=True)
 while open, plain tests once fixed).
@@ -43,6 +44,7 @@ from pounding.framework.model.assembly import assemble, rayleigh_coefficients
 
 from tests import strategies as S
 from pounding.framework.post.energy_account import energy_balance
+from pounding.framework.post.run import check as check_run
 
 
 def event(text):
@@ -89,19 +91,23 @@ def explicit_limit(integrator: dict, omega_max: float) -> float:
 
 # --------------------------------------------------------------------------- energy classes
 def energy_class(sc, model) -> tuple[str, float]:
-    """(class name, bound on |relative energy-balance error|) for a scene.
+    """(class name, bound on |relative energy-balance error|, or None) for a scene.
 
     tight (1e-8): schemes whose booking is the exact discrete identity - Newmark average acceleration
       (and its aliases HHT alpha = 0, generalized-alpha rho_inf = 1) with accelerations consistent
       after impacts (``after_impact = "equilibrium"``, penalty or no contact); measured <= 3e-14.
       The exact integrator, whose audit integrates the work on its exact trajectory in closed
       form (pounding.solvers.exact_work), whatever omega dt.
-    loose: every other combination. The error is the scheme's own (numerical dissipation of
+    loose (None): every other combination. The error is the scheme's own (numerical dissipation of
       HHT / generalized-alpha / Newmark gamma > 1/2, the period error of linear acceleration and
-      central differences, the inconsistent accelerations of ``after_impact = "keep"``). The only
-      bound that holds whatever dt is ``err <= input``
-      (stored and damping energy are >= 0, impact losses >= 0, so input - accounted <= input),
-      and below it "not more energy created than put in": err >= -input. Measured distributions
+      central differences, the inconsistent accelerations of ``after_impact = "keep"``), and no
+      bound on it holds whatever dt: the account books the terms of the physical balance with the
+      scheme's velocities, which a dissipative scheme does not balance. Once the integrator steps
+      a mode it does not resolve, the account can miss by more than the input. An example:
+      generalized-alpha rho_inf = 0 at omega dt = 6.6 on a mode with 3 times critical damping,
+      struck by impulses, books 1.3 to 32 times the input as damping. What is checked then is
+      that the run says so: its checks (pounding.framework.post.run.check) warn, naming the
+      energy balance or the term, whenever the account is not ``ok``. Measured distributions
       are in the report; see ENERGY_LOG.
     """
     an = sc.analysis
@@ -125,7 +131,7 @@ def energy_class(sc, model) -> tuple[str, float]:
         family = f"generalized_alpha(rho_inf={ip.get('rho_inf', 0.8):g})"
     else:
         family = name
-    return family + ("" if consistent else "-keep"), 1.0
+    return family + ("" if consistent else "-keep"), None
 
 
 #: (class, relative error, impacts, omega_max dt) of every run, for the report
@@ -232,8 +238,25 @@ def run_and_check(sc, *, check_energy=True, label=""):
     event(f"energy class {cls.split('{')[0]}")
     if check_energy and eb["input"] > 0:
         note(f"energy class {cls}: relative error {eb['relative_error']:.3e}")
-        assert abs(eb["relative_error"]) <= bound_e, (cls, eb)
+        if bound_e is not None:
+            assert abs(eb["relative_error"]) <= bound_e, (cls, eb)
+        else:
+            assert_verdict_told(sc, r, eb)
     return d, r
+
+
+def assert_verdict_told(sc, r, eb) -> None:
+    """A run whose energy account is not ``ok`` says so: the run's checks warn (AnalysisWarning)
+    naming the energy balance or the term whose sign broke; an ``ok`` account draws no such warning."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", AnalysisWarning)
+        check_run(sc, r)
+    told = [str(w.message) for w in caught if issubclass(w.category, AnalysisWarning) and "energy" in str(w.message)]
+    if eb["ok"]:
+        assert not [m for m in told if "energy balance error" in m or "energy account" in m], (eb, told)
+    else:
+        event("account not ok: told")
+        assert told, ("the account is not ok but no warning says so", eb)
 
 
 @settings(max_examples=S.examples(1.0))

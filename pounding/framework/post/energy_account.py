@@ -99,7 +99,7 @@ def warn_if_energy_created(result) -> None:
             f"{100 * rule['relative']:.2g} % of the input; after_impact = 'equilibrium' does not "
             "(summary.json: energy_balance.energy_creating_rule)",
             AnalysisWarning,
-            stacklevel=3,
+            stacklevel=4,
         )
 
 
@@ -222,5 +222,5 @@ def warn_if_sign_broken(result) -> None:
             f"energy account: {v['term']} = {v['value']:.4g} J, expected {want} ({v['why']}; rounding allows "
             f"{v['bound']:.2g} J): the run created energy (summary.json: energy_balance.sign_violations)",
             AnalysisWarning,
-            stacklevel=3,
+            stacklevel=4,
         )

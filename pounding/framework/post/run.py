@@ -17,34 +17,47 @@ from pounding.framework.post.energy_account import energy_balance
 
 
 def run(scene: Scene, *, progress=None, use_kernel: bool = True) -> Result:
-    """Run the time-history analysis of a scene and return its :class:`Result`.
+    """Run the time-history analysis of a scene and return its :class:`Result`, checked by :func:`check`."""
+    result = Driver(scene, progress=progress, use_kernel=use_kernel).run()
+    check(scene, result)
+    return result
 
-    Warns (:class:`~pounding.errors.AnalysisWarning`) when the energy balance
-    misses by more than ``scene.analysis.energy_tolerance`` of the input.
-    """
+
+def check(scene: Scene, result: Result) -> None:
+    """The checks of a finished run, each a :class:`~pounding.errors.AnalysisWarning` naming what failed.
+
+    The energy balance (of the buildings, or of the links' own account) misses by more than
+    ``scene.analysis.energy_tolerance`` of the input; a contact rule that creates energy; a term
+    of the account whose sign breaks physics; a given step too coarse for a force law's contact. Raises FloatingPointError when the response is not
+    finite. States the impact-force model in ``result.info`` (summary.json)."""
     import warnings
 
     from pounding.errors import AnalysisWarning
+    from pounding.framework.post.energy_account import warn_if_energy_created, warn_if_sign_broken
+    from pounding.framework.post.response import impact_force_model
 
-    result = Driver(scene, progress=progress, use_kernel=use_kernel).run()
     eb = energy_balance(result)
     if abs(eb["relative_error"]) > eb["tolerance"]:
         warnings.warn(
             f"energy balance error {eb['relative_error']:.2e} of the input exceeds the tolerance "
             f"{eb['tolerance']:g} (summary.json: energy_balance)",
             AnalysisWarning,
-            stacklevel=2,
+            stacklevel=3,
+        )
+    links = eb.get("links")
+    if links is not None and abs(links["relative_error"]) > eb["tolerance"]:
+        warnings.warn(
+            f"energy balance of the links {links['relative_error']:.2e} of the input exceeds the tolerance "
+            f"{eb['tolerance']:g}: their work is not what they dissipated and store (summary.json: energy_balance.links)",
+            AnalysisWarning,
+            stacklevel=3,
         )
     if not np.all(np.isfinite(result.q)):
         raise FloatingPointError("the response is not finite: the integrator diverged (check dt against the shortest period)")
-    from pounding.framework.post.energy_account import warn_if_energy_created, warn_if_sign_broken
-    from pounding.framework.post.response import impact_force_model
-
     result.info["impact_force"] = impact_force_model(scene.analysis.impact_force)  # stated in summary.json
     warn_if_contact_unresolved(result)  # a given step too coarse for a force law's contact
     warn_if_energy_created(result)  # a contact rule that creates energy is flagged
     warn_if_sign_broken(result)  # a term whose sign breaks physics is named
-    return result
 
 
 def warn_if_contact_unresolved(result: Result) -> str | None:
@@ -67,5 +80,5 @@ def warn_if_contact_unresolved(result: Result) -> str | None:
                f"{result.names[a]} storey {fa + 1} against {other} {f'storey {fb}' if fb else '(a wall)'}) in {steps:.3g} steps; "
                f"the default step takes {STEPS_PER_CONTACT} per contact (peaks within 0.5 % of the converged run on the paper's "
                f"pair): dt <= {ct['resolving_dt']:.3g} s resolves it (leave [analysis] dt out for the default step)")
-    warnings.warn(message, AnalysisWarning, stacklevel=3)
+    warnings.warn(message, AnalysisWarning, stacklevel=4)
     return message
