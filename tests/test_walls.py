@@ -174,7 +174,6 @@ BAD = [
     ("law out of range", {"contact": {"name": "impulse", "restitution": 1.5}}, "wall[0].contact.restitution", "[0, 1]"),
     ("own restitution out of range", {"contact": {"restitution": -0.1}}, "wall[0].contact.restitution", "[0, 1]"),
     ("unknown law parameter", {"contact": {"name": "impulse", "stifness": 1e9}}, "wall[0].contact.stifness", "unknown"),
-    ("force law with impulses", {"contact": {"name": "kelvin", "stiffness": 1e9}}, "wall[0].contact", "a run takes forces on every pair or on none"),
     ("name of a building", {"name": "box"}, "wall[0].name", "a building's name"),
 ]
 

@@ -270,29 +270,46 @@ class ContactLaw(ABC):
         """Why this law cannot serve one pair of buildings in a run whose other pairs take the law
         class ``default`` (a ``[[contact]]`` table), or None when it can.
 
-        Force laws may differ from pair to pair: each solves its own points with the step. An
-        impulse law's Newton problem couples every pair that shares a building at an instant,
-        so one impulse law serves every pair of a run; and the two kinds are not mixed in one
-        run (the driver takes events or forces)."""
+        A force law may serve any pair: each solves its own points with the step, beside the
+        impulses of a run whose ``[analysis] contact`` acts at events (which then locates its
+        impacts by ``crossing``: :meth:`mixing_problem`). An impulse law's Newton problem couples
+        every pair that shares a building at an instant, so one impulse law serves every pair that
+        takes impulses: ``[analysis] contact``. With contact off nothing is watched."""
         if not cls.with_step:
-            return (f"{cls.name or cls.__name__!r} acts by impulses at events, and one impulse law serves every pair of a run "
-                    f"(its Newton problem couples the pairs that share a building); a pair's own law must act by forces")
-        if not default.with_step:
-            return (f"{cls.name or cls.__name__!r} acts by forces solved with the step, while [analysis] contact "
-                    f"{default.name or default.__name__!r} does not: a run takes forces on every pair or on none")
+            if default.at_events:
+                return (f"{cls.name or cls.__name__!r} acts by impulses at events, and one impulse law serves every pair of a run "
+                        f"(its Newton problem couples the pairs that share a building); a pair's own law must act by forces")
+            return (f"{cls.name or cls.__name__!r} acts by impulses at events: one impulse law serves the pairs that take "
+                    "impulses, and it is [analysis] contact's (make it [analysis] contact and give the other pairs their "
+                    "force law here)")
+        if not default.watches():
+            return (f"[analysis] contact {default.name or default.__name__!r} watches no pair, so no pair's law is asked; "
+                    "give [analysis] contact a law")
+        return None
+
+    def mixing_problem(self) -> str | None:
+        """Why force laws cannot serve some pairs of a run whose ``[analysis] contact`` is this law,
+        or None when they can: an impulse law mixes with force laws when it locates its impacts where
+        the gap is zero (``locate = "crossing"``, the default), as the pairs that press by forces run
+        through every step of their contact; the paper's locators strike every pair within the
+        tolerance, force pairs included."""
+        if self.at_events and getattr(self, "locate", "crossing") != "crossing":
+            return (f"[analysis] contact locates impacts by {self.locate!r}, which strikes every pair within the tolerance; "
+                    "a run with pairs under force laws beside impulses takes locate = \"crossing\" (the default)")
         return None
 
     def wall_problem(self, default: "ContactLaw") -> str | None:
         """Why this law cannot serve the slabs against a fixed wall (a ``[[wall]]`` table) in a run whose
         slab pairs take ``default``, or None when it can.
 
-        A force law serves a wall as it serves one pair of buildings (:meth:`override_problem`). An
+        A force law serves a wall as it serves one pair of buildings (:meth:`override_problem`,
+        :meth:`mixing_problem`). An
         impulse law serves a wall when it is ``default`` with, at most, a restitution of its own: the
         run's events (tolerance, locator, accelerations after an impact) are one for all pairs, and
         a restitution of its own is applied inside the Newton problem of an instant only to a law
         whose impulses are Newton's with its restitution (``compiled_impulses``)."""
         if self.with_step or default.with_step:
-            return type(self).override_problem(type(default))
+            return type(self).override_problem(type(default)) or (default.mixing_problem() if self.with_step else None)
         if type(self) is not type(default):
             return (f"the impulse law {self.name or type(self).__name__!r} differs from [analysis] contact "
                     f"{default.name or type(default).__name__!r}: one impulse law serves every pair of a run "

@@ -88,7 +88,7 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
             by_pair[frozenset(rule.between)] = len(laws) - 1
             continue
         cls = CONTACT_LAWS.get(rule.law)
-        problem = cls.override_problem(type(default))
+        problem = cls.override_problem(type(default)) or (default.mixing_problem() if cls.with_step else None)
         if problem is not None:
             raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {problem}")
         laws.append(cls(**rule.params))

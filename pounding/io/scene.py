@@ -327,28 +327,42 @@ def _contact_rules(tables: list, buildings: list[Building], analysis: Analysis, 
             raise InputError("expected a law, a bumper or both", field=where)
         if "law" in table:
             law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
-            problem = CONTACT_LAWS.get(law, search=search).override_problem(default)
+            cls = CONTACT_LAWS.get(law, search=search)
+            problem = cls.override_problem(default) or (_mixing_problem(analysis, search) if cls.with_step else None)
             if problem is not None:
                 raise InputError(problem, field=f"{where}.law")
         else:  # the slabs' law under a bumper: [analysis] contact's
             law, params = analysis.contact, dict(analysis.contact_params)
         rule = ContactRule((between[0], between[1]), law, params)
         if "bumper" in table:
-            rule = replace(rule, bumper=_bumper(table["bumper"], rule, buildings, default, search, f"{where}.bumper"))
+            rule = replace(rule, bumper=_bumper(table["bumper"], rule, buildings, default, analysis, search, f"{where}.bumper"))
         out.append(rule)
     return tuple(out)
 
 
-def _bumper(table: Mapping, rule: ContactRule, buildings: list[Building], default: type, search: tuple, where: str) -> Bumper:
+def _mixing_problem(analysis: Analysis, search: tuple) -> str | None:
+    """Why ``[analysis] contact`` cannot take force laws on some pairs beside it, or None
+    (:meth:`~pounding.contact.base.ContactLaw.mixing_problem`)."""
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    return CONTACT_LAWS.get(analysis.contact, search=search)(**analysis.contact_params).mixing_problem()
+
+
+def _bumper(table: Mapping, rule: ContactRule, buildings: list[Building], default: type, analysis: Analysis, search: tuple,
+            where: str) -> Bumper:
     """A ``[[contact]]`` table's ``bumper`` (:mod:`pounding.framework.model.bumpers`), checked: its
     building, storeys, thickness and fraction, and that the layer's and the slabs' laws act by forces."""
     from pounding.contact.geometry import rest_gap
     from pounding.framework.model.bumpers import check_bumper
     from pounding.framework.model.registry import CONTACT_LAWS
 
-    if not default.with_step:
-        raise InputError(f"a bumper needs a force law (a layer compresses), and [analysis] contact {default.name!r} acts by "
-                         "impulses: give [analysis] contact a force law (kelvin, hertzdamp, penalty...)", field=where)
+    if not CONTACT_LAWS.get(rule.law, search=search).with_step:
+        raise InputError(f"a bumper needs a force law for the slabs it stands between, and {rule.law!r} acts by impulses: give "
+                         "this [[contact]] a force law (law = \"kelvin\", \"hertzdamp\", \"penalty\"...) or [analysis] contact one",
+                         field=where)
+    problem = _mixing_problem(analysis, search) if default.at_events else None
+    if problem is not None:
+        raise InputError(problem, field=where)
     law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
     if not CONTACT_LAWS.get(law, search=search).with_step:
         raise InputError(f"a bumper needs a force law (a layer compresses); {law!r} acts by impulses", field=f"{where}.law")

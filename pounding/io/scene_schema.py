@@ -342,8 +342,9 @@ CONTACT = {
     "description": "The contact law of the slab pairs between two buildings (`[[contact]]`, repeated: one table per "
     "pair of buildings), instead of `[analysis] contact`: a retaining wall and a slab, a stiff and a soft facade; "
     "and a rubber bumper between them (`bumper`). It gives `law`, `bumper` or both. "
-    "Laws that act by forces solved with the step (`penalty`, `facade_penalty`, and plugins of that kind) may differ "
-    "from pair to pair, when `[analysis] contact` acts by forces too; one impulse law serves every pair of a run.",
+    "Laws that act by forces solved with the step (`kelvin`, `hertzdamp`, `penalty`, and plugins of that kind) may "
+    "differ from pair to pair, also beside an impulse law that strikes the other pairs (which then locates its impacts "
+    "by `crossing`, the default); one impulse law serves every pair that takes impulses: `[analysis] contact`'s.",
     "properties": {
         "between": {
             "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,
@@ -438,9 +439,9 @@ WALL = {
         "top": positive("Height of the wall's top above the ground: the slabs at or below it can strike the wall.", "m", example=1.0),
         "contact": {
             "oneOf": [NAMED_PLUGIN["oneOf"][0], {k: v for k, v in NAMED_PLUGIN["oneOf"][1].items() if k != "required"}],
-            "description": "Its contact law, as `[analysis] contact` (default: `[analysis] contact`). A force law when "
-            "`[analysis] contact` acts by forces too; with an impulse law, `[analysis] contact`'s law, whose restitution "
-            "the wall may change (`{ restitution = 0.8 }` without a name).",
+            "description": "Its contact law, as `[analysis] contact` (default: `[analysis] contact`). A force law, also "
+            "beside an impulse law on the buildings' pairs (located by `crossing`, the default); or `[analysis] contact`'s "
+            "impulse law, whose restitution the wall may change (`{ restitution = 0.8 }` without a name).",
             "examples": [{"name": "kelvin", "stiffness": 1.0e9, "restitution": 0.5}],
         },
     },

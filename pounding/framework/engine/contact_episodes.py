@@ -175,6 +175,10 @@ class Episodes:
         """End pair p's episode in the step from t of h (displacement dq (n,), None: the run's end),
         where its gap opens to g1 [m] (inf: unknown, the step's end)."""
         ep = self.open.pop(p)
+        if ep.peak_force <= 0.0 and ep.impulse == 0.0:
+            # the outlines overlapped but the law never pushed (a plastic set wider than the overlap): no
+            # contact, and no work (the force was zero throughout)
+            return
         # the force falls to zero in this step, linearly as the driver applies it: its last share
         ep.impulse += 0.5 * ep.force * h
         if dq is not None and ep.modal is not None:

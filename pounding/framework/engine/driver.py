@@ -48,6 +48,8 @@ from pounding.framework.engine.stacked_model import Model
 from pounding.solvers.base import TransitionCache
 
 MAX_EVENTS_PER_STEP = 64  # bounded work per step: beyond this the pair is held in sustained contact
+#: linear models of a held step (its compliance at a force law's pressed points) found in one trial step at most
+HELD_FORCE_PASSES = 8
 
 
 @dataclass
@@ -88,6 +90,10 @@ class Driver:
         #: every pair's law (:func:`~pounding.contact.rules.scene_laws`): self.laws[self.pair_law[p]]
         self.laws, self.pair_law = scene_laws(scene, self.model.pairs, self.model.walls)
         self.law = self.laws[0]  # [analysis] contact's
+        # the pairs whose law solves forces with the step, and those whose law acts by impulses at events
+        # (a force law may serve some pairs of a run whose [analysis] contact acts at events: rules.pair_laws)
+        self.force_pairs = self.model.all_pairs[np.array([self.laws[j].with_step for j in self.pair_law], dtype=np.bool_)]
+        self.event_pairs = self.model.all_pairs[np.array([self.laws[j].at_events for j in self.pair_law], dtype=np.bool_)]
         # without a dt the step is chosen for accuracy from the significant modes and the shortest
         # contact (pounding.framework.engine.timestep, contact_step); contact_time goes to Result.info
         self.dt, self.contact_time = run_dt(scene, self.model, self.laws, self.pair_law, integrator)
@@ -131,6 +137,7 @@ class Driver:
         n = self.model.n
         self.z = np.zeros((n, 3))
         self.fc = np.zeros(n)  # modal contact force at the current instant (force laws, sustained contact)
+        self.fc_law = np.zeros(n)  # the force laws' part of it (a held step finds its own pairs' force at its start)
         n_out = self.nsteps // self.every + 1
         self.Q = np.zeros((n_out, n))
         self.V = np.zeros((n_out, n))
@@ -326,7 +333,8 @@ class Driver:
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.use_kernel and self.sustained:  # (only impulses hold pairs)
+            if self.use_kernel and self.sustained and not self.fc_law.any():  # (only impulses hold pairs; a force law's
+                # pressed points are stepped in Python beside them)
                 k_end = min(self.nsteps, k + 4096)
                 end = self.advance_held(k, k_end)
             elif self.needs_python(k):
@@ -348,7 +356,7 @@ class Driver:
                 self.contact_at(self.t_grid[k_new])
                 self._record(k_new)  # with the velocities after the impulses, as a Python step records
                 k = k_new
-                if self.law.with_step:  # its forces are solved with Python steps while the pair touches
+                if self.force_pairs.size:  # its forces are solved with Python steps while the pair touches
                     self.python_step_until_clear = True
             else:  # OVERLAP in step k_new -> k_new + 1: the state is its start
                 self.python_step(k_new)
@@ -435,7 +443,7 @@ class Driver:
     def intra_step(self):
         """The integrator's own solution inside a step for the true peaks
         (:class:`pounding.framework.engine.peaks.ExactIntraStep`), or None: the Hermite cubic."""
-        if not self.integrator.exact_within_step or self.springs is not None or self.law.with_step:
+        if not self.integrator.exact_within_step or self.springs is not None or self.force_pairs.size:
             return None
         from pounding.framework.engine.peaks import ExactIntraStep
 
@@ -464,7 +472,10 @@ class Driver:
         return out
 
     def needs_python(self, k: int) -> bool:
-        if not self.use_kernel or self.sustained or self.fc.any():
+        """Whether grid step k is the Python step's: contact forces act or a pair is held, a force law's
+        contact episode is open (its pair has not let go: it may press with no force, as a dashpot
+        on the way out), or a pair starts within the tolerance."""
+        if not self.use_kernel or self.sustained or self.fc.any() or self.episodes.open:
             return True
         if self.python_step_until_clear:
             if self.model.pairs and np.all(self.gaps(self.z[:, 0], cutoff=self.tol) > self.tol):
@@ -584,6 +595,8 @@ class Driver:
             self._pressing_laws = commit_laws(self.laws, self.pair_law, state, st.contacts.force if state is not None else None,
                                               self._pressing_laws, t + h, h)
         self.fc = np.ascontiguousarray(st.f1, dtype=float)
+        law_force = None if st.contacts is None else st.contacts.modal
+        self.fc_law = np.ascontiguousarray(law_force, dtype=float) if law_force is not None else np.zeros(self.model.n)
         self.z = np.ascontiguousarray(st.z1)
 
     def accumulate_with_springs(self, st: Step, t: float, h: float) -> None:
@@ -623,9 +636,17 @@ class Driver:
         return free[self.model.gaps(self.z[:, 0], free, self.tol) <= self.eps]
 
     def free_pairs(self) -> np.ndarray:
+        """The pairs struck by impulses at events that are not held (k,) int64."""
         if not self.sustained:
-            return self.model.all_pairs
-        return np.array([p for p in self.model.all_pairs if p not in self.sustained], dtype=np.int64)
+            return self.event_pairs
+        return np.array([p for p in self.event_pairs if p not in self.sustained], dtype=np.int64)
+
+    def forces_act(self, st: Step | None) -> bool:
+        """Whether a force law's points press at the start of the trial step ``st`` or at its end: then
+        the step's trajectory is the forces' too, and an impact inside it is searched on trial steps."""
+        if not self.force_pairs.size:
+            return False
+        return bool(self.fc_law.any()) or (st is not None and st.contacts is not None and st.contacts.state is not None)
 
     def trial(self, z, t, h) -> Step:
         """A step of h from (z, t) with the contact forces of the pairs that are held by forces."""
@@ -633,7 +654,7 @@ class Driver:
             return self.spring_trial(z, t, h)
         if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
-        if self.law.with_step:
+        if self.force_pairs.size:
             return self.force_trial(z, t, h)
         return Step(z, self.step(z, t, h, self.fc), self.fc, np.zeros(self.model.n))
 
@@ -648,7 +669,7 @@ class Driver:
         if self.sustained:  # (only impulses hold pairs)
             return self.held_trial(z, t, h)
         z1, new = sp.step(np.ascontiguousarray(z), self.load(t) + (self.fc - sp.g), self.load(t + h), tr, h)
-        if not self.law.with_step:
+        if not self.force_pairs.size:
             return Step(z, z1, self.fc, np.zeros(self.model.n), new)
         near, near_gap, near_rows, pressed = self.pressed(z, z1, t, h)
         if pressed is None:
@@ -681,7 +702,7 @@ class Driver:
         and normals (m, 2)."""
         from pounding.contact.base import ContactState
 
-        pts = self.model.touching_shares(zf[:, 0], self.model.all_pairs, self.tol, named=self.named_points)
+        pts = self.model.touching_shares(zf[:, 0], self.force_pairs, self.tol, named=self.named_points)
         near, near_gap, near_rows = pts.pair, pts.gap, pts.W
         keep = pts.gap < 0
         if not keep.any():
@@ -718,19 +739,87 @@ class Driver:
 
     def held_trial(self, z, t, h) -> Step:
         """A step with the held pairs in rigid sustained contact (see :func:`pounding.framework.engine.held.held_step`;
-        with yielding springs :func:`pounding.framework.engine.held.held_fixed_point`, their trial in ``Step.sp``)."""
+        with yielding springs :func:`pounding.framework.engine.held.held_fixed_point`, their trial in ``Step.sp``);
+        with a force law's points pressed beside them, their forces solved with it (:meth:`held_force_trial`)."""
         m, tr = self.model, self.cache(h)
         held = self.held_pairs()
         start = m.touching(z[:, 0], held, self.tol, deep=True)
-        p0, p1 = self.load(t), self.load(t + h)
+        # the start load: the ground's and the force laws' (the held pairs' own force at the start is the held step's)
+        p0 = self.load(t) + self.fc_law if self.force_pairs.size else self.load(t)
+        p1 = self.load(t + h)
         contact = HeldContact(float(self.tol), float(self.touch))
-        args = (np.ascontiguousarray(z), p0, p1, np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), float(h), m.modes,
-                HeldSet(held, contact, start), m.geo)
-        if self.springs is not None:  # their end remainders by the fixed point around the held step
-            st, sp = self.springs.held_step(*args)
+        z_in, A, B = np.ascontiguousarray(z), np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B)
+
+        def held_step(extra=None):
+            """The held step with the extra end load ``extra`` (n,) (None: none): (HeldStep, the springs' trial)."""
+            args = (z_in, p0, p1 if extra is None else p1 + extra, A, B, float(h), m.modes, HeldSet(held, contact, start), m.geo)
+            if self.springs is not None:  # their end remainders by the fixed point around the held step
+                return self.springs.held_step(*args)
+            return hold.held_step(*args), None
+
+        st, sp = held_step()
+        if not self.force_pairs.size:
             return Step(st.z0, st.z1, st.f0, st.f1, sp, arrival=float(st.arrival), arriving=int(st.apair))
-        st = hold.held_step(*args)
-        return Step(st.z0, st.z1, st.f0, st.f1, arrival=float(st.arrival), arriving=int(st.apair))
+        return self.held_force_trial(z, t, h, held_step, st, sp)
+
+    def held_force_trial(self, z, t, h, held_step, st, sp) -> Step:
+        """The held step ``st`` (its springs' trial ``sp``) with the force laws' points that press at its
+        end: their forces solved with it. ``held_step(extra)`` is the held step with an extra end load.
+
+        The held step is linear in its end load while its held points and their features stay: its
+        compliance at the pressed points (the change of their gaps and rates per unit force, m x m)
+        is found by stepping it once per point with that point's force, and the laws are solved on
+        it (:func:`~pounding.framework.engine.contact_laws.solve_forces`, as with free buildings). The
+        step is then taken with the forces; where its gaps differ from the linear model by more than
+        rounding (a held point let go) the model is found again about those forces, up to
+        :data:`HELD_FORCE_PASSES` times."""
+        from pounding.framework.engine.contact_episodes import StepContacts
+        from pounding.framework.engine.contact_laws import solve_forces
+
+        near, near_gap, _, pressed = self.pressed(z, st.z1, t, h)
+        n = self.model.n
+        if pressed is None:
+            return Step(st.z0, st.z1, st.f0 + self.fc_law, st.f1, sp, contacts=StepContacts.empty(near, near_gap, n),
+                        arrival=float(st.arrival), arriving=int(st.apair))
+        state, Wr, Q, N = pressed
+        laws = self.pair_law[state.pair]
+        m = len(state.gap)
+        gap0, rate0 = state.gap.copy(), state.rate.copy()  # at the end of the held step without their forces
+        q_free, v_free = Wr @ st.z1[:, 0], Wr @ st.z1[:, 1]
+        lam, base, eye = np.zeros(m), st, np.eye(m)
+        for _ in range(HELD_FORCE_PASSES):
+            # the compliance about the current forces, a point's force at a time (each the size of the force
+            # that would undo its penetration through the free buildings' compliance)
+            qb, vb = Wr @ base.z1[:, 0], Wr @ base.z1[:, 1]
+            S_q, S_v = np.empty((m, m)), np.empty((m, m))
+            for j in range(m):
+                size = max(-float(gap0[j]), float(self.tol)) / max(float(state.S_q[j, j]), 1e-300)
+                probe, _ = held_step(Wr.T @ (lam + size * eye[j]))
+                S_q[:, j] = (Wr @ probe.z1[:, 0] - qb) / size
+                S_v[:, j] = (Wr @ probe.z1[:, 1] - vb) / size
+            # the linear model through the current forces: gaps g + S_q lam, rates r + S_v lam
+            trial = state._replace(gap=gap0 + (qb - q_free) - S_q @ lam, rate=rate0 + (vb - v_free) - S_v @ lam, S_q=S_q, S_v=S_v)
+            lam = solve_forces(self.laws, laws, trial)
+            end, sp = held_step(Wr.T @ lam)
+            gap, rate = gap0 + Wr @ end.z1[:, 0] - q_free, rate0 + Wr @ end.z1[:, 1] - v_free
+            # the step agrees with the model, gaps and rates, to 1e-9 of their size (the held points stayed): done
+            size = max(float(np.max(np.abs(gap))), float(self.eps))
+            if (np.max(np.abs(gap - (trial.gap + S_q @ lam))) <= 1e-9 * size
+                    and np.max(np.abs(rate - (trial.rate + S_v @ lam))) <= 1e-9 * max(float(np.max(np.abs(rate))), size / h)):
+                break
+            base = end
+        else:
+            import warnings
+
+            from pounding.errors import AnalysisWarning
+
+            warnings.warn(f"t = {t + h:.6g} s: the force law's points pressed beside a held pair did not settle in "
+                          f"{HELD_FORCE_PASSES} passes (held points letting go and coming back); the last pass is taken",
+                          AnalysisWarning, stacklevel=2)
+        f_law = Wr.T @ lam
+        contacts = StepContacts(state.pair, lam, gap, Q, N, Wr, state.start, state.approach, near, near_gap, f_law, trial)
+        return Step(end.z0, end.z1, end.f0 + self.fc_law, end.f1 + f_law, sp, contacts=contacts, arrival=float(end.arrival),
+                    arriving=int(end.apair))
 
     def locate_arrival(self, t: float, h: float, st: Step) -> float | None:
         """Step length [s] from t to the instant at which a point of a held pair that is apart at t
@@ -761,7 +850,8 @@ class Driver:
         herm = (np.ascontiguousarray(st.z0[:, 0]), np.ascontiguousarray(st.z0[:, 1]), np.ascontiguousarray(st.z1[:, 0]),
                 np.ascontiguousarray(st.z1[:, 1]), float(h))
         plist = np.array([st.arriving], dtype=np.int64)
-        if self.search_record is not None:  # the held step (with the links: its fixed point) compiled inside the search
+        if self.search_record is not None and not self.forces_act(st):  # the held step (with the links: its fixed
+            # point) compiled inside the search; a force law's pressed points are solved by the trial steps instead
             return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=True, far=far, g0=start))
         return self.locate_crossing(gap, h, herm, plist)
 
@@ -799,11 +889,13 @@ class Driver:
         crossing locator, where the gap is zero, or None when none touches: ``st`` is the trial step)."""
         plist = np.array(culprits, dtype=np.int64)
         p0 = self.load(t) + self.fc  # the load at the start, the same for every trial
+        # a force law's points press in the step: its trajectory is theirs too, and each trial step solves them
+        forces = self.forces_act(st)
 
         def gmin(hh):
             if hh <= 0.0:
                 return float(self.model.gaps(self.z[:, 0], plist).min())
-            if not self.sustained and self.springs is None:  # (culprits, hence this search, come only with impulses)
+            if not self.sustained and self.springs is None and not forces:  # (culprits come only with impulses)
                 # no contact force in the step: only its end displacements are needed
                 tr = self.cache(hh)
                 return float(pg.stepped_min_gap(np.ascontiguousarray(tr.A), np.ascontiguousarray(tr.B), self.z, p0,
@@ -816,7 +908,7 @@ class Driver:
             # integrator's intra-step solution, with no transition to build (pounding.framework.engine.crossing)
             herm = (np.ascontiguousarray(z0[:, 0]), np.ascontiguousarray(z0[:, 1]), np.ascontiguousarray(z1[:, 0]),
                     np.ascontiguousarray(z1[:, 1]), float(h))
-            if self.search_record is not None and (self.sustained or z0 is self.z):
+            if self.search_record is not None and (self.sustained or z0 is self.z) and not forces:
                 # the ground, the held pairs and the links act in the step: the same search, compiled whole
                 if not self.sustained:
                     if self.springs is not None:  # the links' start load, as spring_trial forms it

@@ -1,0 +1,174 @@
+"""Impulses and forces in one run: a ``[[contact]]`` table or a ``[[wall]]`` gives some pairs a force
+law while ``[analysis] contact`` strikes the others by impulses at events.
+
+The checks: with the force law on every pair the run is the force run (the same steps through the
+same functions); a row with an impulse pair beside a force pair closes the exact integrator's
+energy account to rounding, no term breaks its sign, and each pair reports the contacts of its own
+law; a held pair beside a pressed force pair takes the law's force at the step's end state; the
+paper's locators, which strike every pair within the tolerance, refuse force pairs beside them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from pounding.errors import InputError
+from pounding.framework.engine.driver import Driver
+from pounding.framework.model.scene import ContactRule
+from pounding.framework.post.energy_account import energy_balance
+from pounding.io.scene import load_scene, parse_scene
+
+from tests.scenes_for_tests import box_building, modal_from_physical
+
+KELVIN = {"stiffness": 1e9, "restitution": 0.5}
+
+
+def row(gaps=(0.01, 0.01), *, pga: float = 0.5, duration: float = 4.0, contact=None, rules=()) -> dict:
+    """Three one-storey boxes along x ("west" [0, 10], "middle", "east", 10 m wide), ``gaps`` apart."""
+    x1 = 10.0 + gaps[0]
+    x2 = x1 + 10.0 + gaps[1]
+    return {
+        "building": [box_building("west", 0.0, 10.0, 10.0, 1, 0.40, 0.50),
+                     box_building("middle", x1, 10.0, 10.0, 1, 0.55, 0.60),
+                     box_building("east", x2, 10.0, 10.0, 1, 0.30, 0.45)],
+        "ground_motion": {"record": "elcentro", "pga": pga, "angle": 0.0},
+        "analysis": {"duration": duration, "contact": contact or {"name": "impulse", "restitution": 0.5}},
+        "contact": [{"between": list(b), "law": law} for b, law in rules],
+    }
+
+
+def pair_index(model, a: str, b: str) -> int:
+    names = [s.name for s in model.systems]
+    return next(p for p, (i, _, j, _, _) in enumerate(model.pairs) if {names[i], names[j]} == {a, b})
+
+
+def test_a_force_law_on_every_pair_beside_an_impulse_default_is_the_force_run():
+    """The paper's pair with [analysis] contact = impulse and a [[contact]] table giving its one pair
+    kelvin takes the steps of the run whose [analysis] contact is kelvin, through the same functions:
+    the same histories and the same contact episodes (measured: to the bit)."""
+    base = load_scene("examples/paper/pair_gap_0.03.toml").with_analysis(integrator="newmark", integrator_params={}, dt=None,
+                                                                         duration=3.0)
+    names = [b.name for b in base.buildings]
+    forced = Driver(base.with_analysis(contact="kelvin", contact_params=KELVIN)).run()
+    mixed = Driver(replace(base, contacts=(ContactRule((names[0], names[1]), "kelvin", KELVIN),))).run()
+    assert mixed.dt == forced.dt and not mixed.impacts and len(forced.contacts) > 0
+    scale = float(np.abs(forced.q).max())
+    np.testing.assert_allclose(mixed.q, forced.q, rtol=0, atol=1e-12 * scale)
+    assert [c.pair for c in mixed.contacts] == [c.pair for c in forced.contacts]
+    np.testing.assert_allclose([(c.start, c.end) for c in mixed.contacts], [(c.start, c.end) for c in forced.contacts], rtol=1e-12)
+
+
+def test_a_force_law_wall_beside_an_impulse_default_is_the_force_run():
+    """A building against a retaining wall whose own law is kelvin, [analysis] contact impulse: the
+    run whose [analysis] contact is kelvin (the wall taking it), step for step."""
+    def data(contact, wall_contact):
+        wall = {"name": "kerb", "face": [[-0.01, -1.0], [-0.01, 11.0]], "top": 4.0}
+        if wall_contact is not None:
+            wall["contact"] = wall_contact
+        return {"building": [box_building("box", 0.0, 10.0, 10.0, 1, 0.40, 0.50)],
+                "ground_motion": {"record": "elcentro", "pga": 0.5, "angle": 0.0},
+                "analysis": {"integrator": "newmark", "duration": 3.0, "contact": contact}, "wall": [wall]}
+
+    forced = Driver(parse_scene(data({"name": "kelvin", **KELVIN}, None))).run()
+    mixed = Driver(parse_scene(data({"name": "impulse", "restitution": 0.5}, {"name": "kelvin", **KELVIN}))).run()
+    assert mixed.dt == forced.dt and not mixed.impacts and len(forced.contacts) > 0
+    np.testing.assert_allclose(mixed.q, forced.q, rtol=0, atol=1e-12 * float(np.abs(forced.q).max()))
+    np.testing.assert_allclose([(c.start, c.end) for c in mixed.contacts], [(c.start, c.end) for c in forced.contacts], rtol=1e-12)
+
+
+@pytest.fixture(scope="module")
+def row_run():
+    scene = parse_scene(row(rules=[(("middle", "east"), {"name": "kelvin", **KELVIN})]))
+    d = Driver(scene)
+    return d, d.run()
+
+
+def test_each_pair_reports_the_contacts_of_its_own_law(row_run):
+    """Impacts on the impulse pair only, force episodes on the kelvin pair only, and both happen."""
+    d, r = row_run
+    west, east = pair_index(d.model, "west", "middle"), pair_index(d.model, "middle", "east")
+    assert {i.pair for i in r.impacts} == {west}
+    assert {c.pair for c in r.contacts} == {east}
+    assert r.n_impacts == len(r.impacts) + len(r.contacts)
+    assert [e.pair for e in r.episodes()].count(east) == len(r.contacts)
+
+
+def test_impulses_beside_forces_close_the_exact_energy_account(row_run):
+    """The exact integrator's account (closed-form work integrals of its own trajectory, impulses'
+    losses from their velocity jumps) closes to 1e-8 of the input with impulses and force contact
+    in one run, as with either alone (tests/test_stress.py, the tight class), and the contact
+    forces take energy out: no term breaks its sign."""
+    _, r = row_run
+    eb = energy_balance(r)
+    assert abs(eb["relative_error"]) <= 1e-8, eb
+    assert not eb["sign_violations"] and eb["contact_force_work"] < 0 and eb["impact_loss"] > 0, eb
+
+
+def test_a_held_pair_beside_a_pressed_force_pair_takes_the_laws_force_at_the_step_end():
+    """West and middle touching at rest, held (sustained); east pushed 1 mm into middle. One held
+    step solves the kelvin forces with it: they are the law's own force at the step's end gaps and
+    rates, to the solve's stopping rule (1e-9 of the gap: the force's relative error, the law being
+    linear in the gap, with the rate's part below it), and the held pair does not close deeper than
+    half the tolerance (the held step's promise)."""
+    scene = parse_scene(row(gaps=(0.0, 0.0), rules=[(("middle", "east"), {"name": "kelvin", **KELVIN})]))
+    d = Driver(scene)
+    m = d.model
+    held, pressed = pair_index(m, "west", "middle"), pair_index(m, "middle", "east")
+    names = [s.name for s in m.systems]
+    z = np.zeros((m.n, 3))
+    z[:, 0] = modal_from_physical(m, {(names.index("east"), 0): np.array([-1e-3, 0.0, 0.0])})
+    z[:, 1] = modal_from_physical(m, {(names.index("middle"), 0): np.array([-0.2, 0.0, 0.0])})  # middle moves at west
+    d.z, d.sustained = z, {held}
+    st = d.held_trial(d.z, 0.0, d.dt)
+    c = st.contacts
+    assert c is not None and c.state is not None and set(c.pair.tolist()) == {pressed} and np.all(c.force > 0)
+    # the law's force at the end state, given directly (no compliance: the force at these gaps and rates).
+    # The gaps are the end state's to first order in the step's motion (c.gap: the pressed points' gaps
+    # without forces moved by their rows), as every force step takes them
+    from pounding.framework.engine.contact_laws import solve_forces
+
+    zero = np.zeros((len(c.gap), len(c.gap)))
+    at_end = c.state._replace(gap=c.gap, rate=c.rows @ st.z1[:, 1], S_q=zero, S_v=zero)
+    np.testing.assert_allclose(solve_forces(d.laws, d.pair_law[c.pair], at_end), c.force, rtol=1e-8)
+    assert m.pair_gap(np.ascontiguousarray(st.z1[:, 0]), held) >= -0.5 * d.tol
+
+
+@pytest.mark.parametrize("where", ["contact", "wall"])
+def test_the_papers_locators_refuse_force_pairs_beside_them(tmp_path, where):
+    """locate = "halving" strikes every pair within the tolerance, force pairs included: a scene that
+    gives some pairs a force law beside it is one InputError naming the field and the way out."""
+    data = row(contact={"name": "impulse", "restitution": 0.5, "locate": "halving"},
+               rules=[(("middle", "east"), {"name": "kelvin", **KELVIN})] if where == "contact" else [])
+    if where == "wall":
+        data["wall"] = [{"name": "kerb", "face": [[-0.02, -1.0], [-0.02, 11.0]], "top": 4.0,
+                         "contact": {"name": "kelvin", **KELVIN}}]
+    from pounding.io.scene_writer import to_toml
+
+    path = tmp_path / "scene.toml"
+    path.write_text(to_toml(data))
+    with pytest.raises(InputError) as exc:
+        load_scene(path)
+    text = str(exc.value)
+    assert str(path) in text and f"{where}[0]" in text and 'locate = "crossing"' in text, text
+
+
+def test_yielding_storeys_with_impulses_between_buildings_and_a_kelvin_wall_close_their_account():
+    """The paper's pair with yielding storeys, struck by impulses between the buildings, and a
+    retaining wall 3 mm behind the lower one under kelvin: the links, the impulses and the wall's
+    forces in one run close the account to 1e-8 of the input (average acceleration, the default
+    with yielding storeys: its discrete identity, as without the wall; measured 1e-14), with hysteretic dissipation, impact losses and the wall's work signed as
+    physics fixes; the wall's contacts are force episodes, the buildings' impacts impulses."""
+    from pounding.framework.model.scene import Wall
+    from pounding.framework.post.run import run
+
+    scene = load_scene("examples/inelastic_pair/pair_yielding_gap_0.03.toml")
+    wall = Wall(name="kerb", face=np.array([[-0.003, -1.0], [-0.003, 11.0]]), top=7.0, law="kelvin", params=KELVIN)
+    r = run(replace(scene, walls=(wall,)).with_analysis(dt=None, integrator=None, integrator_params={}, duration=8.0))
+    eb = energy_balance(r)
+    assert abs(eb["relative_error"]) <= 1e-8 and not eb["sign_violations"], eb
+    assert eb["hysteretic"] > 0 and eb["impact_loss"] > 0 and eb["contact_force_work"] < 0, eb
+    assert r.impacts and r.contacts and {r.second_body(c.pair)[0] for c in r.contacts} == {"kerb"}
+    assert all(r.walls.get(i.pair) is None for i in r.impacts)
