@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import numpy as np
+
 from pounding.cli import main
 from pounding.framework.engine.integrator_choice import chosen_integrator
 from pounding.io.scene import load_scene
@@ -34,6 +36,22 @@ def test_elastic_buildings_without_contact_get_exact():
 def test_a_force_contact_law_gets_newmark():
     s = _unnamed(scene(side_by_side(0.05))).with_analysis(contact="penalty", contact_params={"stiffness": 1e9})
     assert chosen_integrator(s) == "newmark"
+
+
+def test_a_force_law_on_one_pair_or_wall_beside_impulses_gets_newmark():
+    """The pairs a force law serves are stepped by it whatever [analysis] contact is: a [[contact]]
+    table's or a wall's force law gets the force laws' integrator."""
+    from dataclasses import replace
+
+    from pounding.framework.model.scene import ContactRule, Wall
+
+    s = _unnamed(scene(side_by_side(0.05)))
+    names = [b.name for b in s.buildings]
+    rule = ContactRule((names[0], names[1]), "kelvin", {"stiffness": 1e9})
+    wall = Wall(name="kerb", face=np.array([[-0.05, -1.0], [-0.05, 11.0]]), top=4.0, law="kelvin", params={})
+    assert chosen_integrator(replace(s, contacts=(rule,))) == "newmark"
+    assert chosen_integrator(replace(s, walls=(wall,))) == "newmark"
+    assert chosen_integrator(replace(s, contacts=(rule,)).with_analysis(contact="none", contact_params={})) == "exact"  # nothing watched
 
 
 def test_a_yielding_building_gets_newmark():

@@ -10,9 +10,9 @@ directory holding ``response.npz`` (``t``, ``<B>_cm`` (nt, storeys, 3) and
 * ``render_pounding.gif`` - the pounding window: from 0.5 s before the first
   contact to 0.5 s after the last, at most ``max_frames`` frames.
 
-The key instant is the output step nearest the impact with the largest
-impulse (from the impact log of a Result); without a log, the step where a
-pair is closest. Contacts are found from the log, else from the geometry
+The key instant is the output step nearest the start of the contact with the
+largest impulse (an impact, or a force law's contact episode: the contacts of a
+Result); without them, the step where a pair is closest. Contacts are found from the log, else from the geometry
 (signed gap <= max(contact tolerance, 1 mm) at an output step). Displacements
 are magnified ``magnify`` times; the rest gap is not, so slabs that touch
 appear to overlap. Slabs of a pair in contact are drawn red. With the scene,
@@ -198,11 +198,11 @@ def pounding_window(motion: Motion, *, margin: float = 0.5, gaps: np.ndarray | N
     """(first, last, key) output indices of the pounding window and its key instant (see the module docstring)."""
     t = motion.t
     nt = len(t)
-    if motion.impacts:
-        times = np.array([i.time for i in motion.impacts])
-        t0, t1 = float(times.min()), float(times.max())
-        big = max(motion.impacts, key=lambda i: i.impulse)
-        key = int(np.argmin(np.abs(t - big.time)))
+    if motion.episodes or motion.impacts:  # the contacts of every law: impacts, and force laws' episodes
+        spans = [(e.start, e.end, e.impulse) for e in motion.episodes] or [(i.time, i.time, i.impulse) for i in motion.impacts]
+        t0, t1 = min(s[0] for s in spans), max(s[1] for s in spans)
+        big = max(spans, key=lambda s: s[2])
+        key = int(np.argmin(np.abs(t - big[0])))
     elif motion.pairs:
         g = motion.pair_gaps() if gaps is None else gaps
         gmin = g.min(axis=1)

@@ -92,6 +92,8 @@ class Motion:
         Contact tolerance [m].
     impacts : list of Impact
         The impact log (empty when unknown).
+    episodes : list of ContactEpisode
+        Every contact episode, impacts and force laws' contacts alike (empty when unknown).
     """
 
     t: np.ndarray
@@ -102,6 +104,7 @@ class Motion:
     pairs: list
     tolerance: float = DEFAULT_TOLERANCE
     impacts: list = field(default_factory=list)
+    episodes: list = field(default_factory=list)
 
     @classmethod
     def from_result(cls, result, scene=None) -> "Motion":
@@ -115,6 +118,7 @@ class Motion:
             pairs=list(result.pairs),
             tolerance=contact_tolerance(result, scene),
             impacts=list(result.impacts),
+            episodes=list(result.episodes()) if hasattr(result, "episodes") else list(result.impacts),
         )
 
     @classmethod

@@ -176,7 +176,7 @@ class Driver:
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
         #: a wall with a restitution of its own: every impulse is the driver's, each point with its pair's
         #: restitution (:meth:`_group_impulses`)
-        self.own_restitutions = len({float(law.restitution) for law in self.laws}) > 1
+        self.own_restitutions = len({float(law.restitution) for law in self.laws if law.at_events}) > 1
         compiled = compiled and not self.own_restitutions
         self.settings = Settings(
             self.tol, 0.0 if self.law.with_step else (-self.eps if self.crossing else -self.tol), float(self.v_min),
@@ -333,8 +333,8 @@ class Driver:
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
         while k < self.nsteps:
-            if self.use_kernel and self.sustained and not self.fc_law.any():  # (only impulses hold pairs; a force law's
-                # pressed points are stepped in Python beside them)
+            if self.use_kernel and self.sustained and not (self.fc_law.any() or self.episodes.open):  # (only impulses hold
+                # pairs; a force law's contact is stepped in Python beside them until it ends, force or none)
                 k_end = min(self.nsteps, k + 4096)
                 end = self.advance_held(k, k_end)
             elif self.needs_python(k):

@@ -9,8 +9,8 @@
   the converged rigid-impact limit: peak corner displacements within 1.4e-4 (paper pair) and
   1.1e-5 (L-shape scene) in 1.7x and 2.2x less solver time than Newmark's average acceleration at
   its own default step (32 steps per period), which lands within 2.5e-4 and 5.7e-5.
-* A building that yields, links between slabs, or a force contact law (penalty, facade penalty): ``newmark`` (average
-  acceleration). Their restoring or contact forces depend on the state inside the step, which the
+* A building that yields, links between slabs, or a force contact law on any pair (``[analysis]
+  contact``, a ``[[contact]]`` table's, a wall's, a bumper): ``newmark`` (average acceleration). Their restoring or contact forces depend on the state inside the step, which the
   closed form does not follow; Newmark's implicit step is the usual choice there (OpenSees'
   ``Newmark 0.5 0.25``).
 
@@ -34,6 +34,11 @@ def chosen_integrator(scene) -> str:
         return OTHERWISE
     from pounding.framework.model.registry import CONTACT_LAWS
 
-    if CONTACT_LAWS.get(an.contact).with_step:
+    default = CONTACT_LAWS.get(an.contact)
+    if not default.watches():  # contact off: no pair's law is asked (rules.pair_laws)
+        return ELASTIC
+    laws = [default] + [CONTACT_LAWS.get(r.law) for r in getattr(scene, "contacts", ())]
+    laws += [CONTACT_LAWS.get(w.law) for w in getattr(scene, "walls", ()) if w.law is not None]
+    if any(getattr(r, "bumper", None) is not None for r in getattr(scene, "contacts", ())) or any(law.with_step for law in laws):
         return OTHERWISE
     return ELASTIC
