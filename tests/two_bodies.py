@@ -10,7 +10,11 @@ end gap and rate without the end force, and their compliances
     S_q = h^2 / 4 * a,    S_v = h / 2 * a,    a = 1/m1 + 1/m2 = W (the Delassus entry).
 
 The contact's approach speed is the closing speed when the gap first closes (constant before:
-the bodies fly freely).
+the bodies fly freely). A law that keeps a state of its own (``keeps_state``: a plastic set) is
+given the contact point's identity and committed as the driver commits it
+(:func:`pounding.framework.engine.contact_laws.commit_laws`): at every step that presses the
+point, with the forces solved, and once with no point at the first step after it let go; its state
+carries over to a later call with the same law instance (a second collision).
 """
 
 from __future__ import annotations
@@ -36,25 +40,36 @@ class Stepped:
         return float((self.v2[-1] - self.v1[-1]) / (self.v1[0] - self.v2[0]))
 
 
-def contact(gap, rate, S_q, S_v, W, pair, approach, share=None):
+#: the identity (pair, striking slab, vertex) of the one contact point, for a law that keeps a state
+POINT = (0, 0, 0)
+
+
+def contact(gap, rate, S_q, S_v, W, pair, approach, share=None, *, t=0.0, dt=0.0, point=None):
     """The contact state a force law is given (the fields of the contact-law contract it reads);
-    ``share`` (m,) the share of a whole contact of each point (None: every point a whole contact)."""
+    ``share`` (m,) the share of a whole contact of each point (None: every point a whole contact);
+    ``t`` [s] the step's end and ``dt`` [s] its length; ``point`` (m, 3) the points' identities
+    (None: no law of the run keeps a state)."""
     arr = lambda x: np.atleast_1d(np.asarray(x, dtype=float))  # noqa: E731
     mat = lambda x: np.atleast_2d(np.asarray(x, dtype=float))  # noqa: E731
     return SimpleNamespace(gap=arr(gap), rate=arr(rate), S_q=mat(S_q), S_v=mat(S_v), W=mat(W),
                            pair=np.atleast_1d(np.asarray(pair, dtype=np.int64)), approach=arr(approach),
-                           share=None if share is None else arr(share))
+                           share=None if share is None else arr(share), t=float(t), dt=float(dt),
+                           point=None if point is None else np.atleast_2d(np.asarray(point, dtype=np.int64)))
 
 
 def step_two_bodies(law, *, m1: float, m2: float, v1: float, v2: float, h: float, gap0: float = 0.0,
                     t_max: float = 1.0) -> Stepped:
     """Step the two bodies from gap ``gap0`` [m] (>= 0) until they are apart again after a contact
-    (or ``t_max`` [s]); ``h`` the step [s]."""
+    (or ``t_max`` [s]); ``h`` the step [s]. A law that keeps a state is committed every step
+    (module docstring)."""
+    from pounding.contact.base import ContactState
+
+    keeps = bool(getattr(law, "keeps_state", False))
     a = 1.0 / m1 + 1.0 / m2
     x1, x2 = 0.0, gap0
     lam0, approach, touched = 0.0, 0.0, False
     t_hist, g_hist, f_hist, v1_hist, v2_hist = [0.0], [gap0], [0.0], [v1], [v2]
-    t = 0.0
+    t, pressed = 0.0, False
     while t < t_max:
         # the free step (the start force lam0 in it, none at the end)
         v1f, v2f = v1 - 0.5 * h * lam0 / m1, v2 + 0.5 * h * lam0 / m2
@@ -64,7 +79,14 @@ def step_two_bodies(law, *, m1: float, m2: float, v1: float, v2: float, h: float
         if gap < 0.0:
             if not touched:
                 touched, approach = True, v1 - v2
-            lam = float(law.forces(contact(gap, rate, 0.25 * h * h * a, 0.5 * h * a, a, 0, approach))[0])
+            c = contact(gap, rate, 0.25 * h * h * a, 0.5 * h * a, a, 0, approach, t=t + h, dt=h,
+                        point=[POINT] if keeps else None)
+            lam = float(law.forces(c)[0])
+            if keeps:  # the step is accepted: the law keeps its point's state at the forces solved
+                law.commit(c, np.array([lam]))
+        elif keeps and pressed:  # the first step after the point let go: one commit with no point
+            law.commit(ContactState.empty(t + h, h), np.zeros(0))
+        pressed = gap < 0.0
         v1, v2 = v1f - 0.5 * h * lam / m1, v2f + 0.5 * h * lam / m2
         x1, x2 = x1f - 0.25 * h * h * lam / m1, x2f + 0.25 * h * h * lam / m2
         t += h

@@ -33,6 +33,13 @@ dr/du + (dr/du') / h (the links' Newton), backtracking on the residual's norm: o
 :func:`material_forces`, that takes the law's update as a plugin (compiled once per law), or runs as
 Python around a law's update written without the compiler.
 
+OpenSees: each link law says what its OpenSees gap material is
+(:meth:`pounding.hysteresis.base.HysteresisLaw.opensees_gap_material`), and :meth:`MaterialContact.opensees_material`
+asks it: ``ElasticPPGap`` for ``elastic`` (an elastic gap) and for ``bilinear`` (with ``damage``:
+its gap keeps the plastic set). OpenSees has no gap material for the others, which the export
+leaves out: ``bouc_wen``, ``maxwell`` and ``friction_pendulum`` exist only without a gap, and
+``ViscoelasticGap`` (a dashpot, or a spring beside one, behind a gap) pulls as the surfaces part.
+
 Glossary: delta the penetration [m] (> 0 where the slabs overlap), u [m], u' [m/s], r [N],
 h the step [s], share [-].
 """
@@ -127,6 +134,19 @@ class MaterialContact(ContactLaw):
         u = 1e-9 * max(float(approach_speed), 1e-12) * math.sqrt(m_eff / k0)  # just after the touch
         _, _, c = self.material.update(u, float(approach_speed), state, params, new, 0)
         return kelvin_contact_duration(k0, m_eff, max(float(c), 0.0) / (2.0 * math.sqrt(k0 * m_eff)), False)
+
+    def opensees_material(self, share: float, m_eff: float, clear: float) -> tuple | None:
+        """The material's OpenSees gap material for an element carrying ``share`` [-] of a contact,
+        the slabs ``clear`` [m] apart at rest (:meth:`~pounding.hysteresis.base.HysteresisLaw.opensees_gap_material`
+        with the law's parameter vector, the one the engine steps), or None where OpenSees has none;
+        ``m_eff`` [kg] is not read (no link law's parameters depend on the pair's mass). See
+        :meth:`ContactLaw.opensees_material`."""
+        return self.material.opensees_gap_material(self.values, float(share), float(clear))
+
+    def opensees_notes(self) -> list[str]:
+        """What the material's OpenSees gap material computes differently
+        (:meth:`~pounding.hysteresis.base.HysteresisLaw.opensees_gap_notes`), naming this law."""
+        return [f"contact law {self.name!r}: {note}" for note in self.material.opensees_gap_notes(self.values)]
 
     # ---------------------------------------------------------------- the points' committed states
     def _committed(self, contact: ContactState) -> tuple[list[tuple], np.ndarray, np.ndarray]:

@@ -66,6 +66,11 @@ Contract for an implementer
    OpenSees peer of the tests and in ``pounding export opensees``
    (:mod:`pounding.peer`). Without it (the default raises NotImplementedError
    naming the law) a scene using the law cannot be exported.
+   Optionally also :meth:`opensees_gap_material` and :meth:`opensees_gap_notes`: the law as a
+   contact (the ``material`` contact law, :mod:`pounding.contact.material`: the law acting on the
+   penetration, pushing only, keeping its state between touches) as an OpenSees gap material, and
+   what that material computes differently. None (the default): OpenSees has no material that
+   computes it, and the export leaves such a contact out.
 11. Register the class under the entry-point group ``pounding.hysteresis`` (or
    pass the class itself): one module and one registration; the compiled
    stepping takes the law's ``update`` as an argument and is compiled once per
@@ -127,6 +132,26 @@ class HysteresisLaw(ABC):
         The default raises NotImplementedError: no OpenSees material for this law.
         """
         raise NotImplementedError(f"no OpenSees material for hysteresis law {self.name or type(self).__name__!r}")
+
+    def opensees_gap_material(self, params: np.ndarray, share: float, clear: float) -> tuple | None:
+        """The law's OpenSees counterpart as a contact: the ``uniaxialMaterial`` arguments after its tag
+        (the material's name first) of a ``zeroLength`` contact element whose force is ``share`` [-]
+        times this law's force at the penetration, the law pushing only and keeping its state
+        between touches (:mod:`pounding.contact.material`); None (the default) when OpenSees has no
+        material that computes that.
+
+        ``params`` (n_params,) is the law's parameter vector (:meth:`pack`); ``share`` the share of one
+        contact the element carries (1/2 at each end of a face); ``clear`` [m] the clear distance at
+        rest. As for every gap material (:meth:`pounding.contact.base.ContactLaw.opensees_material`),
+        the element's deformation is the separation's change, so the material takes ``-clear`` as the
+        deformation at which contact begins and returns a negative (compressive) force [N].
+        """
+        return None
+
+    def opensees_gap_notes(self, params: np.ndarray) -> list[str]:
+        """What :meth:`opensees_gap_material` computes differently from the law as a contact, with the
+        parameter vector ``params`` (n_params,), one sentence each; empty (the default) when nothing."""
+        return []
 
     def describe(self) -> dict:
         """Name and parameters, as written to summary.json."""

@@ -16,6 +16,13 @@ dissipation Fy |d u_p|: exact over a step, in which u_p moves one way only.
 A symmetric stabilised loop between -u_max and u_max (u_max > u_y = Fy/k0)
 dissipates 4 Fy (1 - b) (u_max - u_y).
 
+As a contact (the ``material`` contact law: the law acting on the penetration, pushing only) the
+law loads elastically from its plastic set u_p to the upper bound, unloads elastically and parts at
+u_p, which it keeps for the next touch: OpenSees' ``ElasticPPGap`` with ``damage``, whose backbone
+is the same line and whose gap grows by the same set (:meth:`Bilinear.opensees_gap_material`). The
+two part ways only where the lower bound is reached while the contact still pushes, b k0 u_p >
+(1 - b) Fy: a penetration beyond (1 + 1/b) Fy / k0 (:meth:`Bilinear.opensees_gap_notes`).
+
 References: F. Filippou, E. Popov, V. Bertero (1983), UCB/EERC-83/19 (the
 Steel01 bounds); OpenSees ``SRC/material/uniaxial/Steel01.cpp``.
 """
@@ -89,3 +96,25 @@ class Bilinear(HysteresisLaw):
         """OpenSees' ``Steel01(Fy, k0, b)``: the same kinematic hardening (its isotropic hardening a1..a4
         left at 0). See :meth:`HysteresisLaw.opensees_material`."""
         ops.uniaxialMaterial("Steel01", tag, fy, k0, b)
+
+    def opensees_gap_material(self, params, share: float, clear: float) -> tuple:
+        """OpenSees' ``ElasticPPGap E Fy gap eta damage`` with E = share k0 and its Fy = -share Fy
+        (negative: compression; the law is homogeneous in (k0, Fy): s r(u; k0, Fy, b) = r(u; s k0, s Fy, b)),
+        gap = -clear, eta = b and ``damage``: it loads elastically from its gap to the line
+        Fy + b k0 (delta - Fy / k0) (the upper bound from a virgin state: the line is fixed in both),
+        and on commit past it moves its gap to the deformation where the force unloads elastically to
+        zero, the plastic set, which ``damage`` keeps while the contact is open (``noDamage`` would
+        move the gap back as the surfaces part). See :meth:`HysteresisLaw.opensees_gap_material` and
+        :meth:`opensees_gap_notes`."""
+        k0, fy, b = (float(x) for x in params[:3])
+        return ("ElasticPPGap", share * k0, -share * fy, -clear, b, "damage")
+
+    def opensees_gap_notes(self, params) -> list[str]:
+        """With hardening, the lower bound that ``ElasticPPGap`` does not have (module docstring)."""
+        k0, fy, b = (float(x) for x in params[:3])
+        if b <= 0.0:
+            return []
+        return [f"its bilinear material (kinematic hardening, b = {b:g}) reaches its lower bound while it still pushes "
+                f"after a penetration beyond (1 + 1/b) Fy / k0 = {(1.0 + 1.0 / b) * fy / k0:.3g} m, and then unloads "
+                "along b k0 to a smaller plastic set, where ElasticPPGap unloads elastically to its set: the two agree "
+                "at smaller penetrations"]

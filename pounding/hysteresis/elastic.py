@@ -2,7 +2,8 @@
 
 The whole force is the initial elastic part k0 u with k0 = k (kept in the modal model), so the
 remainder r - k0 u is exactly zero: a link of this law never loads the stepping's Newton. Nothing is
-dissipated; the stored energy is k u^2 / 2. OpenSees: ``uniaxialMaterial Elastic k``.
+dissipated; the stored energy is k u^2 / 2. OpenSees: ``uniaxialMaterial Elastic k``; as a contact
+(the ``material`` contact law, pushing only) ``ElasticPPGap k -1e30 gap 0 noDamage``.
 """
 
 from __future__ import annotations
@@ -61,3 +62,8 @@ class Elastic(NoYieldLaw):
         """OpenSees' ``Elastic(k)`` with the law's own k. See :meth:`HysteresisLaw.opensees_material`."""
         ops.uniaxialMaterial("Elastic", tag, self.stiffness)
 
+    def opensees_gap_material(self, params, share: float, clear: float) -> tuple:
+        """OpenSees' ``ElasticPPGap E -1e30 gap 0 noDamage`` with E = share k and gap = -clear: share k
+        delta where the penetration delta > 0, none elsewhere, the law as a contact (a yield force no
+        contact reaches keeps it elastic). See :meth:`HysteresisLaw.opensees_gap_material`."""
+        return ("ElasticPPGap", share * float(params[0]), -1e30, -clear, 0.0, "noDamage")

@@ -21,10 +21,11 @@ commands. It holds
 * contact as ``zeroLength`` elements between two buildings with collinear facing facades along x
   (:func:`~pounding.peer.opensees.face_springs`), with the OpenSees material of the pair's force
   law (:mod:`pounding.peer.opensees_contact`: ``ViscoelasticGap`` for kelvin, ``Hertzdamp`` for
-  hertz and hertzdamp, ``JankowskiImpact`` for jankowski, ``ElasticPPGap`` for penalty's springs);
-  the rigid impulse law has no OpenSees material and is left out, and where a material differs
-  from the law (penalty's dashpot, kelvin without tension, Hertzdamp's impact velocity) the script
-  says so;
+  hertz and hertzdamp, ``JankowskiImpact`` for jankowski, ``ElasticPPGap`` for penalty's springs
+  and for material with an elastic or bilinear link law); the rigid impulse law, and material with
+  any other link law, have no OpenSees material and are left out, and where a material differs
+  from the law (penalty's dashpot, kelvin without tension, Hertzdamp's impact velocity, a
+  bilinear material's lower bound) the script says so;
 * a Newton transient analysis with the scene's integrator where OpenSees has it (``newmark``
   as ``Newmark``; ``hht`` as ``HHT_TP`` with alpha 1 + Hilber's alpha), else Newmark average
   acceleration, at the time step and for the number of steps the tool would use.
@@ -121,7 +122,7 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
     from pounding.contact.rules import law_name
     from pounding.framework.model.registry import watches_contact
     from pounding.peer.opensees import face_springs
-    from pounding.peer.opensees_contact import has_material, law_material, pair_law
+    from pounding.peer.opensees_contact import WITH_MATERIAL, has_material, law_material, pair_law
 
     if not watches_contact(scene.analysis):  # as in a run: no pair is watched, whatever its [[contact]] rule
         ops.comment(f"none: the scene's contact law {scene.analysis.contact!r} switches contact off")
@@ -144,7 +145,7 @@ def _contact(ops: ScriptOps, scene, masters: dict, tags) -> list[str]:
         why = " (OpenSees has no rigid impulse at events)" if law.at_events else ""
         note = (f"contact law {law_name(law)!r} has no OpenSees material{why}: "
                 "the script has no contact; compare contact-free histories, or export a scene with a force law "
-                "that has one (kelvin, hertz, hertzdamp, jankowski or penalty)")
+                f"that has one ({WITH_MATERIAL})")
         ops.comment(note)
         return [note]
     try:

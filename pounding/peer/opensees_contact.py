@@ -14,6 +14,9 @@ pounding law    OpenSees material (arguments after the tag)
 ``hertzdamp``   ``Hertzdamp Kh xiNorm gap n``
 ``jankowski``   ``JankowskiImpact Kh xi mEff gap 1.5``
 ``penalty``     ``ElasticPPGap k -1e30 gap 0 noDamage``: its spring only (no dashpot material)
+``material``    its link law's gap material (``HysteresisLaw.opensees_gap_material``):
+                ``ElasticPPGap k -1e30 gap 0 noDamage`` for ``elastic``,
+                ``ElasticPPGap k0 -Fy gap b damage`` for ``bilinear``; none for the others
 ==============  =====================================================================
 
 Conventions. The element's deformation is u_j - u_i (node i on the building at -x, j on the
@@ -50,11 +53,20 @@ What OpenSees computes differently (stated by each law's ``opensees_notes``):
   pounding's rebound faster.
 * ``penalty`` with a restitution below 1 has a dashpot matrix shared by a face's points, which no
   uniaxial material holds: only its springs are exported.
+* ``material`` with ``bilinear`` (kinematic hardening b > 0) reaches its lower bound while it still
+  pushes once a penetration has passed (1 + 1/b) Fy / k0, and then parts at a smaller plastic set;
+  ``ElasticPPGap`` unloads elastically to its set whatever the penetration. Below that they are the
+  same law: elastic from the set to the line Fy + b k0 (delta - Fy / k0), the set moved on commit to
+  where the force unloads to zero and kept while apart (``damage``). The kinematic bounds scale with
+  (k0, Fy), so the share scales both.
 """
 
 from __future__ import annotations
 
 from typing import Callable
+
+#: the laws the export writes a contact material for, as its notes name them
+WITH_MATERIAL = "kelvin, hertz, hertzdamp, jankowski, penalty, or material with an elastic or bilinear link law"
 
 
 def has_material(law) -> bool:

@@ -94,7 +94,7 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
     """
     from pounding.contact.rules import default_law, law_name, wall_law
     from pounding.framework.model.walls import screened_from
-    from pounding.peer.opensees_contact import has_material
+    from pounding.peer.opensees_contact import WITH_MATERIAL, has_material
 
     default = default_law(scene)
     elements, left_out, differs = [], [], []
@@ -103,8 +103,8 @@ def scene_walls(ops, scene, masters: dict, tags) -> tuple[list[int], list[str], 
         if not has_material(law):
             why = " (OpenSees has no rigid impulse at events)" if law.at_events else ""
             left_out.append(f"wall {wall.name!r}: its contact law {law_name(law)!r} has no OpenSees material{why}, so the "
-                            "model's slabs strike nothing there; give the wall a force law that has one (kelvin, hertz, "
-                            "hertzdamp, jankowski or penalty) to export it")
+                            f"model's slabs strike nothing there; give the wall a force law that has one ({WITH_MATERIAL}) "
+                            "to export it")
             continue
         face = np.asarray(wall.face, float)
         behind = [frozenset(f for f in range(len(b.slabs)) if screened_from(scene, i, f, face[0], face[-1]))
