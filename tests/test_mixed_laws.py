@@ -158,6 +158,19 @@ def test_the_compiled_stretches_and_the_python_steps_give_one_run(law):
     assert [(c.pair, c.start, c.end) for c in fast.contacts] == [(c.pair, c.start, c.end) for c in slow.contacts]
 
 
+def test_a_force_run_ends_each_episode_where_its_pair_parts():
+    """The paper's pair with the penalty law everywhere: the compiled stretches and the Python steps
+    report the same episodes (each ends at the step its pair parts, also when the force had already
+    fallen to zero with the outlines still overlapping: a compiled stretch stepping past that
+    carried the episode on into the next contact)."""
+    scene = load_scene("examples/paper/pair_gap_0.03.toml").with_analysis(contact="penalty", duration=6.0,
+                                                                         contact_params={"stiffness": 1e9, "restitution": 0.5})
+    fast, slow = Driver(scene).run(), Driver(scene, use_kernel=False).run()
+    assert len(fast.contacts) > 5
+    np.testing.assert_array_equal(fast.q, slow.q)
+    assert [(c.pair, c.start, c.end) for c in fast.contacts] == [(c.pair, c.start, c.end) for c in slow.contacts]
+
+
 @pytest.mark.parametrize("where", ["contact", "wall"])
 def test_the_papers_locators_refuse_force_pairs_beside_them(tmp_path, where):
     """locate = "halving" strikes every pair within the tolerance, force pairs included: a scene that
