@@ -215,3 +215,19 @@ def test_render_draws_walls_standing_still_and_links_moving_with_their_slabs(tmp
     assert [p.name for p in paths] == ["render_plan.png", "render_3d.png", "render_pounding.gif"]
     for p in paths[:2]:
         assert_png(p, min_bytes=3000, min_size=(400, 300))
+
+
+def test_the_pounding_window_spans_every_laws_contacts():
+    """The window runs from the first contact's start to the last one's end, impacts and force laws'
+    episodes alike, with its key instant at the start of the contact with the largest impulse."""
+    pytest.importorskip("vtkmodules")
+    from types import SimpleNamespace as NS
+
+    from pounding.io.render import pounding_window
+
+    t = np.arange(0.0, 10.0 + 1e-9, 0.01)
+    impact = NS(time=2.0, impulse=1.0e3)
+    episodes = [NS(start=2.0, end=2.0, impulse=1.0e3), NS(start=5.0, end=5.3, impulse=4.0e4), NS(start=7.5, end=7.6, impulse=2.0e3)]
+    motion = NS(t=t, impacts=[impact], episodes=episodes, pairs=[], cm=[], tolerance=1e-4)
+    first, last, key = pounding_window(motion, margin=0.5)
+    assert (t[first], t[last], t[key]) == pytest.approx((1.5, 8.1, 5.0))

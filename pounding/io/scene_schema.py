@@ -223,8 +223,8 @@ ANALYSIS = {
         "integrator": {
             **NAMED_PLUGIN,
             "description": "Time integrator: a name, or a table `{ name = ..., parameter = ... }` (see *Integrators*). "
-                           "Default: `exact` when every building is elastic and contact is by impulses (or none), else "
-                           "`newmark` (average acceleration); see docs/accuracy.md.",
+                           "Default: `exact` when every building is elastic, no link joins slabs and every pair's contact is "
+                           "by impulses (or none), else `newmark` (average acceleration); see docs/accuracy.md.",
             "examples": [{"name": "hht", "alpha": -0.05}],
         },
         "dt": positive("Time step (default: chosen for accuracy, the largest divisor of the record's sample interval "

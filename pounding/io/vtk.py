@@ -118,7 +118,7 @@ class Motion:
             pairs=list(result.pairs),
             tolerance=contact_tolerance(result, scene),
             impacts=list(result.impacts),
-            episodes=list(result.episodes()) if hasattr(result, "episodes") else list(result.impacts),
+            episodes=list(result.episodes()),
         )
 
     @classmethod
