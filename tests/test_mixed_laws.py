@@ -171,6 +171,34 @@ def test_a_force_run_ends_each_episode_where_its_pair_parts():
     assert [(c.pair, c.start, c.end) for c in fast.contacts] == [(c.pair, c.start, c.end) for c in slow.contacts]
 
 
+def test_a_pair_may_take_the_impulse_laws_own_restitution():
+    """[analysis] contact impulse with e = 0.5 and a [[contact]] table ``law = { restitution = 0.9 }``
+    for middle and east: every instant at which one pair is struck obeys Newton's law with that
+    pair's own e. Over a pair's active points, loss_j = I_j (b_j + a_j) / 2 with a_j = -e b_j, so
+    e = 1 - 2 sum(loss) / sum(I b), to the solve's rounding: a few eps times the condition of the
+    points' Delassus matrix (one or two points of a slab pair; measured 7e-16)."""
+    from collections import defaultdict
+
+    data = row((0.005, 0.005), pga=0.6, duration=6.0, contact={"name": "impulse", "restitution": 0.5},
+               rules=[(("middle", "east"), {"restitution": 0.9})])
+    d = Driver(parse_scene(data))
+    r = d.run()
+    own = {pair_index(d.model, "west", "middle"): 0.5, pair_index(d.model, "middle", "east"): 0.9}
+    by_instant = defaultdict(list)
+    for imp in r.impacts:
+        by_instant[imp.time].append(imp)
+    seen = set()
+    for imps in by_instant.values():
+        pairs = {i.pair for i in imps}
+        work = sum(i.impulse * i.approach_velocity for i in imps)
+        if len(pairs) != 1 or work <= 0.0:  # (two pairs struck at once share one Newton problem)
+            continue
+        (p,) = pairs
+        assert 1.0 - 2.0 * sum(i.energy_loss for i in imps) / work == pytest.approx(own[p], abs=1e-12)
+        seen.add(p)
+    assert seen == set(own)
+
+
 @pytest.mark.parametrize("where", ["contact", "wall"])
 def test_the_papers_locators_refuse_force_pairs_beside_them(tmp_path, where):
     """locate = "halving" strikes every pair within the tolerance, force pairs included: a scene that

@@ -79,7 +79,8 @@ a default and its meaning:
 9. Register the class under the entry-point group ``pounding.contact``, or pass the
    class itself as the scene's contact law, or name it ``"module:Class"`` in a scene
    (``[analysis] contact`` or a ``[[contact]]`` table, which gives one pair of
-   buildings its own law: :meth:`ContactLaw.override_problem` says which laws may). The
+   buildings its own law: :meth:`ContactLaw.override_problem` and :meth:`ContactLaw.own_law_problem`
+   say which laws may). The
    registry checks the class when it is loaded (:meth:`ContactLaw.check_contract`), not in
    the middle of a run.
 """
@@ -274,8 +275,11 @@ class ContactLaw(ABC):
         impulses of a run whose ``[analysis] contact`` acts at events (which then locates its
         impacts by ``crossing``: :meth:`mixing_problem`). An impulse law's Newton problem couples
         every pair that shares a building at an instant, so one impulse law serves every pair that
-        takes impulses: ``[analysis] contact``. With contact off nothing is watched."""
+        takes impulses: ``[analysis] contact``'s, whose restitution a pair may change
+        (:meth:`own_law_problem` checks the instance). With contact off nothing is watched."""
         if not cls.with_step:
+            if default.at_events and cls is default:
+                return None
             if default.at_events:
                 return (f"{cls.name or cls.__name__!r} acts by impulses at events, and one impulse law serves every pair of a run "
                         f"(its Newton problem couples the pairs that share a building); a pair's own law must act by forces")
@@ -298,22 +302,22 @@ class ContactLaw(ABC):
                     "a run with pairs under force laws beside impulses takes locate = \"crossing\" (the default)")
         return None
 
-    def wall_problem(self, default: "ContactLaw") -> str | None:
-        """Why this law cannot serve the slabs against a fixed wall (a ``[[wall]]`` table) in a run whose
-        slab pairs take ``default``, or None when it can.
+    def own_law_problem(self, default: "ContactLaw") -> str | None:
+        """Why this law cannot serve some pairs of its own (a ``[[contact]]`` table's pairs of two
+        buildings, or the slabs against a ``[[wall]]``) in a run whose other pairs take ``default``
+        (``[analysis] contact``), or None when it can.
 
-        A force law serves a wall as it serves one pair of buildings (:meth:`override_problem`,
-        :meth:`mixing_problem`). An
-        impulse law serves a wall when it is ``default`` with, at most, a restitution of its own: the
-        run's events (tolerance, locator, accelerations after an impact) are one for all pairs, and
-        a restitution of its own is applied inside the Newton problem of an instant only to a law
-        whose impulses are Newton's with its restitution (``compiled_impulses``)."""
+        A force law may (:meth:`override_problem`, :meth:`mixing_problem`). An impulse law may when
+        it is ``default`` with, at most, a restitution of its own: the run's events (tolerance,
+        locator, accelerations after an impact) are one for all pairs, and a restitution of its own
+        is applied inside the Newton problem of an instant only to a law whose impulses are Newton's
+        with its restitution (``compiled_impulses``)."""
         if self.with_step or default.with_step:
             return type(self).override_problem(type(default)) or (default.mixing_problem() if self.with_step else None)
         if type(self) is not type(default):
             return (f"the impulse law {self.name or type(self).__name__!r} differs from [analysis] contact "
                     f"{default.name or type(default).__name__!r}: one impulse law serves every pair of a run "
-                    "(a wall may take its own restitution)")
+                    "(a pair or a wall may take its own restitution)")
         mine = {k: v for k, v in self.describe().items() if k != "restitution"}
         theirs = {k: v for k, v in default.describe().items() if k != "restitution"}
         if mine != theirs:
@@ -321,7 +325,7 @@ class ContactLaw(ABC):
             return f"{differ} must be [analysis] contact's (the run's events are one for every pair); only the restitution may differ"
         if self.restitution != default.restitution and not self.compiled_impulses:
             return (f"{self.name or type(self).__name__!r} does not declare its impulses Newton's with its restitution "
-                    "(compiled_impulses), so a wall cannot take a restitution of its own with it")
+                    "(compiled_impulses), so a pair or a wall cannot take a restitution of its own with it")
         return None
 
     def impulses(self, W: np.ndarray, b: np.ndarray) -> np.ndarray:

@@ -28,7 +28,7 @@ def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
     ``wall.params`` over its parameters (a restitution of its own). A force law may serve a wall
     when ``[analysis] contact`` acts by forces too (as for a ``[[contact]]`` table); an impulse law
     when it is ``[analysis] contact``'s class, which declares how a restitution of its own is applied
-    (:meth:`~pounding.contact.base.ContactLaw.wall_problem`). Raises ValueError naming what does not fit.
+    (:meth:`~pounding.contact.base.ContactLaw.own_law_problem`). Raises ValueError naming what does not fit.
     """
     an = scene.analysis
     if wall.law is None:
@@ -36,7 +36,7 @@ def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
     else:
         cls, params = CONTACT_LAWS.get(wall.law), dict(wall.params)
     law = cls(**params)
-    problem = law.wall_problem(default)
+    problem = law.own_law_problem(default)
     if problem is not None:
         raise ValueError(f"wall {wall.name!r}: {problem}")
     return law
@@ -87,11 +87,11 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
             laws.append(default)
             by_pair[frozenset(rule.between)] = len(laws) - 1
             continue
-        cls = CONTACT_LAWS.get(rule.law)
-        problem = cls.override_problem(type(default)) or (default.mixing_problem() if cls.with_step else None)
+        law = CONTACT_LAWS.get(rule.law)(**rule.params)
+        problem = law.own_law_problem(default)
         if problem is not None:
             raise ValueError(f"contact between {rule.between[0]!r} and {rule.between[1]!r}: {problem}")
-        laws.append(cls(**rule.params))
+        laws.append(law)
         by_pair[frozenset(rule.between)] = len(laws) - 1
     for r, rule in enumerate(getattr(scene, "contacts", ())):
         if getattr(rule, "bumper", None) is not None and default.watches():

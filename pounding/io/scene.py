@@ -326,9 +326,16 @@ def _contact_rules(tables: list, buildings: list[Building], analysis: Analysis, 
         if "law" not in table and "bumper" not in table:
             raise InputError("expected a law, a bumper or both", field=where)
         if "law" in table:
-            law, params = _plugin(table["law"], CONTACT_LAWS, f"{where}.law", search)
+            value = table["law"]
+            if isinstance(value, str) or "name" in value:
+                law, params = _plugin(value, CONTACT_LAWS, f"{where}.law", search)
+            else:  # [analysis] contact with parameters of its own (a restitution)
+                law, params = analysis.contact, {**analysis.contact_params, **value}
+                _check_params(default, params, f"{where}.law")
             cls = CONTACT_LAWS.get(law, search=search)
             problem = cls.override_problem(default) or (_mixing_problem(analysis, search) if cls.with_step else None)
+            if problem is None:  # the instance: an impulse law may differ from [analysis] contact's in its restitution only
+                problem = cls(**params).own_law_problem(default(**analysis.contact_params))
             if problem is not None:
                 raise InputError(problem, field=f"{where}.law")
         else:  # the slabs' law under a bumper: [analysis] contact's

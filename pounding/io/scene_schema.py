@@ -344,17 +344,19 @@ CONTACT = {
     "and a rubber bumper between them (`bumper`). It gives `law`, `bumper` or both. "
     "Laws that act by forces solved with the step (`kelvin`, `hertzdamp`, `penalty`, and plugins of that kind) may "
     "differ from pair to pair, also beside an impulse law that strikes the other pairs (which then locates its impacts "
-    "by `crossing`, the default); one impulse law serves every pair that takes impulses: `[analysis] contact`'s.",
+    "by `crossing`, the default); one impulse law serves every pair that takes impulses: `[analysis] contact`'s, "
+    "whose restitution a table may change (`law = { restitution = 0.8 }`).",
     "properties": {
         "between": {
             "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,
             "description": "The names of the two buildings (either order).", "examples": [["wall", "B"]],
         },
         "law": {
-            **NAMED_PLUGIN,
+            "oneOf": [NAMED_PLUGIN["oneOf"][0], {k: v for k, v in NAMED_PLUGIN["oneOf"][1].items() if k != "required"}],
             "description": "Their contact law, as `[analysis] contact`: a name or `\"module:Class\"`, or a table "
-            "`{ name = ..., parameter = ... }`.",
-            "examples": [{"name": "penalty", "stiffness": 5e8}],
+            "`{ name = ..., parameter = ... }`; a table without a name is `[analysis] contact`'s law with parameters "
+            "of its own (`{ restitution = 0.8 }`: the impulse law with the pair's own restitution).",
+            "examples": [{"name": "penalty", "stiffness": 5e8}, {"restitution": 0.8}],
         },
         "bumper": {
             "type": "object",

@@ -1090,7 +1090,7 @@ class Driver:
     def _group_impulses(self, W: np.ndarray, b: np.ndarray, which: np.ndarray) -> np.ndarray:
         """Impulses (m,) [N s] of one group's features, given their Delassus matrix W (m, m), closing speeds
         b (m,) and the index of each feature's law ``which`` (m,) (impulse laws that differ at most in
-        restitution: :meth:`~pounding.contact.base.ContactLaw.wall_problem`, a wall's own).
+        restitution: :meth:`~pounding.contact.base.ContactLaw.own_law_problem`, a pair's or a wall's own).
 
         One restitution: the law's own impulses. Several (a building striking a wall and a neighbour at
         once): Newton's problem with every approaching point's own target (1 + k_j) b_j, solved as the law
