@@ -268,3 +268,38 @@ def test_random_rows_with_impulses_and_forces_close_their_account(gaps, pga, law
     if eb["input"] > 0:
         assert abs(eb["relative_error"]) <= 1e-8, eb
         assert law == "hertz" or not eb["sign_violations"], eb
+
+
+@settings(max_examples=S.examples(0.25))
+@given(gaps=st.tuples(st.sampled_from([0.0, 0.002, 0.01]), st.sampled_from([0.0, 0.002, 0.01])), pga=st.floats(0.3, 0.9),
+       restitutions=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)), integrator=st.sampled_from(["exact", "newmark"]))
+def test_random_rows_with_a_restitution_per_pair_keep_newtons_law_and_the_account(gaps, pga, restitutions, integrator):
+    """A row of three struck by impulses, each pair with its own restitution (the second by a
+    [[contact]] table), touching to 1 cm apart: every instant at which one pair is struck obeys
+    Newton's law with that pair's e (as above), and the account closes to 1e-8 of the input with
+    impact losses, damping and hysteresis >= 0 (instants where the middle building is struck from
+    both sides take the scaled problem of pounding.framework.engine.driver.Driver._group_impulses).
+    The contact forces' work is not asserted: slabs held together from rest with e near 1 under
+    ``exact`` do positive work by the held step's truncation (+6e-5 J of 9.2 kJ, found here; the
+    run reports it, docs/outputs.md)."""
+    from collections import defaultdict
+
+    e0, e1 = restitutions
+    data = row(gaps, pga=pga, duration=2.0, contact={"name": "impulse", "restitution": e0, "after_impact": "equilibrium"},
+               rules=[(("middle", "east"), {"restitution": e1})])
+    data["analysis"]["integrator"] = integrator
+    d = Driver(parse_scene(data))
+    r = d.run()
+    own = {pair_index(d.model, "west", "middle"): e0, pair_index(d.model, "middle", "east"): e1}
+    by_instant = defaultdict(list)
+    for imp in r.impacts:
+        by_instant[imp.time].append(imp)
+    for imps in by_instant.values():
+        pairs = {i.pair for i in imps}
+        work = sum(i.impulse * i.approach_velocity for i in imps)
+        if len(pairs) == 1 and work > 0.0:
+            assert 1.0 - 2.0 * sum(i.energy_loss for i in imps) / work == pytest.approx(own[pairs.pop()], abs=1e-12)
+    eb = energy_balance(r)
+    if eb["input"] > 0:
+        assert abs(eb["relative_error"]) <= 1e-8, eb
+        assert not [v for v in eb["sign_violations"] if v["term"] != "contact_force_work"], eb
