@@ -64,8 +64,9 @@ def material(law) -> tuple:
     return ("JankowskiImpact", 1, p[0], p[1], M_EFF, -GAP, 1.5)  # Kh, xi, mEff, gap, n
 
 
-def opensees_collision(ops, mat: tuple, h: float, t_end: float) -> tuple[float, float]:
-    """(rebound [-], largest force at a step's end [N]) of the two bodies in OpenSees, stepped by h [s] to t_end."""
+def two_body_model(ops, mat: tuple) -> None:
+    """The two bodies in OpenSees: nodes 1 and 2 with masses M1 and M2 [kg] on one axis, joined by a
+    ``zeroLength`` element (tag 1) of the uniaxialMaterial ``mat`` (its type, its tag 1, its arguments)."""
     ops.wipe()
     ops.model("basic", "-ndm", 1, "-ndf", 1)
     ops.node(1, 0.0)
@@ -74,14 +75,24 @@ def opensees_collision(ops, mat: tuple, h: float, t_end: float) -> tuple[float, 
     ops.mass(2, M2)
     ops.uniaxialMaterial(*mat)
     ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
-    ops.setNodeVel(1, 1, V0, "-commit")
+
+
+def newmark_analysis(ops, tol: float) -> None:
+    """A transient analysis by Newmark's average acceleration (0.5, 0.25), Newton to ``NormDispIncr tol`` [m]."""
     ops.constraints("Plain")
     ops.numberer("Plain")
     ops.system("FullGeneral")
-    ops.test("NormDispIncr", 1e-14, 50)
+    ops.test("NormDispIncr", tol, 50)
     ops.algorithm("Newton")
     ops.integrator("Newmark", 0.5, 0.25)
     ops.analysis("Transient")
+
+
+def opensees_collision(ops, mat: tuple, h: float, t_end: float) -> tuple[float, float]:
+    """(rebound [-], largest force at a step's end [N]) of the two bodies in OpenSees, stepped by h [s] to t_end."""
+    two_body_model(ops, mat)
+    ops.setNodeVel(1, 1, V0, "-commit")
+    newmark_analysis(ops, 1e-14)
     peak = 0.0
     for _ in range(int(np.ceil(t_end / h))):
         assert ops.analyze(1, h) == 0

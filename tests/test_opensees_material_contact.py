@@ -58,7 +58,7 @@ import pytest
 
 from pounding.contact.material import MaterialContact
 from pounding.contact.pointwise import NEWTON_RTOL
-from test_opensees_contact_laws import GAP, M1, M2, M_EFF, V0
+from test_opensees_contact_laws import GAP, M1, M2, M_EFF, V0, newmark_analysis, two_body_model
 from two_bodies import step_two_bodies
 
 TAU = 1e-16  # [m] OpenSees' NormDispIncr tolerance here (it converges down to 1e-18 m: its increments round below that)
@@ -95,14 +95,7 @@ def opensees_collisions(ops, mat: tuple, h: float, n: int) -> list[Collision]:
     """``n`` collisions of the two bodies in OpenSees with the material ``mat`` (uniaxialMaterial arguments
     after the tag), each from zero displacements with body 1 at V0 and body 2 at rest, stepped by h [s]
     until the bodies are apart again; the material keeps its state from one to the next."""
-    ops.wipe()
-    ops.model("basic", "-ndm", 1, "-ndf", 1)
-    ops.node(1, 0.0)
-    ops.node(2, 0.0)
-    ops.mass(1, M1)
-    ops.mass(2, M2)
-    ops.uniaxialMaterial(mat[0], 1, *mat[1:])
-    ops.element("zeroLength", 1, 1, 2, "-mat", 1, "-dir", 1)
+    two_body_model(ops, (mat[0], 1, *mat[1:]))
     out = []
     for _ in range(n):
         for node, v in ((1, V0), (2, 0.0)):
@@ -110,13 +103,7 @@ def opensees_collisions(ops, mat: tuple, h: float, n: int) -> list[Collision]:
             ops.setNodeVel(node, 1, v, "-commit")
             ops.setNodeAccel(node, 1, 0.0, "-commit")
         ops.wipeAnalysis()  # a new analysis reads the nodes' state; the element keeps its material's
-        ops.constraints("Plain")
-        ops.numberer("Plain")
-        ops.system("FullGeneral")
-        ops.test("NormDispIncr", TAU, 50)
-        ops.algorithm("Newton")
-        ops.integrator("Newmark", 0.5, 0.25)
-        ops.analysis("Transient")
+        newmark_analysis(ops, TAU)
         delta, force, touched = [], [], False
         while True:
             assert ops.analyze(1, h) == 0
