@@ -326,16 +326,12 @@ def _contact_rules(tables: list, buildings: list[Building], analysis: Analysis, 
         if "law" not in table and "bumper" not in table:
             raise InputError("expected a law, a bumper or both", field=where)
         if "law" in table:
-            value = table["law"]
-            if isinstance(value, str) or "name" in value:
-                law, params = _plugin(value, CONTACT_LAWS, f"{where}.law", search)
-            else:  # [analysis] contact with parameters of its own (a restitution)
-                law, params = analysis.contact, {**analysis.contact_params, **value}
-                _check_params(default, params, f"{where}.law")
-            cls = CONTACT_LAWS.get(law, search=search)
-            problem = cls.override_problem(default) or (_mixing_problem(analysis, search) if cls.with_step else None)
-            if problem is None:  # the instance: an impulse law may differ from [analysis] contact's in its restitution only
-                problem = cls(**params).own_law_problem(default(**analysis.contact_params))
+            law, params = _own_law(table["law"], analysis, f"{where}.law", search)
+            if law is None:  # [analysis] contact's, with parameters of its own
+                law, params = analysis.contact, {**analysis.contact_params, **params}
+            # the rule the run applies (contact.rules.pair_laws): a force law, or [analysis] contact's impulse law
+            # with at most a restitution of its own
+            problem = CONTACT_LAWS.get(law, search=search)(**params).own_law_problem(default(**analysis.contact_params))
             if problem is not None:
                 raise InputError(problem, field=f"{where}.law")
         else:  # the slabs' law under a bumper: [analysis] contact's
@@ -345,6 +341,20 @@ def _contact_rules(tables: list, buildings: list[Building], analysis: Analysis, 
             rule = replace(rule, bumper=_bumper(table["bumper"], rule, buildings, default, analysis, search, f"{where}.bumper"))
         out.append(rule)
     return tuple(out)
+
+
+def _own_law(value, analysis: Analysis, field: str, search: tuple) -> tuple[str | None, dict]:
+    """(name, parameters) of the law a ``[[contact]]`` table or a ``[[wall]]`` gives its pairs: a name,
+    ``module:Class`` or a table with a name (:func:`_plugin`); or a table without one, ``[analysis]
+    contact``'s law with parameters of its own (a restitution): (None, those parameters), checked
+    over ``[analysis] contact``'s."""
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    if isinstance(value, str) or "name" in value:
+        return _plugin(value, CONTACT_LAWS, field, search)
+    params = dict(value)
+    _check_params(CONTACT_LAWS.get(analysis.contact, search=search), {**analysis.contact_params, **params}, field)
+    return None, params
 
 
 def _mixing_problem(analysis: Analysis, search: tuple) -> str | None:
@@ -395,12 +405,7 @@ def _walls(tables: list, buildings: list[Building], analysis: Analysis, search: 
         seen[name] = i
         face = np.asarray(table["face"], dtype=float)
         if "contact" in table:
-            value = table["contact"]
-            if isinstance(value, str) or "name" in value:
-                law, params = _plugin(value, CONTACT_LAWS, f"{where}.contact", search)
-            else:  # [analysis] contact with parameters of its own (a restitution)
-                law, params = None, dict(value)
-                _check_params(CONTACT_LAWS.get(analysis.contact, search=search), {**analysis.contact_params, **params}, f"{where}.contact")
+            law, params = _own_law(table["contact"], analysis, f"{where}.contact", search)
         else:
             law, params = None, {}
         wall = Wall(name, face, float(table["top"]), law, params)

@@ -803,9 +803,9 @@ class Driver:
             end, sp = held_step(Wr.T @ lam)
             gap, rate = gap0 + Wr @ end.z1[:, 0] - q_free, rate0 + Wr @ end.z1[:, 1] - v_free
             # the step agrees with the model, gaps and rates, to 1e-9 of their size (the held points stayed): done
-            size = max(float(np.max(np.abs(gap))), float(self.eps))
-            if (np.max(np.abs(gap - (trial.gap + S_q @ lam))) <= 1e-9 * size
-                    and np.max(np.abs(rate - (trial.rate + S_v @ lam))) <= 1e-9 * max(float(np.max(np.abs(rate))), size / h)):
+            reach = max(float(np.max(np.abs(gap))), float(self.eps))  # [m]
+            if (np.max(np.abs(gap - (trial.gap + S_q @ lam))) <= 1e-9 * reach
+                    and np.max(np.abs(rate - (trial.rate + S_v @ lam))) <= 1e-9 * max(float(np.max(np.abs(rate))), reach / h)):
                 break
             base = end
         else:

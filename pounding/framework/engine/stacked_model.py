@@ -292,8 +292,12 @@ class Model:
 
         if getattr(self, "_face_ends", None) is None:  # found once, when a force law first needs them
             self._face_ends = rest_face_ends(self.geo)
-            self._point_names = rest_point_names(self.geo, self._face_ends)
-        return touching_with_shares(q, plist, tol, self.n, self.geo, self._face_ends, self._point_names if named else None)
+        names = None
+        if named:  # (only a law that keeps a state by point asks)
+            if getattr(self, "_point_names", None) is None:
+                self._point_names = rest_point_names(self.geo, self._face_ends)
+            names = self._point_names
+        return touching_with_shares(q, plist, tol, self.n, self.geo, self._face_ends, names)
 
     def row(self, q: np.ndarray, p: int, point: np.ndarray, normal: np.ndarray) -> np.ndarray:
         """Modal row w (ntot,) of a contact at ``point`` with ``normal`` from slab a to slab b.

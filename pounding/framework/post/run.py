@@ -28,8 +28,9 @@ def check(scene: Scene, result: Result) -> None:
 
     The energy balance (of the buildings, or of the links' own account) misses by more than
     ``scene.analysis.energy_tolerance`` of the input; a contact rule that creates energy; a term
-    of the account whose sign breaks physics; a given step too coarse for a force law's contact. Raises FloatingPointError when the response is not
-    finite. States the impact-force model in ``result.info`` (summary.json)."""
+    of the account whose sign breaks physics; a given step too coarse for a force law's contact.
+    Raises FloatingPointError when the response is not finite. States the impact-force model in
+    ``result.info`` (summary.json)."""
     import warnings
 
     from pounding.errors import AnalysisWarning
