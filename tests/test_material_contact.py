@@ -214,3 +214,29 @@ def test_laws_that_share_a_step_commit_the_gaps_their_forces_were_solved_at():
     laws[0].seen = laws[1].seen = None
     assert commit_laws(laws, np.array([0, 1]), None, None, pressing) == set()
     assert len(laws[0].seen) == 0 and len(laws[1].seen) == 0
+
+
+def test_a_linear_spring_is_one_solve_whichever_family_states_it():
+    """A linear spring pushing only is the ``elastic`` link law at contact points (``material``) or the
+    ``kelvin`` point law with no dashpot (restitution 1): both are solved by the one Newton iteration
+    (:func:`pounding.contact.newton.solve_forces`), so three points pressed together under a coupled
+    compliance get the same forces from either, to a few eps of the largest force (the same arithmetic,
+    one evaluator's tangent k against the other's k + 0 / h), and each is its share of k delta at its
+    end penetration (the residual the solve drives to zero)."""
+    from pounding.contact.base import ContactState
+    from pounding.contact.kelvin import Kelvin
+
+    m = 3
+    rng = np.random.default_rng(11)
+    R = rng.normal(size=(m, m)) * 1e-9
+    S_q = R @ R.T + np.eye(m) * 2e-9  # [m/N]
+    gap = np.array([-4e-3, -2.5e-3, 1e-4])  # [m]: the third point opens once the others push
+    share = np.array([0.5, 0.5, 1.0])
+    state = ContactState(0.01, 0.01, gap, np.zeros(m), S_q, S_q / 0.01, np.eye(m) * 1e-5, np.array([0, 0, 1]), np.zeros(m),
+                         np.full(m, 0.3), np.full(m, np.inf), share, np.array([[0, 0, 1], [0, 0, 2], [1, 1, 0]]))
+    spring = MaterialContact(material={"name": "elastic", "stiffness": K}).forces(state)
+    point = Kelvin(stiffness=K, restitution=1.0).forces(state)
+    assert np.max(np.abs(spring - point)) <= 8 * np.finfo(float).eps * spring.max()
+    delta = -(gap + S_q @ spring)
+    assert spring[2] == 0.0 and delta[2] < 0.0
+    assert spring[:2] == pytest.approx(share[:2] * K * delta[:2], rel=1e-11)

@@ -57,7 +57,7 @@ import numpy as np
 import pytest
 
 from pounding.contact.material import MaterialContact
-from pounding.contact.pointwise import NEWTON_RTOL
+from pounding.contact.newton import NEWTON_RTOL
 from test_opensees_contact_laws import GAP, M1, M2, M_EFF, V0, newmark_analysis, two_body_model
 from two_bodies import step_two_bodies
 

@@ -54,7 +54,8 @@ import numpy as np
 from pounding.compiler import interpreted, is_compiled, njit
 from pounding.compiler.unroll import kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw, ContactState
-from pounding.contact.pointwise import NEWTON_ITERATIONS, NEWTON_RTOL, check_tolerance
+from pounding.contact.newton import NEWTON_ITERATIONS, solve_forces
+from pounding.contact.pointwise import check_tolerance
 from pounding.errors import InputError
 
 unrolled_in(globals())  # this module's literal_unroll: numba's once numba is set up
@@ -253,62 +254,31 @@ def material_forces(laws, u0, share, S_q, h, state, params):
 
     Solves ``lambda_i = share_i r_i`` where the material pushes (r_i > 0), else ``lambda_i = 0``, with
     ``u = u0 - S_q lambda`` the end deformations [m] (u0 (m,) those without contact forces), each at its
-    mean rate over the step of h [s] from its committed deformation ``state[i, 0]``: Newton's method
-    with the tangent share (dr/du + (dr/du') / h), halving a step that does not lower the residual's
-    norm, to :data:`~pounding.contact.pointwise.NEWTON_RTOL` of the largest force. ``state`` (m, n_state)
-    and ``params`` (m, n_params) are the points' rows of the link-law contract
-    (:mod:`pounding.hysteresis.base`); ``share`` (m,) the face rule's; ``S_q`` (m, m) [m/N]."""
+    mean rate over the step of h [s] from its committed deformation ``state[i, 0]``:
+    :func:`~pounding.contact.newton.solve_forces` with :func:`material_point`, whose tangent is
+    dr/du + (dr/du') / h. ``state`` (m, n_state) and ``params`` (m, n_params) are the points' rows of the
+    link-law contract (:mod:`pounding.hysteresis.base`); ``share`` (m,) the face rule's; ``S_q`` (m, m) [m/N]."""
     m = u0.shape[0]
-    new = np.empty(state.shape)
-    lam, trial, step = np.zeros(m), np.zeros(m), np.zeros(m)
-    res, k, trial_res, trial_k = np.empty(m), np.empty(m), np.empty(m), np.empty(m)
-    J = np.empty((m, m))
-    norm = _material_residual(laws, u0, share, S_q, h, state, params, new, lam, res, k)
-    scale = max(norm, 1e-300)  # the forces at lambda = 0
-    for _ in range(NEWTON_ITERATIONS):
-        if norm <= NEWTON_RTOL * scale:
-            return lam, True
-        for i in range(m):
-            for j in range(m):
-                J[i, j] = (1.0 if i == j else 0.0) + k[i] * S_q[i, j]
-        step[:] = np.linalg.solve(J, -res)
-        t = 1.0
-        trial_norm = norm
-        for _ in range(40):  # backtrack: the force's kinks (the surfaces parting, a yield) can overshoot
-            for i in range(m):
-                trial[i] = lam[i] + t * step[i]
-            trial_norm = _material_residual(laws, u0, share, S_q, h, state, params, new, trial, trial_res, trial_k)
-            if trial_norm < norm:
-                break
-            t *= 0.5
-        for i in range(m):
-            lam[i] = trial[i]
-            res[i] = trial_res[i]
-            k[i] = trial_k[i]
-            scale = max(scale, abs(lam[i]))
-        norm = trial_norm
-    return lam, norm <= NEWTON_RTOL * scale
+    # the rate is the material's own (its mean over the step): the solve's rate is not read, and its
+    # compliance is S_q's shape only
+    return solve_forces(_MATERIAL_POINT, (laws, h, state, params, np.empty(state.shape)), u0, np.zeros(m), share, S_q, S_q)
 
 
 @njit
-def _material_residual(laws, u0, share, S_q, h, state, params, new, lam, res, k):
-    """res (m,) <- lam - share r(u0 - S_q lam) where the material pushes (lam elsewhere), k (m,) <- the
-    residual's tangent share (dr/du + (dr/du') / h) there (0 elsewhere); returns max |res|."""
-    m = u0.shape[0]
-    norm = 0.0
-    for i in range(m):
-        u = u0[i]
-        for j in range(m):
-            u -= S_q[i, j] * lam[j]
-        f, tangent = material_at(laws, u, h, state, params, new, i)
-        if f > 0.0:
-            res[i] = lam[i] - share[i] * f
-            k[i] = share[i] * tangent
-        else:
-            res[i] = lam[i]
-            k[i] = 0.0
-        norm = max(norm, abs(res[i]))
-    return norm
+def material_point(data, i, u, rate):
+    """(r [N], dr/du + (dr/du') / h [N/m], 0) of point i's material where it pushes (r > 0), else zeros
+    (the surfaces part): the evaluator of :func:`~pounding.contact.newton.solve_forces` for the
+    material contact, ``data`` = (laws, h [s], state, params, new) as :func:`material_at` takes them;
+    ``rate`` is not read (the material's rate is its mean over the step, from u)."""
+    laws, h, state, params, new = data
+    f, tangent = material_at(laws, u, h, state, params, new, i)
+    if f > 0.0:
+        return f, tangent, 0.0
+    return 0.0, 0.0, 0.0
+
+
+#: the material contact's evaluator, as the solve takes it
+_MATERIAL_POINT = kernel_tuple((material_point,))
 
 
 @njit

@@ -49,7 +49,7 @@ The solve
 The engine gives, at the end of a trial step, the penetrations delta_0 and rates delta'_0 the
 points would have without contact forces, and their compliances S_q, S_v (m, m) to end-of-step
 forces (a force vector lambda moves the gaps by S_q lambda, so delta = delta_0 - S_q lambda).
-:func:`solve_point_forces` finds lambda with lambda_i = s_i F_i(delta(lambda), delta'(lambda))
+:func:`~pounding.contact.newton.solve_forces` finds lambda with lambda_i = s_i F_i(delta(lambda), delta'(lambda))
 by Newton's method on that residual with the law's tangent, backtracking on its norm: the
 residual is monotone (every law's force grows with delta and delta', and S_q, S_v are positive
 semidefinite), so the solution is unique.
@@ -72,6 +72,7 @@ import numpy as np
 from pounding.compiler import interpreted, is_compiled, njit
 from pounding.compiler.unroll import LawTuple, kernel_tuple, literal_unroll, unrolled_in
 from pounding.contact.base import ContactLaw
+from pounding.contact.newton import solve_forces
 from pounding.errors import InputError
 
 unrolled_in(globals())  # this module's literal_unroll: numba's once numba is set up
@@ -79,10 +80,6 @@ unrolled_in(globals())  # this module's literal_unroll: numba's once numba is se
 #: default Hertz stiffness of two concrete slabs [N/m^1.5]: Jankowski (2005), fitted to impact
 #: tests of concrete members (Earthquake Eng. Struct. Dyn. 34, 595-611)
 CONCRETE_HERTZ_STIFFNESS = 2.75e9
-#: Newton on the end-of-step forces: relative residual at which it stops
-NEWTON_RTOL = 1e-12
-#: and the most iterations it makes (quadratic convergence needs < 10 from lambda = 0)
-NEWTON_ITERATIONS = 60
 
 
 def check_stiffness(value, unit: str) -> float:
@@ -222,7 +219,7 @@ def point_shares(contact) -> np.ndarray:
 
 def contact_forces(law: PointLaw, contact) -> np.ndarray:
     """End-of-step forces lambda (m,) [N] of the m pressed points of ``contact`` (the contact-law
-    contract's state) under ``law``, shared by the face rule: :func:`solve_point_forces` through
+    contract's state) under ``law``, shared by the face rule: :func:`point_solve` through
     :func:`point_solver`."""
     solve, args = point_solver(law, contact)
     return solve(args, np.ascontiguousarray(contact.gap, dtype=float), np.ascontiguousarray(contact.rate, dtype=float))
@@ -233,7 +230,7 @@ def point_solver(law: PointLaw, contact):
     for the points of ``contact`` under ``law``: :func:`point_solve` with the law's kernels and the
     points' history, shares and compliances; compiled where every kernel is, else the same function
     as Python (a third party's kernel written without the compiler)."""
-    args = (law.kernels, law.shifts, law.starts, law.params, np.ascontiguousarray(contact.approach, dtype=float),
+    args = (_POINT_AT, (law.kernels, law.shifts, law.starts, law.params, np.ascontiguousarray(contact.approach, dtype=float)),
             point_shares(contact), np.ascontiguousarray(contact.S_q, dtype=float), np.ascontiguousarray(contact.S_v, dtype=float))
     return (point_solve if law.compiled else interpreted_point_solve), args
 
@@ -247,11 +244,26 @@ def interpreted_point_solve(args, gap, rate):
 
 @njit
 def point_solve(args, gap, rate):
-    """:func:`solve_point_forces` at the end gaps ``gap`` [m] and rates ``rate`` [m/s] (m,) without
-    contact forces (the penetrations and their rates are their negatives), ``args`` = (kernels,
-    shifts, starts, params, approach, share, S_q, S_v) as :func:`point_solver` builds it."""
-    kernels, shifts, starts, params, approach, share, S_q, S_v = args
-    return solve_point_forces(kernels, shifts, starts, params, -gap, -rate, approach, share, S_q, S_v)
+    """The end-of-step forces lambda (m,) [N] of the points at the end gaps ``gap`` [m] and rates
+    ``rate`` [m/s] (m,) without contact forces (the penetrations and their rates are their
+    negatives): :func:`~pounding.contact.newton.solve_forces` with :func:`point_at`; ``args`` =
+    (evaluator, (kernels, shifts, starts, params, approach), share, S_q, S_v) as :func:`point_solver`
+    builds it."""
+    evaluate, data, share, S_q, S_v = args
+    return solve_forces(evaluate, data, -gap, -rate, share, S_q, S_v)[0]
+
+
+@njit
+def point_at(data, i, delta, rate):
+    """(force [N], d/d delta [N/m], d/d rate [N s/m]) of point i at penetration ``delta`` [m] and
+    rate ``rate`` [m/s]: the evaluator of :func:`~pounding.contact.newton.solve_forces` for a
+    :class:`PointLaw`, ``data`` = (kernels, shifts, starts, params (m, p), approach (m,) [m/s])."""
+    kernels, shifts, starts, params, approach = data
+    return point_force(kernels, shifts, starts, delta, rate, approach[i], params[i])
+
+
+#: the point laws' evaluator, as the solve takes it
+_POINT_AT = kernel_tuple((point_at,))
 
 
 @njit(borrowed=True)
@@ -268,74 +280,3 @@ def point_force(kernels, shifts, starts, delta, rate, approach_rate, params):
         fr += c
         j += 1
     return f, fd, fr
-
-
-@njit(borrowed=True)
-def _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, lam, out):
-    """out (4, m) <- the residual lam - share F(delta0 - S_q lam, rate0 - S_v lam), and F, dF/d delta,
-    dF/d rate at each point; returns max |residual|."""
-    m = delta0.shape[0]
-    norm = 0.0
-    for i in range(m):
-        d, v = delta0[i], rate0[i]
-        for j in range(m):
-            d -= S_q[i, j] * lam[j]
-            v -= S_v[i, j] * lam[j]
-        out[1, i], out[2, i], out[3, i] = point_force(kernels, shifts, starts, d, v, approach[i], params[i])
-        out[0, i] = lam[i] - share[i] * out[1, i]
-        norm = max(norm, abs(out[0, i]))
-    return norm
-
-
-@njit
-def solve_point_forces(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v):
-    """End-of-step forces lambda (m,) [N] of m points solved with the step.
-
-    Solves ``lambda_i = share_i F(delta_i, delta'_i, approach_i, params_i)`` with
-    ``delta = delta0 - S_q lambda`` and ``delta' = rate0 - S_v lambda`` by Newton's method,
-    Jacobian ``I + diag(share F_delta) S_q + diag(share F_rate) S_v``, halving a step that does
-    not lower the residual's norm.
-
-    Parameters
-    ----------
-    kernels, shifts, starts, params
-        The law point by point (the fields of a :class:`PointLaw`; ``params`` (m, p)).
-    delta0, rate0 : ndarray (m,)
-        Penetrations [m] and their rates [m/s] at the step's end without contact forces.
-    approach : ndarray (m,)
-        Closing speed when each point's contact began [m/s].
-    share : ndarray (m,)
-        The share of the law each point carries (:func:`point_shares`).
-    S_q, S_v : ndarray (m, m)
-        Compliances of the end-of-step gaps [m/N] and rates [m/(N s)] to the forces.
-    """
-    m = delta0.shape[0]
-    lam, trial = np.zeros(m), np.zeros(m)
-    now, new = np.empty((4, m)), np.empty((4, m))  # residual, F, dF/d delta, dF/d rate: at lam, and at a trial
-    J = np.empty((m, m))
-    norm = _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, lam, now)
-    scale = 1e-300
-    for i in range(m):
-        scale = max(scale, abs(share[i] * now[1, i]))
-    for _ in range(NEWTON_ITERATIONS):
-        if norm <= NEWTON_RTOL * scale:
-            break
-        for i in range(m):
-            for j in range(m):
-                J[i, j] = (1.0 if i == j else 0.0) + share[i] * now[2, i] * S_q[i, j] + share[i] * now[3, i] * S_v[i, j]
-        step = np.linalg.solve(J, -now[0])
-        t = 1.0
-        trial_norm = norm
-        for _ in range(40):  # backtrack: the residual's kinks (contact lost, force clamped) can overshoot
-            for i in range(m):
-                trial[i] = lam[i] + t * step[i]
-            trial_norm = _residual(kernels, shifts, starts, params, delta0, rate0, approach, share, S_q, S_v, trial, new)
-            if trial_norm < norm:
-                break
-            t *= 0.5
-        for i in range(m):
-            lam[i] = trial[i]
-            scale = max(scale, abs(lam[i]))
-        now[:] = new
-        norm = trial_norm
-    return lam

@@ -916,15 +916,7 @@ class Driver:
                     return self.locate_compiled(t, herm, p0, plist, self.held_search(arrival=False, far=0.0, g0=0.0))
                 g0 = float(self.model.gaps(self.z[:, 0], plist).min())
                 return self.locate_compiled(t, herm, self.load(t), plist, self.held_search(arrival=False, far=0.0, g0=g0))
-            memo: dict[float, float] = {}
-
-            def gmin_once(hh):  # the search asks some points twice: the integrator's solution is deterministic
-                g = memo.get(hh)
-                if g is None:
-                    g = memo[hh] = gmin(hh)
-                return g
-
-            return self.locate_crossing(gmin_once, h, herm, plist)
+            return self.locate_crossing(gmin, h, herm, plist)
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 

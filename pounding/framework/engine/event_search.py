@@ -48,6 +48,8 @@ from pounding.solvers.newmark import alpha_maps
 #: bool, and one specialization serves both
 _UNCHECKED = np.bool_(False)
 _CHECKED = np.bool_(True)
+#: how many of its last gap evaluations the search keeps (:func:`crossing_search`)
+_MEMO = 8
 
 
 @njit(borrowed=True)
@@ -268,10 +270,26 @@ def crossing_search(py_gap, sol, herm, eps, xtol, plist, geo):
        the bracket each evaluation narrows: two evaluations when the guess is good), then regula
        falsi with the Illinois rule, bisection down to xtol where the gap is not smooth.
     """
+    # the search asks some step lengths twice (a Newton point that becomes the bracket's end, the
+    # bracket's ends again for regula falsi): the integrator's solution is deterministic, so the
+    # last few are kept (a step of a one-off length costs its maps)
+    memo_h = np.empty(_MEMO)
+    memo_g = np.empty(_MEMO)
+    memo_n = np.zeros(1, dtype=np.int64)
+
     def gap(hh, sol):
+        for i in range(min(memo_n[0], _MEMO)):
+            if memo_h[i] == hh:
+                return memo_g[i]
         if py_gap is None:
-            return stepped_gap(hh, sol)
-        return py_gap(hh)
+            g = stepped_gap(hh, sol)
+        else:
+            g = py_gap(hh)
+        j = memo_n[0] % _MEMO
+        memo_h[j] = hh
+        memo_g[j] = g
+        memo_n[0] += 1
+        return g
 
     h = herm[4]
     g0 = gap(0.0, sol)
