@@ -199,6 +199,50 @@ def test_a_pair_may_take_the_impulse_laws_own_restitution():
     assert seen == set(own)
 
 
+def test_an_impulse_pair_beside_a_force_default_is_the_swapped_scene():
+    """[analysis] contact kelvin with a [[contact]] table striking west and middle by impulses (e = 0.6)
+    is the scene with [analysis] contact impulse (e = 0.6) and tables giving kelvin to middle and east,
+    and to west and east (their slabs face each other across the middle one, and the default step
+    resolves the shortest contact of any facing pair): each pair has the same law in both, so the run
+    is one, to the bit (the same integrator, step, events and contact episodes), whichever law the
+    scene names first."""
+    impulse = {"name": "impulse", "restitution": 0.6}
+    kelvin = {"name": "kelvin", **KELVIN}
+    tables = Driver(parse_scene(row((0.005, 0.005), pga=0.6, duration=4.0, contact=kelvin, rules=[(("west", "middle"), impulse)])))
+    swapped = Driver(parse_scene(row((0.005, 0.005), pga=0.6, duration=4.0, contact=impulse,
+                                     rules=[(("middle", "east"), kelvin), (("west", "east"), kelvin)])))
+    a, b = tables.run(), swapped.run()
+    assert a.integrator == b.integrator and a.dt == b.dt and len(a.impacts) > 0 and len(a.contacts) > 0
+    np.testing.assert_array_equal(a.q, b.q)
+    assert [(i.time, i.pair, i.impulse) for i in a.impacts] == [(i.time, i.pair, i.impulse) for i in b.impacts]
+    assert [(c.pair, c.start, c.end) for c in a.contacts] == [(c.pair, c.start, c.end) for c in b.contacts]
+    assert {i.pair for i in a.impacts} == {pair_index(tables.model, "west", "middle")}
+
+
+def test_impulse_tables_beside_a_force_default_are_one_impulse_law(tmp_path):
+    """Beside a force law [analysis] contact the first table's impulse law serves every pair that takes
+    impulses: another table may change only its restitution, and an impulse law there locates by
+    crossing; anything else is one InputError naming the file, the field and what it must be."""
+    from pounding.io.scene_writer import to_toml
+
+    def refusal(first, second):
+        data = row(contact={"name": "kelvin", **KELVIN}, rules=[(("west", "middle"), first), (("middle", "east"), second)])
+        path = tmp_path / "scene.toml"
+        path.write_text(to_toml(data))
+        with pytest.raises(InputError) as exc:
+            load_scene(path)
+        return str(exc.value)
+
+    impulse = {"name": "impulse", "restitution": 0.6}
+    text = refusal(impulse, {"name": "impulse", "restitution": 0.6, "tolerance": 1e-3})
+    assert "scene.toml" in text and "contact[1].law" in text and "tolerance must be as contact[0].law gives it" in text, text
+    text = refusal({"name": "impulse", "locate": "halving"}, {"name": "kelvin", **KELVIN})
+    assert "contact[0].law" in text and 'locate = "crossing"' in text, text
+    own = parse_scene(row(contact={"name": "kelvin", **KELVIN}, rules=[(("west", "middle"), impulse),
+                                                                       (("middle", "east"), {"name": "impulse", "restitution": 0.9})]))
+    assert [law.restitution for law in Driver(own).laws[1:]] == [0.6, 0.9]
+
+
 @pytest.mark.parametrize("where", ["contact", "wall"])
 def test_the_papers_locators_refuse_force_pairs_beside_them(tmp_path, where):
     """locate = "halving" strikes every pair within the tolerance, force pairs included: a scene that

@@ -273,11 +273,15 @@ class ContactLaw(ABC):
 
         A force law may serve any pair: each solves its own points with the step, beside the
         impulses of a run whose ``[analysis] contact`` acts at events (which then locates its
-        impacts by ``crossing``: :meth:`mixing_problem`). An impulse law's Newton problem couples
-        every pair that shares a building at an instant, so one impulse law serves every pair that
-        takes impulses: ``[analysis] contact``'s, whose restitution a pair may change
-        (:meth:`own_law_problem` checks the instance). With contact off nothing is watched."""
+        impacts by ``crossing``: :meth:`mixing_problem`). An impulse law may serve pairs beside a
+        force law's (it locates by ``crossing`` too). An impulse law's Newton problem couples every
+        pair that shares a building at an instant, so one impulse law serves every pair that takes
+        impulses: ``[analysis] contact``'s when it acts at events, whose restitution a pair may
+        change, else the first table's (:meth:`impulse_law_problem` checks the others against it).
+        With contact off nothing is watched."""
         if not cls.with_step:
+            if cls.at_events and default.with_step:
+                return None
             if default.at_events and cls is default:
                 return None
             if default.at_events:
@@ -292,13 +296,13 @@ class ContactLaw(ABC):
         return None
 
     def mixing_problem(self) -> str | None:
-        """Why force laws cannot serve some pairs of a run whose ``[analysis] contact`` is this law,
-        or None when they can: an impulse law mixes with force laws when it locates its impacts where
-        the gap is zero (``locate = "crossing"``, the default), as the pairs that press by forces run
-        through every step of their contact; the paper's locators strike every pair within the
-        tolerance, force pairs included."""
+        """Why force laws cannot serve some pairs of a run whose impulse law is this one, or None when
+        they can: an impulse law mixes with force laws when it locates its impacts where the gap is
+        zero (``locate = "crossing"``, the default), as the pairs that press by forces run through
+        every step of their contact; the paper's locators strike every pair within the tolerance,
+        force pairs included."""
         if self.at_events and getattr(self, "locate", "crossing") != "crossing":
-            return (f"[analysis] contact locates impacts by {self.locate!r}, which strikes every pair within the tolerance; "
+            return (f"the impulse law locates impacts by {self.locate!r}, which strikes every pair within the tolerance; "
                     "a run with pairs under force laws beside impulses takes locate = \"crossing\" (the default)")
         return None
 
@@ -307,23 +311,33 @@ class ContactLaw(ABC):
         buildings, or the slabs against a ``[[wall]]``) in a run whose other pairs take ``default``
         (``[analysis] contact``), or None when it can.
 
-        A force law may (:meth:`override_problem`, :meth:`mixing_problem`). An impulse law may when
-        it is ``default`` with, at most, a restitution of its own: the run's events (tolerance,
-        locator, accelerations after an impact) are one for all pairs, and a restitution of its own
-        is applied inside the Newton problem of an instant only to a law whose impulses are Newton's
-        with its restitution (``compiled_impulses``)."""
+        A force law may (:meth:`override_problem`, :meth:`mixing_problem`), and so may an impulse law
+        beside a force law ``default`` (it serves every pair that takes impulses: the run's other
+        impulse laws are checked against it, :meth:`impulse_law_problem`). Beside an impulse law
+        ``default``, an impulse law may when it is ``default``'s with, at most, a restitution of its
+        own (:meth:`impulse_law_problem`)."""
         if self.with_step or default.with_step:
-            return type(self).override_problem(type(default)) or (default.mixing_problem() if self.with_step else None)
-        if type(self) is not type(default):
-            return (f"the impulse law {self.name or type(self).__name__!r} differs from [analysis] contact "
-                    f"{default.name or type(default).__name__!r}: one impulse law serves every pair of a run "
+            return (type(self).override_problem(type(default))
+                    or (default.mixing_problem() if self.with_step else self.mixing_problem()))
+        return self.impulse_law_problem(default, "[analysis] contact")
+
+    def impulse_law_problem(self, other: "ContactLaw", whose: str) -> str | None:
+        """Why this impulse law cannot serve its pairs beside ``other``, the impulse law of the run's
+        other pairs that take impulses (``whose``: where ``other`` is given), or None when it can: it
+        must be ``other``'s law with, at most, a restitution of its own. The run's events (tolerance,
+        locator, accelerations after an impact) are one for all pairs, and a restitution of its own is
+        applied inside the Newton problem of an instant only to a law whose impulses are Newton's with
+        its restitution (``compiled_impulses``)."""
+        if type(self) is not type(other):
+            return (f"the impulse law {self.name or type(self).__name__!r} differs from {other.name or type(other).__name__!r}, "
+                    f"the impulse law {whose} gives: one impulse law serves every pair of a run that takes impulses "
                     "(a pair or a wall may take its own restitution)")
         mine = {k: v for k, v in self.describe().items() if k != "restitution"}
-        theirs = {k: v for k, v in default.describe().items() if k != "restitution"}
+        theirs = {k: v for k, v in other.describe().items() if k != "restitution"}
         if mine != theirs:
             differ = ", ".join(sorted(k for k in mine if mine.get(k) != theirs.get(k)))
-            return f"{differ} must be [analysis] contact's (the run's events are one for every pair); only the restitution may differ"
-        if self.restitution != default.restitution and not self.compiled_impulses:
+            return f"{differ} must be as {whose} gives it (the run's events are one for every pair); only the restitution may differ"
+        if self.restitution != other.restitution and not self.compiled_impulses:
             return (f"{self.name or type(self).__name__!r} does not declare its impulses Newton's with its restitution "
                     "(compiled_impulses), so a pair or a wall cannot take a restitution of its own with it")
         return None

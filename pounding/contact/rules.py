@@ -107,7 +107,40 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
         by_wall[wall.name] = len(laws) - 1
     for p, wall in (walls or {}).items():
         which[p] = by_wall[wall.name]
+    own = [(f"contact between {r.between[0]!r} and {r.between[1]!r}", laws[1 + i]) for i, r in enumerate(getattr(scene, "contacts", ()))]
+    own += [(f"wall {w.name!r}", laws[len(laws) - len(scene.walls) + i]) for i, w in enumerate(getattr(scene, "walls", ()))]
+    problem = impulse_law_problem(default, own)
+    if problem is not None:
+        raise ValueError(f"{problem[0]}: {problem[1]}")
     return laws, which
+
+
+def impulse_law_problem(default: ContactLaw, own: list[tuple]) -> tuple | None:
+    """(where, why) the impulse laws of ``own`` cannot serve their pairs beside ``default``
+    (``[analysis] contact``), or None when they can: ``own`` holds (where, law) of the
+    ``[[contact]]`` tables' and ``[[wall]]`` tables' own laws, in scene order.
+
+    One impulse law serves every pair that takes impulses (its Newton problem couples the pairs that
+    share a building at an instant). Beside an impulse law ``default`` each is checked against it
+    (:meth:`~pounding.contact.base.ContactLaw.own_law_problem`, as each is built); beside a force law
+    ``default`` the first impulse law serves them and the others must be it, with at most a
+    restitution of their own (:meth:`~pounding.contact.base.ContactLaw.impulse_law_problem`)."""
+    if default.at_events:
+        return None
+    impulse = [(where, law) for where, law in own if law.at_events]
+    for where, law in impulse[1:]:
+        problem = law.impulse_law_problem(impulse[0][1], impulse[0][0])
+        if problem is not None:
+            return where, problem
+    return None
+
+
+def events_law(laws: list[ContactLaw]) -> ContactLaw:
+    """The law of a run's events among ``laws`` (:func:`pair_laws`' list): ``[analysis] contact``'s
+    (the first) when it acts at events, else the first impulse law a table or a wall gives its pairs
+    (:func:`impulse_law_problem`: the others are it, but for a restitution), else ``[analysis]
+    contact``'s (no pair takes impulses)."""
+    return next((law for law in laws if law.at_events), laws[0])
 
 
 def default_law(scene) -> ContactLaw:

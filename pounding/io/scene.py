@@ -455,7 +455,25 @@ def parse_scene(data: Mapping, *, source: Path | None = None) -> Scene:
 
     links = parse_links(data.get("link", []), buildings)
     walls = _walls(data.get("wall", []), buildings, analysis, search)
+    _one_impulse_law(data, contacts, walls, analysis, search)
     return Scene(tuple(buildings), gm, analysis, source, contacts, links=links, walls=walls)
+
+
+def _one_impulse_law(data: Mapping, contacts: tuple, walls: tuple, analysis: Analysis, search: tuple) -> None:
+    """Refuse the ``[[contact]]`` tables' and ``[[wall]]`` tables' own impulse laws when they cannot be one
+    law (:func:`pounding.contact.rules.impulse_law_problem`, the rule the run applies): beside a force
+    law ``[analysis] contact``, the first serves every pair that takes impulses."""
+    from pounding.contact.rules import impulse_law_problem
+    from pounding.framework.model.registry import CONTACT_LAWS
+
+    def law(name, params):
+        return CONTACT_LAWS.get(name, search=search)(**params)
+
+    own = [(f"contact[{i}].law", law(r.law, r.params)) for i, (r, t) in enumerate(zip(contacts, data.get("contact", []))) if "law" in t]
+    own += [(f"wall[{i}].contact", law(w.law, w.params)) for i, w in enumerate(walls) if w.law is not None]
+    problem = impulse_law_problem(law(analysis.contact, analysis.contact_params), own)
+    if problem is not None:
+        raise InputError(problem[1], field=problem[0])
 
 
 def load_scene(path: str | Path) -> Scene:

@@ -345,7 +345,8 @@ CONTACT = {
     "Laws that act by forces solved with the step (`kelvin`, `hertzdamp`, `penalty`, and plugins of that kind) may "
     "differ from pair to pair, also beside an impulse law that strikes the other pairs (which then locates its impacts "
     "by `crossing`, the default); one impulse law serves every pair that takes impulses: `[analysis] contact`'s, "
-    "whose restitution a table may change (`law = { restitution = 0.8 }`).",
+    "whose restitution a table may change (`law = { restitution = 0.8 }`), or beside a force law there the first "
+    "table's impulse law (`law = { name = \"impulse\", restitution = 0.6 }`), whose restitution the others may change.",
     "properties": {
         "between": {
             "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,

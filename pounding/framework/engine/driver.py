@@ -83,13 +83,15 @@ class Driver:
         gm = scene.ground_motion
         self.gm = gm
         from pounding.framework.engine.contact_step import run_dt
-        from pounding.contact.rules import scene_laws
+        from pounding.contact.rules import events_law, scene_laws
         from pounding.framework.engine.integrator_choice import chosen_integrator
 
         integrator = chosen_integrator(scene)
         #: every pair's law (:func:`~pounding.contact.rules.scene_laws`): self.laws[self.pair_law[p]]
         self.laws, self.pair_law = scene_laws(scene, self.model.pairs, self.model.walls)
-        self.law = self.laws[0]  # [analysis] contact's
+        #: the law of the run's events: [analysis] contact's, or beside a force law there the impulse law a
+        #: table or a wall gives (one serves every pair that takes impulses: rules.events_law)
+        self.law = events_law(self.laws)
         # the pairs whose law solves forces with the step, and those whose law acts by impulses at events
         # (a force law may serve some pairs of a run whose [analysis] contact acts at events: rules.pair_laws)
         self.force_pairs = self.model.all_pairs[np.array([self.laws[j].with_step for j in self.pair_law], dtype=np.bool_)]
@@ -328,7 +330,7 @@ class Driver:
         tl1 = compiler.load_seconds()
         k = 0
         self._record(0)
-        if self.model.pairs and self.law.watches():
+        if self.model.pairs and self.laws[0].watches():
             g0 = self.gaps(self.z[:, 0])
             if np.any(g0 <= self.tol):
                 self.python_step_until_clear = True
@@ -428,12 +430,12 @@ class Driver:
 
     def _describe_laws(self) -> dict:
         """The contact law (summary.json), with the ``[[contact]]`` laws of single pairs of buildings."""
-        out = self.law.describe()
+        out = self.laws[0].describe()
         if self.scene.contacts:
             out["between"] = [{"between": list(r.between), **law.describe()} for r, law in zip(self.scene.contacts, self.laws[1:])]
             bumpers = iter(self.laws[1 + len(self.scene.contacts):])  # (pair_laws: one per rule with a bumper, in order)
             for entry, rule in zip(out["between"], self.scene.contacts):
-                if getattr(rule, "bumper", None) is not None and self.law.watches():
+                if getattr(rule, "bumper", None) is not None and self.laws[0].watches():
                     entry["bumper"] = {"on": rule.bumper.on, "storeys": list(rule.bumper.storeys), **next(bumpers).describe()}
         walls = self.scene.walls
         if walls:
