@@ -15,13 +15,13 @@ from common import RESULTS, log, quiet_run
 from scenes import load, uniform_pair
 
 GROUPS = {
-    "compiled kernel, free steps and end-of-step impulses (kernel.py:advance)": ("kernel.py", "advance"),
+    "compiled stretch, free steps, grazes and end-of-step impulses (free_stretch.py:advance)": ("free_stretch.py", "advance"),
     "compiled held steps (held.py:held_stretch)": ("held.py", "held_stretch"),
-    "Python steps with an impact inside (analysis.py:python_step)": ("analysis.py", "python_step"),
-    "impulses in Python (analysis.py:contact_at)": ("analysis.py", "contact_at"),
-    "impact location (analysis.py:locate)": ("analysis.py", "locate"),
+    "Python steps with an impact inside (driver.py:python_step)": ("driver.py", "python_step"),
+    "impulses in Python (driver.py:contact_at)": ("driver.py", "contact_at"),
+    "impact location (driver.py:locate)": ("driver.py", "locate"),
     "transitions for new step sizes (solvers/base.py:transition)": ("base.py", "transition"),
-    "model: assembly + eigenproblem (analysis.py:Model.__init__)": ("analysis.py", "__init__"),
+    "model: assembly + eigenproblem (stacked_model.py:Model.__init__)": ("stacked_model.py", "__init__"),
 }
 
 

@@ -198,7 +198,7 @@ def test_one_specialization_per_compiled_function():
     env = {"POUNDING_AOT": "0"}  # numba's dispatchers, not the extension module
     out = _python(code, env=env)
     assert out["impacts"] > 0
-    assert "pounding.framework.engine.kernel.advance" in out["sigs"]
+    assert "pounding.framework.engine.free_stretch.advance" in out["sigs"]
     many = {name: s for name, s in out["sigs"].items() if len(s) > 1}
     assert many == {}
     if out["compiled"]:  # a cold cache: this process filled it

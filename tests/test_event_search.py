@@ -108,6 +108,41 @@ def test_runs_with_the_compiled_search_are_the_drivers_bit_for_bit(path, duratio
     assert _digest(runs[0]) == _digest(runs[1])
 
 
+def test_the_stretch_runs_through_grazes_and_hands_the_driver_its_zeros():
+    """The compiled stretch searches a step its screen suspects as the driver's Python step would
+    (``event_search.step_touches``: the same suspects, the same search, the same end-of-step check):
+    a step in which no pair touches, a graze the bounds could not exclude, is committed by the
+    stretch, and a zero it finds is handed to the driver's step, which takes it rather than searching
+    again. The paper pair at its defaults gives the same bits as with a stretch that stops at every
+    suspected step, in fewer Python steps, and the driver searches again none of the steps the
+    stretch searched."""
+    sc = _exact(PAPER, duration=8.0)
+    runs = []
+    for graze in (True, False):
+        d = Driver(sc)
+        if not graze:
+            d._graze = False  # (graze_search: none for this run)
+        count = {"python": 0, "taken": 0}
+        python_step, found = d.python_step, d.found_by_stretch
+
+        def counted_step(k, _step=python_step, _count=count):
+            _count["python"] += 1
+            return _step(k)
+
+        def counted_found(t, h, _found=found, _count=count):
+            hs = _found(t, h)
+            _count["taken"] += hs is not None
+            return hs
+
+        d.python_step, d.found_by_stretch = counted_step, counted_found
+        d.run()
+        runs.append((d, count))
+    (searched, by_stretch), (stopped, by_driver) = runs
+    assert _digest(searched) == _digest(stopped)
+    assert by_stretch["python"] < by_driver["python"] and by_stretch["taken"] >= 10 and by_driver["taken"] == 0
+    assert searched.n_located == stopped.n_located
+
+
 @njit
 def _own_alpha_maps(omega, zeta, dt, params):
     """A plugin's compiled maps: HHT's, written in the plugin's own module."""

@@ -407,6 +407,25 @@ class HeldSearch(NamedTuple):
     g0: float  #: the gap sought at the step's start [m]
 
 
+class GrazeSearch(NamedTuple):
+    """What the compiled stretch needs to search a suspected step as the driver's Python step does
+    (:func:`pounding.framework.engine.event_search.step_touches`): the crossing locator's search on
+    the integrator's built-in maps, where only the ground acts (no pair held, no link, no force law)."""
+
+    search: StepSearch  #: the grid step's maps, the ground motion and the pairs
+    held: "HeldSearch"  #: one with no pair held (the type the driver's search takes)
+    builtin: int  #: the number of the integrator's built-in maps (:data:`~pounding.framework.engine.event_search.BUILTIN_MAPS`)
+    params: np.ndarray  #: their parameters
+    plist: np.ndarray  #: (k,) int64 the pairs struck by impulses (every pair: no force law in the run)
+    eps: float  #: the geometry's zero [m]: a gap within it touches
+    tol: float  #: the contact tolerance [m] (the screen's)
+    xtol: float  #: the search's bracket width where the gap is not smooth [s]
+    #: (2,) the start [s] of the last step in which the search found a zero, and the step length to
+    #: it [s] (written by the stretch, read by the driver's Python step of it, which takes it rather
+    #: than searching the same step again); a start of -1: none
+    found: np.ndarray
+
+
 class LinkPass(NamedTuple):
     """The links of a step: committed and trial (:func:`pounding.framework.engine.spring_core._step_with_links`),
     or, where the step's contact forces depend on its end, solved by a fixed point on their end remainders

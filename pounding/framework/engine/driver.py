@@ -133,6 +133,7 @@ class Driver:
         #: the record for the compiled impact search of ``exact``, or None where the driver's own search runs
         self.search_record = self.record if self.crossing and use_kernel and self._compiled_search() else None
         self._search_maps = self.integrator.search_maps() if self.search_record is not None else None
+        self._graze = None  # (graze_search: built on first use; False where there is none)
         self._step_search = None  # its bundle (step_search())
         self._no_held = None  # the search's held pairs when none is held (held_search())
         self._link_search = None  # the search's links with laws (link_search())
@@ -488,14 +489,34 @@ class Driver:
 
     def advance(self, k0: int, k1: int):
         """Free grid steps k0 -> k1, compiled (:func:`pounding.framework.engine.kernel.advance`)."""
-        from pounding.framework.engine.kernel import advance, advance_free
+        from pounding.framework.engine.free_stretch import advance
+        from pounding.framework.engine.kernel import advance_free
 
         if self.springs is not None:  # yielding springs: their own stretch, stopping before any contact
             return self.springs.advance(self, k0, k1)
         if self.kgeo.pa.shape[0] == 0:  # nothing to watch: no contact code
             return advance_free(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo)
         return advance(self.transition(self.dt), self.model.modes, self.ground, self.z, int(k0), int(k1), self.rec, self.kgeo,
-                       self.settings, self.log, self.rules)
+                       self.settings, self.log, self.rules, self.graze_search())
+
+    def graze_search(self):
+        """The :class:`~pounding.framework.engine.bundles.GrazeSearch` with which the compiled stretch
+        searches a suspected step as :meth:`python_step` would (built once), or None where that step's
+        search is not the compiled one on the integrator's built-in maps with only the ground acting
+        (the paper's locators, links, force laws, an integrator without built-in maps)."""
+        if self._graze is None:
+            from pounding.framework.engine.bundles import GrazeSearch
+            from pounding.framework.engine.event_search import BUILTIN_MAPS
+
+            maps, params = self._search_maps if self._search_maps is not None else (None, None)
+            builtin = next((j for j, known in enumerate(BUILTIN_MAPS) if maps is known), -1)
+            if self.search_record is None or self.springs is not None or self.force_pairs.size or builtin < 0:
+                self._graze = False
+            else:
+                self._graze = GrazeSearch(self.step_search(), self.no_held_search(), builtin, params,
+                                          np.ascontiguousarray(self.event_pairs, dtype=np.int64), float(self.eps), float(self.tol),
+                                          1e-14 * max(self.dt, 1.0), np.array([-1.0, 0.0]))
+        return self._graze or None
 
     def drain_kernel_events(self) -> None:
         """Move the impacts and event states the compiled core logged into the run's lists."""
@@ -547,7 +568,8 @@ class Driver:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
             culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
-            hs = None if not culprits else self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
+            hs = None if not culprits else self.found_by_stretch(t, h) or (self.locate(t, h, culprits, st) if self.crossing else
+                                                                             self.locate(t, h, culprits))
             arrival = self.locate_arrival(t, h, st) if st.arrival < self.settings.overlap else None
             if arrival is not None and (hs is None or arrival < hs):  # a point of a held pair reaches contact first
                 hs, culprits = arrival, [st.arriving]
@@ -577,6 +599,16 @@ class Driver:
                 self.sustained.update(culprits)
         self._record(k + 1)
         self.release_sustained()
+
+    def found_by_stretch(self, t: float, h: float) -> float | None:
+        """The step length [s] to the zero the compiled stretch's search found in the grid step that
+        starts at t [s] (:func:`~pounding.framework.engine.event_search.step_touches`: the same search on
+        the same step, :meth:`locate`'s answer), taken once; None where it found none there."""
+        graze = self._graze
+        if not graze or graze.found[0] != t or h != self.dt:
+            return None
+        graze.found[0] = -1.0
+        return float(graze.found[1])
 
     def commit(self, st: Step, t: float, h: float) -> None:
         """Accept a trial step: book its work (contact forces are loads like any other) and move on."""
@@ -838,16 +870,12 @@ class Driver:
         # positive gap where none is listed (at the start, or inside the step)
         far = float(self.tol)
         start = float(apart.min()) if apart.size else far
-        memo: dict[float, float] = {}
 
-        def gap(hh):
+        def gap(hh):  # (the search keeps its last evaluations itself)
             if hh <= 0.0:
                 return start
-            g = memo.get(hh)
-            if g is None:
-                g = self.trial(self.z, t, hh).arrival
-                g = memo[hh] = g if g < np.inf else far
-            return g
+            g = self.trial(self.z, t, hh).arrival
+            return g if g < np.inf else far
 
         herm = (np.ascontiguousarray(st.z0[:, 0]), np.ascontiguousarray(st.z0[:, 1]), np.ascontiguousarray(st.z1[:, 0]),
                 np.ascontiguousarray(st.z1[:, 1]), float(h))
@@ -983,21 +1011,28 @@ class Driver:
         self._link_search.failed[0] = -1
         return self._link_search
 
+    def no_held_search(self):
+        """The :class:`~pounding.framework.engine.bundles.HeldSearch` with no pair held: the search's
+        one bundle type where only the ground acts (built once)."""
+        from pounding.framework.engine.bundles import Features, HeldSearch
+
+        if self._no_held is None:
+            m = self.model
+            none = np.zeros(0, dtype=np.int64)
+            nothing = Features(none, np.zeros(0), np.zeros((0, m.n)), np.zeros((0, 2)), np.zeros((0, 2)), none, none, none)
+            self._no_held = HeldSearch(HeldSet(none, HeldContact(float(self.tol), float(self.touch)), nothing), m.modes, False, 0.0, 0.0)
+        return self._no_held
+
     def held_search(self, *, arrival: bool, far: float, g0: float):
         """The :class:`~pounding.framework.engine.bundles.HeldSearch` of the held pairs at the current
         state: what :meth:`held_trial` steps with (their touching features at the start), and the gap
         sought (``arrival``: the held pairs' points apart at the start, ``far`` where none is; else
         the culprits' smallest gap), ``g0`` its value at the start [m]."""
-        from pounding.framework.engine.bundles import Features, HeldSearch
+        from pounding.framework.engine.bundles import HeldSearch
 
         m = self.model
-        if not self.sustained:  # none held: the same bundle's type, with no pair (built once)
-            if self._no_held is None:
-                none = np.zeros(0, dtype=np.int64)
-                nothing = Features(none, np.zeros(0), np.zeros((0, m.n)), np.zeros((0, 2)), np.zeros((0, 2)), none, none, none)
-                self._no_held = HeldSearch(HeldSet(none, HeldContact(float(self.tol), float(self.touch)), nothing), m.modes, False, 0.0,
-                                           0.0)
-            return self._no_held
+        if not self.sustained:
+            return self.no_held_search()
         held = self.held_pairs()
         start = m.touching(self.z[:, 0], held, self.tol, deep=True)
         return HeldSearch(HeldSet(held, HeldContact(float(self.tol), float(self.touch)), start), m.modes, bool(arrival), float(far),

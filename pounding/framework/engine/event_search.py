@@ -35,7 +35,7 @@ import numpy as np
 
 from pounding.compiler import njit
 from pounding.framework.engine.crossing import (ILLINOIS_ITERATIONS, LEAVE_HALVINGS, hermite_search, hermite_slope, hermite_zero, illinois_bracket,
-                                         illinois_point, newton_bracket)
+                                         illinois_point, newton_bracket, suspects)
 from pounding.framework.engine.bundles import LinkPass, LinkTrial, Status, StepSolution
 from pounding.framework.engine.ground_load import modal_loads
 from pounding.framework.engine.held import held_fixed_point, held_step
@@ -245,6 +245,49 @@ def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws=No
 
 
 @njit
+def step_touches(graze, t, ag0, z0, z1):
+    """Whether a pair touches in the grid step from z0 (n, 3) at t [s] to z1, where only the ground
+    acts (ag0 (c,) its acceleration at t): the driver's Python step of it
+    (``Driver.python_step``) would strike or locate something, rather than commit the step whole.
+
+    As that step decides: the pairs :func:`~pounding.framework.engine.crossing.suspects` flags (the
+    driver's ``crossing_pairs``), then :func:`crossing_search` on the integrator's built-in maps for
+    them (``Driver.locate``: a zero of their smallest gap inside the step), then a pair whose gap is
+    within ``graze.eps`` at the step's end (``Driver.touching_pairs``, struck there by the driver).
+    ``graze``: :class:`~pounding.framework.engine.bundles.GrazeSearch`; where the search finds a zero,
+    ``graze.found`` receives (t, the step length to it), which the driver's step takes."""
+    ex = graze.search
+    h = ex.dt
+    plist = graze.plist
+    mask = suspects(z0, z1, plist, h, graze.eps, graze.tol, ex.geo)
+    k = 0
+    for j in range(mask.shape[0]):
+        if mask[j]:
+            k += 1
+    if k > 0:
+        culprits = np.empty(k, dtype=np.int64)
+        k = 0
+        for j in range(mask.shape[0]):
+            if mask[j]:
+                culprits[k] = plist[j]
+                k += 1
+        p0 = np.empty(z0.shape[0])
+        modal_loads(ex.L, ag0, p0)
+        herm = (z0[:, 0].copy(), z0[:, 1].copy(), z1[:, 0].copy(), z1[:, 1].copy(), h)
+        sol = StepSolution(t, z0, p0, culprits, ex, None, graze.builtin, graze.params, graze.held, None, None)
+        found, hs = crossing_search(None, sol, herm, graze.eps, graze.xtol, culprits, ex.geo)
+        if found:
+            graze.found[0] = t
+            graze.found[1] = hs
+            return True
+    q1 = z1[:, 0].copy()
+    for j in range(plist.shape[0]):
+        if pair_gap(q1, plist[j], graze.tol, ex.geo) <= graze.eps:
+            return True
+    return False
+
+
+@njit
 def crossing_search(py_gap, sol, herm, eps, xtol, plist, geo):
     """The first zero of the pairs' smallest gap over a step: (found, hs), hs [s] the step length to
     it (where |gap| <= eps [m], the geometry's zero), found False when the gap stays above -eps (a
@@ -280,7 +323,7 @@ def crossing_search(py_gap, sol, herm, eps, xtol, plist, geo):
     def gap(hh, sol):
         for i in range(min(memo_n[0], _MEMO)):
             if memo_h[i] == hh:
-                return memo_g[i]
+                return float(memo_g[i])
         if py_gap is None:
             g = stepped_gap(hh, sol)
         else:
