@@ -241,6 +241,29 @@ def test_impulse_tables_beside_a_force_default_are_one_impulse_law(tmp_path):
     own = parse_scene(row(contact={"name": "kelvin", **KELVIN}, rules=[(("west", "middle"), impulse),
                                                                        (("middle", "east"), {"name": "impulse", "restitution": 0.9})]))
     assert [law.restitution for law in Driver(own).laws[1:]] == [0.6, 0.9]
+    # a table's law acts (contact off is [analysis] contact's), and none is asked where nothing is watched
+    assert "'none' watches no pair" in refusal({"name": "none"}, {"name": "kelvin", **KELVIN})
+    data = row(contact={"name": "none"}, rules=[(("west", "middle"), impulse)])
+    path = tmp_path / "off.toml"
+    path.write_text(to_toml(data))
+    with pytest.raises(InputError, match="contact 'none' watches no pair"):
+        load_scene(path)
+
+
+def test_the_impulse_law_a_table_gives_beside_a_force_default_is_the_runs_impulse_law():
+    """Beside kelvin in [analysis] contact, the impulse law a table gives is the one the run's events
+    take, and what the run reports of it: summary.json's ``contact.impulses``, and the energy rule it
+    declares (``after_impact = "keep"``, which books the velocities after an impact unbalanced: the
+    run names it, as it does with that law in [analysis] contact)."""
+    from pounding.framework.post.energy_account import energy_creating_rule
+
+    keep = {"name": "impulse", "restitution": 0.6, "after_impact": "keep"}
+    d = Driver(parse_scene(row((0.005, 0.005), pga=0.6, duration=4.0, contact={"name": "kelvin", **KELVIN},
+                               rules=[(("west", "middle"), keep)])))
+    r = d.run()
+    assert d.law is d.laws[1] and r.impacts
+    assert r.contact["name"] == "kelvin" and r.contact["impulses"]["after_impact"] == "keep"
+    assert energy_creating_rule(r)["rule"] == "after_impact = 'keep'"
 
 
 @pytest.mark.parametrize("where", ["contact", "wall"])

@@ -279,6 +279,9 @@ class ContactLaw(ABC):
         impulses: ``[analysis] contact``'s when it acts at events, whose restitution a pair may
         change, else the first table's (:meth:`impulse_law_problem` checks the others against it).
         With contact off nothing is watched."""
+        if not cls.watches():
+            return (f"{cls.name or cls.__name__!r} watches no pair: a pair's own law acts (a force law, or an impulse law); "
+                    "leave the table out for the pair to take [analysis] contact's")
         if not cls.with_step:
             if cls.at_events and default.with_step:
                 return None
@@ -316,6 +319,9 @@ class ContactLaw(ABC):
         impulse laws are checked against it, :meth:`impulse_law_problem`). Beside an impulse law
         ``default``, an impulse law may when it is ``default``'s with, at most, a restitution of its
         own (:meth:`impulse_law_problem`)."""
+        if not default.watches():
+            return (f"[analysis] contact {default.name or type(default).__name__!r} watches no pair, so no pair's law is asked; "
+                    "give [analysis] contact a law")
         if self.with_step or default.with_step:
             return (type(self).override_problem(type(default))
                     or (default.mixing_problem() if self.with_step else self.mixing_problem()))

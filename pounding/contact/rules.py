@@ -26,9 +26,10 @@ def wall_law(scene, wall, default: ContactLaw) -> ContactLaw:
 
     Its own law (``wall.law`` with ``wall.params``), or without one ``[analysis] contact`` with
     ``wall.params`` over its parameters (a restitution of its own). A force law may serve a wall
-    when ``[analysis] contact`` acts by forces too (as for a ``[[contact]]`` table); an impulse law
-    when it is ``[analysis] contact``'s class, which declares how a restitution of its own is applied
-    (:meth:`~pounding.contact.base.ContactLaw.own_law_problem`). Raises ValueError naming what does not fit.
+    beside any ``[analysis] contact`` (as for a ``[[contact]]`` table); an impulse law when it is
+    ``[analysis] contact``'s class, which declares how a restitution of its own is applied, or beside
+    a force law there the run's one impulse law (:meth:`~pounding.contact.base.ContactLaw.own_law_problem`,
+    :func:`impulse_law_problem`). Raises ValueError naming what does not fit.
     """
     an = scene.analysis
     if wall.law is None:
@@ -108,7 +109,8 @@ def pair_laws(scene, pairs: list, default: ContactLaw, walls: dict | None = None
     for p, wall in (walls or {}).items():
         which[p] = by_wall[wall.name]
     own = [(f"contact between {r.between[0]!r} and {r.between[1]!r}", laws[1 + i]) for i, r in enumerate(getattr(scene, "contacts", ()))]
-    own += [(f"wall {w.name!r}", laws[len(laws) - len(scene.walls) + i]) for i, w in enumerate(getattr(scene, "walls", ()))]
+    walls_ = getattr(scene, "walls", ())
+    own += [(f"wall {w.name!r}", laws[len(laws) - len(walls_) + i]) for i, w in enumerate(walls_)]
     problem = impulse_law_problem(default, own)
     if problem is not None:
         raise ValueError(f"{problem[0]}: {problem[1]}")

@@ -346,7 +346,8 @@ CONTACT = {
     "differ from pair to pair, also beside an impulse law that strikes the other pairs (which then locates its impacts "
     "by `crossing`, the default); one impulse law serves every pair that takes impulses: `[analysis] contact`'s, "
     "whose restitution a table may change (`law = { restitution = 0.8 }`), or beside a force law there the first "
-    "table's impulse law (`law = { name = \"impulse\", restitution = 0.6 }`), whose restitution the others may change.",
+    "impulse law a table names (`law = { name = \"impulse\", restitution = 0.6 }`; without a name a table keeps the "
+    "force law), whose restitution the others may change.",
     "properties": {
         "between": {
             "type": "array", "items": {"type": "string"}, "minItems": 2, "maxItems": 2,
@@ -444,7 +445,8 @@ WALL = {
             "oneOf": [NAMED_PLUGIN["oneOf"][0], {k: v for k, v in NAMED_PLUGIN["oneOf"][1].items() if k != "required"}],
             "description": "Its contact law, as `[analysis] contact` (default: `[analysis] contact`). A force law, also "
             "beside an impulse law on the buildings' pairs (located by `crossing`, the default); or `[analysis] contact`'s "
-            "impulse law, whose restitution the wall may change (`{ restitution = 0.8 }` without a name).",
+            "impulse law, whose restitution the wall may change (`{ restitution = 0.8 }` without a name); or beside a "
+            "force law there the impulse law by name (`{ name = \"impulse\", restitution = 0.6 }`).",
             "examples": [{"name": "kelvin", "stiffness": 1.0e9, "restitution": 0.5}],
         },
     },

@@ -153,11 +153,14 @@ class Motion:
 
 
 def contact_tolerance(result=None, scene=None) -> float:
-    """Contact length tolerance [m]: the result's contact law, else the scene's, else 1e-4."""
+    """Contact length tolerance [m]: the run's (the largest of its laws': ``[analysis] contact``'s, the
+    ``[[contact]]`` tables' and the walls', as the run watches its pairs), else the scene's, else 1e-4."""
     if result is not None:
-        tol = (getattr(result, "contact", None) or {}).get("tolerance")
-        if tol is not None:
-            return float(tol)
+        contact = getattr(result, "contact", None) or {}
+        laws = [contact, contact.get("impulses") or {}, *contact.get("between", ()), *contact.get("walls", ())]
+        tols = [float(law["tolerance"]) for law in laws if law.get("tolerance") is not None]
+        if tols:
+            return max(tols)
     if scene is not None:
         tol = (scene.analysis.contact_params or {}).get("tolerance")
         if tol is not None:

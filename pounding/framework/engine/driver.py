@@ -432,6 +432,8 @@ class Driver:
     def _describe_laws(self) -> dict:
         """The contact law (summary.json), with the ``[[contact]]`` laws of single pairs of buildings."""
         out = self.laws[0].describe()
+        if self.law is not self.laws[0]:  # beside a force law there, a table's or a wall's impulse law strikes the impulse pairs
+            out["impulses"] = self.law.describe()
         if self.scene.contacts:
             out["between"] = [{"between": list(r.between), **law.describe()} for r, law in zip(self.scene.contacts, self.laws[1:])]
             bumpers = iter(self.laws[1 + len(self.scene.contacts):])  # (pair_laws: one per rule with a bumper, in order)

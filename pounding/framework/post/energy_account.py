@@ -79,8 +79,10 @@ def energy_creating_rule(result) -> dict | None:
     """
     if not result.impacts:
         return None
+    # [analysis] contact's, or the impulse law a table or a wall gives beside a force law there
+    law = result.contact.get("impulses") or result.contact
     for key, value, why in ENERGY_CREATING_RULES:
-        if result.contact.get(key) == value:
+        if law.get(key) == value:
             eb = energy_balance(result)
             return {"rule": f"{key} = {value!r}", "why": why, "energy_created": -eb["error"], "relative": -eb["relative_error"]}
     return None
