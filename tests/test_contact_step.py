@@ -309,3 +309,26 @@ def test_a_zeno_chatter_is_one_episode_and_a_fresh_approach_another():
     assert got[0].impulse == pytest.approx(31.0) and got[1].impulse == 5.0
     slow = merge_chatter([strike(t, 1.0) for t in times * 3.0], tau)  # first interval 0.12 s > tau, then 0.06 s
     assert [x.strikes for x in slow] == [1, 30]
+
+
+def test_a_pair_with_a_building_between_its_slabs_does_not_set_the_step():
+    """Three boxes in a row under kelvin: the end buildings' slabs face each other only through the
+    middle one, which they strike first (the gap study's rule, ``placement.adjacent_pairs``), so their
+    contact never comes and does not set the default step: the step is the one the same row takes with
+    that pair under the impulse law (no duration), and the shortest contact is an adjacent pair's."""
+    from pounding.framework.engine.driver import Driver
+    from pounding.framework.model.placement import adjacent_pairs
+    from pounding.io.scene import parse_scene
+    from tests.test_mixed_laws import KELVIN, row
+
+    kelvin = {"name": "kelvin", **KELVIN}
+    d = Driver(parse_scene(row((0.005, 0.005), contact=kelvin)))
+    names = [b.name for b in d.scene.buildings]
+    adjacent, screened = adjacent_pairs(d.scene)
+    assert [(names[i], names[j]) for i, j in screened] == [("west", "east")]
+    faces = {(names[a], names[b]): d.model.faces(p) for p, (a, _, b, _, _) in enumerate(d.model.pairs)}
+    assert faces == {("west", "middle"): True, ("west", "east"): False, ("middle", "east"): True}
+    ends_by_impulses = Driver(parse_scene(row((0.005, 0.005), contact=kelvin, rules=[(("west", "east"), {"name": "impulse"})])))
+    assert d.dt == ends_by_impulses.dt
+    a, _, b, _, _ = d.model.pairs[d.contact_time.pair]
+    assert (names[a], names[b]) in {("west", "middle"), ("middle", "east")}

@@ -202,10 +202,9 @@ def test_a_pair_may_take_the_impulse_laws_own_restitution():
 def test_an_impulse_pair_beside_a_force_default_is_the_swapped_scene():
     """[analysis] contact kelvin with a [[contact]] table striking west and middle by impulses (e = 0.6)
     is the scene with [analysis] contact impulse (e = 0.6) and tables giving kelvin to middle and east,
-    and to west and east (their slabs face each other across the middle one, and the default step
-    resolves the shortest contact of any facing pair): each pair has the same law in both, so the run
-    is one, to the bit (the same integrator, step, events and contact episodes), whichever law the
-    scene names first."""
+    and to west and east (a pair whose slabs the middle building screens, watched all the same): each
+    pair has the same law in both, so the run is one, to the bit (the same integrator, step, events
+    and contact episodes), whichever law the scene names first."""
     impulse = {"name": "impulse", "restitution": 0.6}
     kelvin = {"name": "kelvin", **KELVIN}
     tables = Driver(parse_scene(row((0.005, 0.005), pga=0.6, duration=4.0, contact=kelvin, rules=[(("west", "middle"), impulse)])))

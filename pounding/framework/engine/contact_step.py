@@ -5,7 +5,10 @@ slabs' effective mass); a step chosen from the buildings' modes alone may take o
 over it. Each law says how long one contact lasts for an effective mass m_eff and an approach
 speed v0 (:meth:`pounding.contact.base.ContactLaw.contact_duration`; inf for an impulse law);
 this module supplies the two numbers for every slab pair that can touch, both on the safe side
-(a smaller m_eff and a larger v0 give a shorter contact, so a finer step):
+(a smaller m_eff and a larger v0 give a shorter contact, so a finer step). A pair whose slabs face
+each other only through a third building at their level (the ends of a row:
+:meth:`pounding.framework.engine.stacked_model.Model.faces`, the rule the gap study and the walls
+take) strikes that building first, and its contact, which never comes, does not set the step.
 
 m_eff, a lower bound
     A contact at point Q with unit normal n has the Delassus entry a = w.w of its modal row
@@ -214,6 +217,8 @@ def shortest_contact(model, laws: list, pair_law: np.ndarray, peaks) -> ContactT
     m_eff, v0 = pair_bounds(model.geo, model.n, *peaks())
     best = ContactTime()
     for p in range(P):
+        if not model.faces(p):  # a third building stands between its slabs: they strike it first
+            continue
         law = laws[int(pair_law[p])]
         d = float(law.contact_duration(float(m_eff[p]), float(v0[p])))
         if d < best.duration:

@@ -161,6 +161,7 @@ class Model:
             floors, weights,
         )
         self.all_pairs = np.arange(len(self.pairs), dtype=np.int64)
+        self._faces = None  # (faces: worked out on first use)
         self.modes = Modes(self.L, self.c2, self.om2, self.bidx, self.slab_building)
 
     def _pairs(self) -> list[tuple[int, int, int, int, float]]:
@@ -275,6 +276,29 @@ class Model:
         answers without the polygon test.
         """
         return float(pg.pair_gap(np.ascontiguousarray(q), p, np.inf if cutoff is None else float(cutoff), self.geo))
+
+    def faces(self, p: int) -> bool:
+        """Whether the slabs of pair p face each other at rest, with no other building between them at
+        their level (:func:`pounding.framework.model.placement.outlines_face`): a slab pair, or a
+        slab and a neighbour's facade. The slabs of a pair that does not (the ends of a row) strike
+        the building between them first. A slab against a wall or a bumper faces what it strikes
+        (a wall that a neighbour screens is not paired with the slab: :mod:`pounding.framework.model.walls`)."""
+        if self._faces is None:
+            from pounding.framework.model.placement import outlines_face
+
+            out = []
+            for q, (a, fa, b, fb, _) in enumerate(self.pairs):
+                slab = self.systems[a].slabs[fa]
+                if q in self.facades:
+                    other = self.facades[q].vertices
+                elif q in self.walls or b >= len(self.systems) or fb >= len(self.systems[b].slabs):
+                    out.append(True)
+                    continue
+                else:
+                    other = self.systems[b].slabs[fb].vertices
+                out.append(outlines_face(self.scene, a, b, slab.vertices, other, float(slab.elevation)))
+            self._faces = out
+        return self._faces[p]
 
     def gaps(self, q: np.ndarray, plist: np.ndarray, cutoff: float | None = None) -> np.ndarray:
         """Signed gaps [m] of the pairs ``plist`` (int array), lower bounds above ``cutoff``."""

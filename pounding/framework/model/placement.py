@@ -309,13 +309,17 @@ def facing_storeys(scene: Scene, i: int, j: int) -> list[tuple]:
     through no other building at that level, neither a slab of it at that level nor its facade
     there (the segment's midpoint inside, or an edge crossed)."""
     bs = scene.buildings
-    a, b = bs[i], bs[j]
-    out = []
-    for site in pair_sites(a, b):
-        pa, pb, _ = _closest_points(*_site_outlines(a, b, site))
-        if not screened(scene, i, j, pa, pb, _site_level(a, b, site)):
-            out.append(site)
-    return out
+    return [site for site in pair_sites(bs[i], bs[j]) if outlines_face(scene, i, j, *_site_outlines(bs[i], bs[j], site),
+                                                                        _site_level(bs[i], bs[j], site))]
+
+
+def outlines_face(scene: Scene, i: int, j: int, A: np.ndarray, B: np.ndarray, z: float) -> bool:
+    """Whether the outlines A of building i and B of building j (k, 2) [m] at rest at the level z [m]
+    face each other: the shortest segment between them passes through no other building at that
+    level (:func:`screened`); where it does, i cannot reach j there without striking that building
+    first (the ends of a row)."""
+    pa, pb, _ = _closest_points(np.asarray(A, float), np.asarray(B, float))
+    return not screened(scene, i, j, pa, pb, z)
 
 
 def adjacent_pairs(scene: Scene) -> tuple[list[tuple[int, int]], list[tuple[int, int]]]:
