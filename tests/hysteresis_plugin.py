@@ -7,8 +7,6 @@ same way for an installed package: ``[project.entry-points."pounding.hysteresis"
 
 from __future__ import annotations
 
-import numpy as np
-
 from pounding.compiler import njit
 from pounding.hysteresis.base import HysteresisLaw
 

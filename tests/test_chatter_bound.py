@@ -10,7 +10,6 @@ from __future__ import annotations
 from pathlib import Path
 
 import numpy as np
-import pytest
 
 from pounding.framework.engine import pairs as pg
 from pounding.framework.engine.driver import Driver

@@ -11,7 +11,6 @@ acceleration, the way the engine steps it).
 from __future__ import annotations
 
 import math
-import re
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,7 @@ from pounding.contact.hertz import Hertz
 from pounding.contact.hertzdamp import HertzDamp
 from pounding.contact.jankowski import Jankowski
 from pounding.contact.kelvin import Kelvin
-from pounding.contact.rebound import TABLE_RESTITUTIONS, rebound, rebound_table, table_laws, table_markdown
+from pounding.contact.rebound import TABLE_RESTITUTIONS, rebound, rebound_table, table_markdown
 from two_bodies import contact, step_two_bodies
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -173,8 +173,6 @@ def test_modifier_on_one_element_changes_only_its_share():
 )
 def test_bad_modifier_or_p_delta_is_one_clear_message_and_exit_2(tmp_path, key, value, expected):
     """Bad values: exit code 2, one line naming the file and the key path, nothing written."""
-    import tomllib  # noqa: F401  (the scene is written as TOML below)
-
     t = _box(3)
     if key == "stiffness_modifier":
         t["element"][0][key] = value

@@ -19,7 +19,6 @@ import pytest
 from pounding.framework.engine.driver import Driver
 from pounding.framework.engine.stacked_model import Model
 
-from pounding.framework.post.run import run
 from pounding.framework.model.units import G
 from pounding.io.ground_motion import GroundMotion, load_record
 from pounding.io.motion_pair import GroundMotionPair, common_time_base
