@@ -197,6 +197,12 @@ class ContactState(NamedTuple):
                              point=None if self.point is None else self.point[idx])
 
 
+def _asks_no_law(default: type) -> str:
+    """Why no pair may have a law of its own under ``[analysis] contact`` ``default`` (a law class that
+    watches no pair, contact off)."""
+    return (f"[analysis] contact {default.name or default.__name__!r} watches no pair, so no pair's law is asked; "
+            "give [analysis] contact a law")
+
 class ContactLaw(ABC):
     """Base class of every contact law (see the module docstring for the contract).
 
@@ -294,8 +300,7 @@ class ContactLaw(ABC):
                     "impulses, and it is [analysis] contact's (make it [analysis] contact and give the other pairs their "
                     "force law here)")
         if not default.watches():
-            return (f"[analysis] contact {default.name or default.__name__!r} watches no pair, so no pair's law is asked; "
-                    "give [analysis] contact a law")
+            return _asks_no_law(default)
         return None
 
     def mixing_problem(self) -> str | None:
@@ -320,8 +325,7 @@ class ContactLaw(ABC):
         ``default``, an impulse law may when it is ``default``'s with, at most, a restitution of its
         own (:meth:`impulse_law_problem`)."""
         if not default.watches():
-            return (f"[analysis] contact {default.name or type(default).__name__!r} watches no pair, so no pair's law is asked; "
-                    "give [analysis] contact a law")
+            return _asks_no_law(type(default))
         if self.with_step or default.with_step:
             return (type(self).override_problem(type(default))
                     or (default.mixing_problem() if self.with_step else self.mixing_problem()))

@@ -177,6 +177,8 @@ class Driver:
         #: [m] a gap this small is zero: twice the geometry's own zero (EPS_REL of the largest coordinate),
         #: below which the signed gap is not continuous
         self.eps = 2.0 * geo.EPS_REL * max(1.0, 1.5 * float(np.max(np.abs(self.model.verts), initial=0.0)))
+        #: the impact search's bracket width where the gap is not smooth [s]
+        self.xtol = 1e-14 * max(self.dt, 1.0)
         #: a wall with a restitution of its own: every impulse is the driver's, each point with its pair's
         #: restitution (:meth:`_group_impulses`)
         self.own_restitutions = len({float(law.restitution) for law in self.laws if law.at_events}) > 1
@@ -508,16 +510,16 @@ class Driver:
         (the paper's locators, links, force laws, an integrator without built-in maps)."""
         if self._graze is None:
             from pounding.framework.engine.bundles import GrazeSearch
-            from pounding.framework.engine.event_search import BUILTIN_MAPS
+            from pounding.framework.engine.event_search import builtin_maps
 
             maps, params = self._search_maps if self._search_maps is not None else (None, None)
-            builtin = next((j for j, known in enumerate(BUILTIN_MAPS) if maps is known), -1)
+            builtin = builtin_maps(maps)
             if self.search_record is None or self.springs is not None or self.force_pairs.size or builtin < 0:
                 self._graze = False
             else:
                 self._graze = GrazeSearch(self.step_search(), self.no_held_search(), builtin, params,
                                           np.ascontiguousarray(self.event_pairs, dtype=np.int64), float(self.eps), float(self.tol),
-                                          1e-14 * max(self.dt, 1.0), np.array([-1.0, 0.0]))
+                                          self.xtol, np.array([-1.0, 0.0]))
         return self._graze or None
 
     def drain_kernel_events(self) -> None:
@@ -570,8 +572,9 @@ class Driver:
                 self.stop_closing(t)
             st = self.trial(self.z, t, h)
             culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
-            hs = None if not culprits else self.found_by_stretch(t, h) or (self.locate(t, h, culprits, st) if self.crossing else
-                                                                             self.locate(t, h, culprits))
+            hs = None if not culprits else self.found_by_stretch(t, h)
+            if culprits and hs is None:
+                hs = self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
             arrival = self.locate_arrival(t, h, st) if st.arrival < self.settings.overlap else None
             if arrival is not None and (hs is None or arrival < hs):  # a point of a held pair reaches contact first
                 hs, culprits = arrival, [st.arriving]
@@ -952,7 +955,7 @@ class Driver:
         if self.law.locate == "root" and gmin(0.0) > self.tol:
             from scipy.optimize import brentq
 
-            root = brentq(gmin, 0.0, h, xtol=1e-14 * max(self.dt, 1.0), rtol=4 * np.finfo(float).eps)
+            root = brentq(gmin, 0.0, h, xtol=self.xtol, rtol=4 * np.finfo(float).eps)
             if abs(gmin(root)) <= self.tol:
                 return root
         # halving: bisection on [lo, hi] from the saved state at t (the paper)
@@ -979,7 +982,7 @@ class Driver:
         Python callable; ``herm`` = (q0, v0, q1, v1 (n,), h) is the step's cubic Hermite interpolant."""
         from pounding.framework.engine.event_search import crossing_search
 
-        found, hs = crossing_search.py_func(lambda hh: gmin(float(hh)), None, herm, self.eps, 1e-14 * max(self.dt, 1.0),
+        found, hs = crossing_search.py_func(lambda hh: gmin(float(hh)), None, herm, self.eps, self.xtol,
                                             plist, self.model.geo)
         return float(hs) if found else None
 
@@ -993,7 +996,7 @@ class Driver:
         maps, params = self._search_maps
         springs = self.link_search()
         laws = None if springs is None else self.springs.updates
-        found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, 1e-14 * max(self.dt, 1.0), self.step_search(), maps, params, held,
+        found, hs = locate(float(t), self.z, herm, p0, plist, self.eps, self.xtol, self.step_search(), maps, params, held,
                            laws, springs)
         if springs is not None and springs.failed[0] >= 0:  # a trial's Newton or fixed point failed: as the trial step says
             raise self.springs.fixed_point_error() if self.sustained else self.springs._diverged(int(springs.failed[0]))

@@ -238,10 +238,16 @@ def locate(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws=No
     """The compiled search on the integrator's maps and parameters
     (:meth:`pounding.solvers.base.Integrator.search_maps`): (found, hs) of :func:`crossing_search`
     (arguments: :func:`locate_with`)."""
-    for j, known in enumerate(BUILTIN_MAPS):
-        if maps is known:
-            return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, laws, springs)
+    j = builtin_maps(maps)
+    if j >= 0:
+        return locate_builtin(t, z, herm, p0, plist, eps, xtol, search, j, params, held, laws, springs)
     return locate_with(t, z, herm, p0, plist, eps, xtol, search, maps, params, held, laws, springs)
+
+
+def builtin_maps(maps) -> int:
+    """The number of the integrator's compiled ``maps`` among :data:`BUILTIN_MAPS` (the one
+    :func:`locate_builtin` and the compiled stretch's search call directly), or -1 (a third party's)."""
+    return next((j for j, known in enumerate(BUILTIN_MAPS) if maps is known), -1)
 
 
 @njit
@@ -259,18 +265,8 @@ def step_touches(graze, t, ag0, z0, z1):
     ex = graze.search
     h = ex.dt
     plist = graze.plist
-    mask = suspects(z0, z1, plist, h, graze.eps, graze.tol, ex.geo)
-    k = 0
-    for j in range(mask.shape[0]):
-        if mask[j]:
-            k += 1
-    if k > 0:
-        culprits = np.empty(k, dtype=np.int64)
-        k = 0
-        for j in range(mask.shape[0]):
-            if mask[j]:
-                culprits[k] = plist[j]
-                k += 1
+    culprits = plist[suspects(z0, z1, plist, h, graze.eps, graze.tol, ex.geo)]
+    if culprits.shape[0] > 0:
         p0 = np.empty(z0.shape[0])
         modal_loads(ex.L, ag0, p0)
         herm = (z0[:, 0].copy(), z0[:, 1].copy(), z1[:, 0].copy(), z1[:, 1].copy(), h)

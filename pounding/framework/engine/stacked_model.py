@@ -280,22 +280,19 @@ class Model:
     def faces(self, p: int) -> bool:
         """Whether the slabs of pair p face each other at rest, with no other building between them at
         their level (:func:`pounding.framework.model.placement.outlines_face`): a slab pair, or a
-        slab and a neighbour's facade. The slabs of a pair that does not (the ends of a row) strike
-        the building between them first. A slab against a wall or a bumper faces what it strikes
-        (a wall that a neighbour screens is not paired with the slab: :mod:`pounding.framework.model.walls`)."""
+        slab and a neighbour's facade (a bumper's pair by its bare slabs). The slabs of a pair that does
+        not (the ends of a row) strike the building between them first. A slab faces the wall it is
+        paired with (a wall that a neighbour screens is not: :mod:`pounding.framework.model.walls`)."""
         if self._faces is None:
             from pounding.framework.model.placement import outlines_face
 
             out = []
             for q, (a, fa, b, fb, _) in enumerate(self.pairs):
-                slab = self.systems[a].slabs[fa]
-                if q in self.facades:
-                    other = self.facades[q].vertices
-                elif q in self.walls or b >= len(self.systems) or fb >= len(self.systems[b].slabs):
+                if q in self.walls:
                     out.append(True)
                     continue
-                else:
-                    other = self.systems[b].slabs[fb].vertices
+                slab = self.systems[a].slabs[fa]
+                other = self.facades[q].vertices if q in self.facades else self.systems[b].slabs[fb].vertices
                 out.append(outlines_face(self.scene, a, b, slab.vertices, other, float(slab.elevation)))
             self._faces = out
         return self._faces[p]
