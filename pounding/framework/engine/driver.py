@@ -519,7 +519,7 @@ class Driver:
             else:
                 self._graze = GrazeSearch(self.step_search(), self.no_held_search(), builtin, params,
                                           np.ascontiguousarray(self.event_pairs, dtype=np.int64), float(self.eps), float(self.tol),
-                                          self.xtol, np.array([-1.0, 0.0]))
+                                          self.xtol, np.array([-1.0, 0.0]), np.zeros(len(self.event_pairs), dtype=np.bool_))
         return self._graze or None
 
     def drain_kernel_events(self) -> None:
@@ -570,12 +570,16 @@ class Driver:
             h = self.snap(t_end - t)
             if self.sustained:
                 self.stop_closing(t)
-            st = self.trial(self.z, t, h)
-            culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
-            hs = None if not culprits else self.found_by_stretch(t, h)
-            if culprits and hs is None:
-                hs = self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
-            arrival = self.locate_arrival(t, h, st) if st.arrival < self.settings.overlap else None
+            found = self.found_by_stretch(t, h)
+            if found is not None:  # the compiled stretch searched this very step: its zero and its culprits
+                st, (hs, culprits) = None, found
+            else:
+                st = self.trial(self.z, t, h)
+                culprits = self.overlapping(st.z1) if not self.crossing else self.crossing_pairs(st, h)
+                hs = None
+                if culprits:
+                    hs = self.locate(t, h, culprits, st) if self.crossing else self.locate(t, h, culprits)
+            arrival = self.locate_arrival(t, h, st) if st is not None and st.arrival < self.settings.overlap else None
             if arrival is not None and (hs is None or arrival < hs):  # a point of a held pair reaches contact first
                 hs, culprits = arrival, [st.arriving]
             else:
@@ -605,15 +609,16 @@ class Driver:
         self._record(k + 1)
         self.release_sustained()
 
-    def found_by_stretch(self, t: float, h: float) -> float | None:
-        """The step length [s] to the zero the compiled stretch's search found in the grid step that
-        starts at t [s] (:func:`~pounding.framework.engine.event_search.step_touches`: the same search on
-        the same step, :meth:`locate`'s answer), taken once; None where it found none there."""
+    def found_by_stretch(self, t: float, h: float) -> tuple[float, list[int]] | None:
+        """(the step length [s] to the zero, the pairs searched) that the compiled stretch's search found
+        in the grid step that starts at t [s] (:func:`~pounding.framework.engine.event_search.step_touches`:
+        the same trial step, the same screen and the same search as this driver's step of it: its
+        ``crossing_pairs`` and :meth:`locate`'s answer), taken once; None where it found none there."""
         graze = self._graze
         if not graze or graze.found[0] != t or h != self.dt:
             return None
         graze.found[0] = -1.0
-        return float(graze.found[1])
+        return float(graze.found[1]), graze.plist[graze.culprits].tolist()
 
     def commit(self, st: Step, t: float, h: float) -> None:
         """Accept a trial step: book its work (contact forces are loads like any other) and move on."""

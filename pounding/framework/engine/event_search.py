@@ -261,11 +261,13 @@ def step_touches(graze, t, ag0, z0, z1):
     them (``Driver.locate``: a zero of their smallest gap inside the step), then a pair whose gap is
     within ``graze.eps`` at the step's end (``Driver.touching_pairs``, struck there by the driver).
     ``graze``: :class:`~pounding.framework.engine.bundles.GrazeSearch`; where the search finds a zero,
-    ``graze.found`` receives (t, the step length to it), which the driver's step takes."""
+    ``graze.found`` receives (t, the step length to it) and ``graze.culprits`` the pairs searched,
+    which the driver's step takes."""
     ex = graze.search
     h = ex.dt
     plist = graze.plist
-    culprits = plist[suspects(z0, z1, plist, h, graze.eps, graze.tol, ex.geo)]
+    mask = suspects(z0, z1, plist, h, graze.eps, graze.tol, ex.geo)
+    culprits = plist[mask]
     if culprits.shape[0] > 0:
         p0 = np.empty(z0.shape[0])
         modal_loads(ex.L, ag0, p0)
@@ -275,6 +277,7 @@ def step_touches(graze, t, ag0, z0, z1):
         if found:
             graze.found[0] = t
             graze.found[1] = hs
+            graze.culprits[:] = mask
             return True
     q1 = z1[:, 0].copy()
     for j in range(plist.shape[0]):
