@@ -7,8 +7,8 @@ step length for the paper pair; here the mathematics runs mode by mode compiled:
 
 * :func:`exact_transition`: the integrator's transition, every step length
   (:meth:`pounding.solvers.exact.Exact.transition`): ``omega dt <= 1/2``, the exponential of the 4x4
-  augmented matrix by scaling and squaring with 20 Taylor terms (the modes of that route scaled
-  together by the largest norm among them); above, the closed form of the damped oscillator; then
+  augmented matrix by scaling and squaring with 16 Taylor terms, or 20 for heavily damped modes (the
+  modes of that route scaled together by the largest norm among them: :data:`_TRANSITION_TERMS`); above, the closed form of the damped oscillator; then
   A and B assembled.
 * :func:`work_maps_small`: the work integrals of :func:`pounding.solvers.exact_work.work_maps` in its
   regime (A) (``omega h <= max(3, 1.5 zeta)``, time unit h, the 4x4 augmented system), from the scaled
@@ -30,7 +30,12 @@ import numpy as np
 from pounding.compiler import njit
 
 _SPLIT = 0.5  # omega dt at which the closed form takes over from expm (as pounding.solvers.exact)
-_TERMS = 20  # Taylor terms after the first (as pounding.solvers.exact and exact_work)
+_TERMS = 20  # Taylor terms after the first of the work integrals (||X||_1 <= 1: 1/21! ~ 2e-20)
+#: Taylor terms after the first of the transition's exponential when its unscaled norm is <= 2 (every
+#: mode of the batch with zeta omega dt <= 1/2, all but the most heavily damped): scaled to ||M||_1 <= 1/2
+#: (scale <= 4), the terms left out sum to < 0.5^17 / 17! ~ 2e-20 in every entry, below 1e-17 of the
+#: smallest entry the maps take (the ramp's, about (1 / scale)^3 / 6 >= 2.6e-3); above, _TERMS
+_TRANSITION_TERMS = 16
 
 
 @njit(borrowed=True)
@@ -85,6 +90,7 @@ def exact_transition(omega, zeta, dt):
     if norm > 0.5:
         j = max(0, int(np.ceil(np.log2(norm / 0.5))))
     scale = 2.0 ** j
+    terms = _TRANSITION_TERMS if norm <= 2.0 else _TERMS
     M = np.zeros((4, 4))
     E = np.empty((4, 4))
     term = np.empty((4, 4))
@@ -107,12 +113,13 @@ def exact_transition(omega, zeta, dt):
             for r in range(4):
                 E[r, r] = 1.0
                 term[r, r] = 1.0
-            for k in range(1, _TERMS + 1):
+            for k in range(1, terms + 1):
                 rows = 4 if k <= 2 else 2  # M^k / k! has zero rows 2 and 3 from k = 2 on
                 _times_f(term, M, tmp, rows)
+                rk = 1.0 / k  # (one division a term, not eight: the series' last bit is rounding anyway)
                 for a in range(rows):
                     for b in range(4):
-                        term[a, b] = tmp[a, b] / k
+                        term[a, b] = tmp[a, b] * rk
                         E[a, b] += term[a, b]
             for _ in range(j):
                 _matmul4(E, E, tmp)
