@@ -144,3 +144,13 @@ def test_energy_theorem_of_the_exact_step(zeta):
         scale = np.abs(work) + np.abs(damp) + 0.5 * (z1[:, 1] ** 2 + v0**2) + 0.5 * w**2 * (z1[:, 0] ** 2 + q0**2)
         assert np.all(np.abs(dE - (work - damp)) <= 1e-12 * scale), (dE - (work - damp)) / scale
         assert np.all(ivv >= -1e-15 * scale)
+
+
+@pytest.mark.parametrize("w, zeta, h", [([1.0, 0.0], [0.05, 0.05], 0.01), ([1.0, -2.0], [0.05, 0.05], 0.01),
+                                        ([1.0, 2.0], [0.05, -0.01], 0.01), ([1.0, np.nan], [0.05, 0.05], 0.01),
+                                        ([1.0, 2.0], [0.05, 0.05], 0.0), ([1.0, 2.0], [0.05, 0.05], np.nan)])
+def test_work_maps_refuse_what_has_no_oscillator(w, zeta, h):
+    """The maps are defined for h > 0, w > 0, zeta >= 0 (the compiled regime checks them, mode by mode):
+    anything else, a NaN included, is refused with the condition, not integrated."""
+    with pytest.raises(ValueError, match="need h > 0, w > 0, zeta >= 0"):
+        work_maps(np.array(w), np.array(zeta), h)

@@ -141,9 +141,10 @@ class Kernel:
             finally:
                 _loading[0] -= 1
         _load_time[0] += time.perf_counter() - t0
-        # numba's own dispatch types arrays, scalars and named bundles fast enough (an array-only
-        # call: 0.2 us, against 2 us for a fingerprint); a plain tuple of laws and arrays it types in
-        # Python, element by element (70 us): only such calls keep their machine code by fingerprint
+        # numba's own dispatch types arrays, scalars and flat named bundles fast enough (an array-only
+        # call: 0.2 us, against 2 us for a fingerprint); a plain tuple of laws and arrays, or a bundle
+        # of bundles, it types in Python, element by element (70 us for a tuple of laws): only such
+        # calls keep their machine code by fingerprint
         return _Entries(d) if hasattr(d, "overloads") and any(map(_typed_slowly, args)) else d
 
     def __repr__(self) -> str:
@@ -185,14 +186,19 @@ def _fix_identity(dispatcher, func) -> None:
 
 def _typed_slowly(a) -> bool:
     """Whether numba types the argument ``a`` slowly at every call: a plain tuple (its elements one by
-    one, in Python), a law tuple or a compiled function (through its first-class function typing)."""
-    return type(a) is tuple or getattr(type(a), "typed_by_identity", False)
+    one, in Python), a law tuple or a compiled function (through its first-class function typing), or
+    a named bundle that holds bundles (numba types the inner ones in Python: the compiled stretch's
+    twelve arguments took 13 us to type at every call, their fingerprint 3.5 us)."""
+    t = type(a)
+    if t is tuple or getattr(t, "typed_by_identity", False):
+        return True
+    return isinstance(a, tuple) and hasattr(t, "_fields") and any(isinstance(v, tuple) for v in a)
 
 
 class _Entries:
     """numba's dispatcher, with the machine code it ran for each argument fingerprint kept by that
     fingerprint (:func:`pounding.compiler.prebuilt.dispatch_print`), for a function whose calls pass a
-    plain tuple, a law tuple or a compiled function (:func:`_typed_slowly`).
+    plain tuple, a law tuple, a compiled function or a bundle of bundles (:func:`_typed_slowly`).
 
     numba's dispatcher types every argument at every call to choose the machine code, and types a
     plain tuple element by element in Python: a call of the contact solve with its

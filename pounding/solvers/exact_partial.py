@@ -175,8 +175,16 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
     """The work integrals of :func:`pounding.solvers.exact_work.work_maps` for the modes in its regime (A)
     (``w h <= max(3, 1.5 zeta)``; w (n,) [rad/s], zeta (n,), h [s]), written into a1, a2 (n, 4) and Mq
     (n, 4, 4) in the units of ``work_maps``; done (n,) bool marks them, the other modes' rows are left
-    as they were (see the module docstring)."""
+    as they were (see the module docstring). Returns how many modes it left (regime (B)), or -1 without
+    writing anything when the arguments are not h > 0, w > 0, zeta >= 0 (``work_maps`` says so: the
+    checks cost its caller more, as numpy reductions, than the arithmetic of a mode)."""
     n = w.shape[0]
+    if not h > 0.0:
+        return -1
+    for i in range(n):
+        if not (w[i] > 0.0 and zeta[i] >= 0.0):
+            return -1
+    left = 0
     F = np.zeros((4, 4))
     X = np.empty((4, 4))
     P = np.empty((4, 4))  # X^j / j!
@@ -198,6 +206,7 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
         Om = w[i] * h
         if not Om <= max(3.0, 1.5 * zeta[i]):
             done[i] = False
+            left += 1
             continue
         done[i] = True
         a = Om
@@ -311,6 +320,7 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
         for r in range(4):
             for c in range(4):
                 Mq[i, r, c] = 0.5 * (t2[r, c] / T + t2[c, r] / T)
+    return left
 
 
 @njit

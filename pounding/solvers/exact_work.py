@@ -114,11 +114,11 @@ def work_maps(w, zeta, h):
     a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
     if n == 0:
         return a1, a2, M
-    if not (h > 0 and w.min() > 0 and zeta.min() >= 0):
-        raise ValueError("need h > 0, w > 0, zeta >= 0")
     done = np.zeros(n, dtype=np.bool_)
-    work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes
-    if not done.all():
+    left = work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes; -1: checks failed
+    if left < 0:
+        raise ValueError("need h > 0, w > 0, zeta >= 0")
+    if left:
         rest = np.flatnonzero(~done)
         a1[rest], a2[rest], M[rest] = _oscillator_maps(w[rest], zeta[rest], h)
     return a1, a2, M
