@@ -148,9 +148,12 @@ def test_energy_theorem_of_the_exact_step(zeta):
 
 @pytest.mark.parametrize("w, zeta, h", [([1.0, 0.0], [0.05, 0.05], 0.01), ([1.0, -2.0], [0.05, 0.05], 0.01),
                                         ([1.0, 2.0], [0.05, -0.01], 0.01), ([1.0, np.nan], [0.05, 0.05], 0.01),
-                                        ([1.0, 2.0], [0.05, 0.05], 0.0), ([1.0, 2.0], [0.05, 0.05], np.nan)])
+                                        ([1.0, 2.0], [0.05, np.nan], 0.01), ([1.0, 2.0], [0.05, 0.05], 0.0),
+                                        ([1.0, 2.0], [0.05, 0.05], -0.01), ([1.0, 2.0], [0.05, 0.05], np.inf),
+                                        ([1.0, 2.0], [0.05, 0.05], np.nan), ([], [], -0.01)])
 def test_work_maps_refuse_what_has_no_oscillator(w, zeta, h):
-    """The maps are defined for h > 0, w > 0, zeta >= 0 (the compiled regime checks them, mode by mode):
-    anything else, a NaN included, is refused with the condition, not integrated."""
+    """The maps are defined for a finite step h > 0 and modes with w > 0, zeta >= 0 (the compiled regime
+    checks them, mode by mode): anything else, a NaN included, is refused with the condition, not
+    integrated, also with no mode."""
     with pytest.raises(ValueError, match="need h > 0, w > 0, zeta >= 0"):
         work_maps(np.array(w), np.array(zeta), h)

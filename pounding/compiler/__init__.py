@@ -67,9 +67,10 @@ class Kernel:
     #: (:func:`pounding.compiler.prebuilt.dispatch_print`)
     typed_by_identity = True
 
-    def __init__(self, func, borrowed=False):
+    def __init__(self, func, borrowed=False, fingerprinted=False):
         self.py_func = func
         self.borrowed = borrowed  #: compiled without reference counts (:func:`njit`)
+        self.fingerprinted = fingerprinted  #: calls dispatched by their arguments' fingerprint (:func:`njit`)
         self._dispatcher = None
         self._call = None  # what a call runs: the numba dispatcher, or the built extension's entry (pounding.aot)
         self.__name__ = func.__name__
@@ -141,11 +142,12 @@ class Kernel:
             finally:
                 _loading[0] -= 1
         _load_time[0] += time.perf_counter() - t0
-        # numba's own dispatch types arrays, scalars and flat named bundles fast enough (an array-only
-        # call: 0.2 us, against 2 us for a fingerprint); a plain tuple of laws and arrays, or a bundle
-        # of bundles, it types in Python, element by element (70 us for a tuple of laws): only such
-        # calls keep their machine code by fingerprint
-        return _Entries(d) if hasattr(d, "overloads") and any(map(_typed_slowly, args)) else d
+        # numba's own dispatch types arrays, scalars and named bundles fast enough (an array-only
+        # call: 0.2 us, against 2 us for a fingerprint); a plain tuple of laws and arrays it types in
+        # Python, element by element (70 us): a function whose first call passes one, or one declared
+        # ``fingerprinted``, keeps its machine code by fingerprint for every later call
+        slow = self.fingerprinted or any(map(_typed_slowly, args))
+        return _Entries(d) if hasattr(d, "overloads") and slow else d
 
     def __repr__(self) -> str:
         return f"<compiled function {self.__module__}.{self.__name__}>"
@@ -186,19 +188,15 @@ def _fix_identity(dispatcher, func) -> None:
 
 def _typed_slowly(a) -> bool:
     """Whether numba types the argument ``a`` slowly at every call: a plain tuple (its elements one by
-    one, in Python), a law tuple or a compiled function (through its first-class function typing), or
-    a named bundle that holds bundles (numba types the inner ones in Python: the compiled stretch's
-    twelve arguments took 13 us to type at every call, their fingerprint 3.5 us)."""
-    t = type(a)
-    if t is tuple or getattr(t, "typed_by_identity", False):
-        return True
-    return isinstance(a, tuple) and hasattr(t, "_fields") and any(isinstance(v, tuple) for v in a)
+    one, in Python), a law tuple or a compiled function (through its first-class function typing)."""
+    return type(a) is tuple or getattr(type(a), "typed_by_identity", False)
 
 
 class _Entries:
     """numba's dispatcher, with the machine code it ran for each argument fingerprint kept by that
     fingerprint (:func:`pounding.compiler.prebuilt.dispatch_print`), for a function whose calls pass a
-    plain tuple, a law tuple, a compiled function or a bundle of bundles (:func:`_typed_slowly`).
+    plain tuple, a law tuple or a compiled function (:func:`_typed_slowly`), or one declared
+    ``fingerprinted`` (:func:`njit`).
 
     numba's dispatcher types every argument at every call to choose the machine code, and types a
     plain tuple element by element in Python: a call of the contact solve with its
@@ -260,7 +258,7 @@ class _Prebuilt:
         return self.fallback(*args)
 
 
-def njit(func=None, *, borrowed: bool = False):
+def njit(func=None, *, borrowed: bool = False, fingerprinted: bool = False):
     """Declare ``func`` compiled (numba ``njit(cache=True)``, no fastmath): a :class:`Kernel`,
     or ``func`` itself (with ``func.py_func = func``) when compiled code is not used.
 
@@ -270,13 +268,20 @@ def njit(func=None, *, borrowed: bool = False):
     every array argument at entry and exit (every array of a bundle argument) and on every array
     read from a bundle: in the links' stepping those counts were 40 % of a yielding run's time
     (measured with perf). numba checks the promise when it compiles: without reference counts a
-    function that allocates an array, or returns one that is not an argument, fails to type."""
+    function that allocates an array, or returns one that is not an argument, fails to type.
+
+    ``@njit(fingerprinted=True)``: a function called with bundles of bundles built once for many
+    calls (the compiled stretch, whose search bundle holds the step's and the held pairs' bundles)
+    finds its machine code by its arguments' fingerprint (:class:`_Entries`; a bundle's by identity),
+    not by numba's typing, which types the inner bundles in Python at every call: 13 us of the
+    stretch's 28 us call from the driver, against 3.5 us. Not for a function given a new bundle at
+    most calls (the held step's held set): its full fingerprint costs more than numba's typing."""
     if func is None:
-        return lambda f: njit(f, borrowed=borrowed)
+        return lambda f: njit(f, borrowed=borrowed, fingerprinted=fingerprinted)
     if not enabled():
         func.py_func = func
         return func
-    return Kernel(func, borrowed)
+    return Kernel(func, borrowed, fingerprinted)
 
 
 @contextlib.contextmanager

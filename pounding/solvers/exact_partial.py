@@ -7,9 +7,9 @@ step length for the paper pair; here the mathematics runs mode by mode compiled:
 
 * :func:`exact_transition`: the integrator's transition, every step length
   (:meth:`pounding.solvers.exact.Exact.transition`): ``omega dt <= 1/2``, the exponential of the 4x4
-  augmented matrix by scaling and squaring with 16 Taylor terms, or 20 for heavily damped modes (the
-  modes of that route scaled together by the largest norm among them: :data:`_TRANSITION_TERMS`); above, the closed form of the damped oscillator; then
-  A and B assembled.
+  augmented matrix by scaling and squaring (the modes of that route scaled together by the largest
+  norm among them, and summed with 16 Taylor terms, or 20 when one of them has zeta omega dt > 1/2:
+  :data:`_TRANSITION_TERMS`); above, the closed form of the damped oscillator; then A and B assembled.
 * :func:`work_maps_small`: the work integrals of :func:`pounding.solvers.exact_work.work_maps` in its
   regime (A) (``omega h <= max(3, 1.5 zeta)``, time unit h, the 4x4 augmented system), from the scaled
   interval ``t0 = 2**-k`` and ``k`` doubling identities; on ``t0`` the blocks of Van Loan's
@@ -30,11 +30,15 @@ import numpy as np
 from pounding.compiler import njit
 
 _SPLIT = 0.5  # omega dt at which the closed form takes over from expm (as pounding.solvers.exact)
-_TERMS = 20  # Taylor terms after the first of the work integrals (||X||_1 <= 1: 1/21! ~ 2e-20)
-#: Taylor terms after the first of the transition's exponential when its unscaled norm is <= 2 (every
-#: mode of the batch with zeta omega dt <= 1/2, all but the most heavily damped): scaled to ||M||_1 <= 1/2
-#: (scale <= 4), the terms left out sum to < 0.5^17 / 17! ~ 2e-20 in every entry, below 1e-17 of the
-#: smallest entry the maps take (the ramp's, about (1 / scale)^3 / 6 >= 2.6e-3); above, _TERMS
+#: Taylor terms after the first: of the work integrals (||X||_1 <= 1: 1/21! ~ 2e-20), and of the
+#: transition's exponential when a mode of the batch has zeta omega dt > 1/2
+_TERMS = 20
+#: Taylor terms after the first of the transition's exponential when its unscaled 1-norm is <= 2 (every
+#: mode of the batch with zeta omega dt <= 1/2, all but the most heavily damped): scaled by 2**j <= 4 to
+#: ||M||_1 <= 1/2, the terms left out are < 2.3e-20 in every entry. That is far below an ulp of each
+#: entry the maps take: the ramp's, about (1 / scale)^3 / 6 >= 2.6e-3, and the entries that scale with
+#: omega dt (every term of theirs carries the factor M[1, 0] = -s^2 / scale, so their error is relative
+#: too); the j <= 2 squarings after it each at most double a relative error
 _TRANSITION_TERMS = 16
 
 
@@ -176,10 +180,10 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
     (``w h <= max(3, 1.5 zeta)``; w (n,) [rad/s], zeta (n,), h [s]), written into a1, a2 (n, 4) and Mq
     (n, 4, 4) in the units of ``work_maps``; done (n,) bool marks them, the other modes' rows are left
     as they were (see the module docstring). Returns how many modes it left (regime (B)), or -1 without
-    writing anything when the arguments are not h > 0, w > 0, zeta >= 0 (``work_maps`` says so: the
+    writing anything when the arguments are not 0 < h < inf, w > 0, zeta >= 0 (``work_maps`` says so: the
     checks cost its caller more, as numpy reductions, than the arithmetic of a mode)."""
     n = w.shape[0]
-    if not h > 0.0:
+    if not 0.0 < h < np.inf:
         return -1
     for i in range(n):
         if not (w[i] > 0.0 and zeta[i] >= 0.0):

@@ -113,6 +113,8 @@ def work_maps(w, zeta, h):
     n = w.size
     a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
     if n == 0:
+        if not 0.0 < h < np.inf:
+            raise ValueError("need h > 0, w > 0, zeta >= 0")
         return a1, a2, M
     done = np.zeros(n, dtype=np.bool_)
     left = work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes; -1: checks failed

@@ -424,7 +424,8 @@ class GrazeSearch(NamedTuple):
     #: it [s] (written by the stretch, read by the driver's Python step of it, which takes it rather
     #: than searching the same step again); a start of -1: none
     found: np.ndarray
-    #: (k,) bool: which of ``plist`` the screen suspected in that step (the pairs the search ran on)
+    #: (k,) bool: which of ``plist`` the screen suspected in that step (the pairs the search ran on);
+    #: written with ``found`` and read only with it
     culprits: np.ndarray
 
 

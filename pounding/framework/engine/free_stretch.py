@@ -25,7 +25,7 @@ from pounding.framework.engine.kernel import _accumulate, _free_step, _record, i
 from pounding.framework.engine.pairs import closing, dofs_gap, slab_dofs
 
 
-@njit
+@njit(fingerprinted=True)  # (its search bundle, a bundle of bundles, is built once a run)
 def advance(tr, modes, ground, z, k0, k1, rec, geo, settings, log, rules, graze):
     """Advance z from grid index k0 towards k1 (exclusive of events).
 
