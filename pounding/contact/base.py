@@ -203,6 +203,7 @@ def _asks_no_law(default: type) -> str:
     return (f"[analysis] contact {default.name or default.__name__!r} watches no pair, so no pair's law is asked; "
             "give [analysis] contact a law")
 
+
 class ContactLaw(ABC):
     """Base class of every contact law (see the module docstring for the contract).
 

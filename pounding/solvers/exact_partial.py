@@ -180,11 +180,9 @@ def work_maps_small(w, zeta, h, a1, a2, Mq, done):
     (``w h <= max(3, 1.5 zeta)``; w (n,) [rad/s], zeta (n,), h [s]), written into a1, a2 (n, 4) and Mq
     (n, 4, 4) in the units of ``work_maps``; done (n,) bool marks them, the other modes' rows are left
     as they were (see the module docstring). Returns how many modes it left (regime (B)), or -1 without
-    writing anything when the arguments are not 0 < h < inf, w > 0, zeta >= 0 (``work_maps`` says so: the
-    checks cost its caller more, as numpy reductions, than the arithmetic of a mode)."""
+    writing anything when a mode has not w > 0, zeta >= 0 (``work_maps``, which has checked 0 < h < inf,
+    says so: as numpy reductions the modes' checks cost more than the arithmetic of a mode)."""
     n = w.shape[0]
-    if not 0.0 < h < np.inf:
-        return -1
     for i in range(n):
         if not (w[i] > 0.0 and zeta[i] >= 0.0):
             return -1

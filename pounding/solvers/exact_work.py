@@ -89,6 +89,7 @@ from pounding.solvers.exact_partial import work_maps_small
 __all__ = ["work_maps"]
 
 _TAYLOR_DEG = 20  # degree of the Taylor polynomial for ||X||_1 <= 1
+_DOMAIN = "need h > 0, w > 0, zeta >= 0"  # where the maps are defined (a finite step)
 
 
 def work_maps(w, zeta, h):
@@ -111,15 +112,15 @@ def work_maps(w, zeta, h):
     w, zeta = _flat(w, zeta)
     h = float(h)
     n = w.size
+    if not 0.0 < h < np.inf:
+        raise ValueError(_DOMAIN)
     a1, a2, M = np.zeros((n, 4)), np.zeros((n, 4)), np.zeros((n, 4, 4))
     if n == 0:
-        if not 0.0 < h < np.inf:
-            raise ValueError("need h > 0, w > 0, zeta >= 0")
         return a1, a2, M
     done = np.zeros(n, dtype=np.bool_)
-    left = work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes; -1: checks failed
+    left = work_maps_small(w, zeta, h, a1, a2, M, done)  # regime (A), marking its modes; -1: a mode outside the domain
     if left < 0:
-        raise ValueError("need h > 0, w > 0, zeta >= 0")
+        raise ValueError(_DOMAIN)
     if left:
         rest = np.flatnonzero(~done)
         a1[rest], a2[rest], M[rest] = _oscillator_maps(w[rest], zeta[rest], h)

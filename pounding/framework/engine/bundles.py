@@ -1,6 +1,6 @@
 """The declared interface between the driver and the compiled core.
 
-The compiled entry points (:func:`pounding.framework.engine.kernel.advance`,
+The compiled entry points (:func:`pounding.framework.engine.free_stretch.advance`,
 :func:`pounding.framework.engine.kernel.impulses_at`,
 :func:`pounding.framework.engine.held.held_stretch` and the pair queries of
 :mod:`pounding.framework.engine.pairs`) take their arrays in named bundles, one per
@@ -205,7 +205,7 @@ class HeldSet(NamedTuple):
 
 
 class StretchEnd(NamedTuple):
-    """Where a compiled stretch of grid steps stopped (:func:`pounding.framework.engine.kernel.advance`,
+    """Where a compiled stretch of grid steps stopped (:func:`pounding.framework.engine.free_stretch.advance`,
     :func:`pounding.framework.engine.spring_core.stretch`, :func:`pounding.framework.engine.held.held_stretch`)."""
 
     k: int  #: the grid index reached (the start of the step that stopped it, or of the next one: see ``status``)

@@ -188,7 +188,7 @@ class Driver:
             -1.0 if self.crossing else float(self.law.restitution) if compiled else -1.0,
             bool(compiled and self.law.after_impact == "equilibrium"), bool(self.crossing),
         )
-        #: the compiled stretches' rules (kernel.advance): None with the crossing locator, else the paper's;
+        #: the compiled stretches' rules (free_stretch.advance): None with the crossing locator, else the paper's;
         #: each compiles only its own branch
         self.rules = None if self.crossing else np.True_
         self.log = EventLog.empty(n, len(self.model.pairs), MAX_FEATURES)
@@ -492,7 +492,7 @@ class Driver:
         return False
 
     def advance(self, k0: int, k1: int):
-        """Free grid steps k0 -> k1, compiled (:func:`pounding.framework.engine.kernel.advance`)."""
+        """Free grid steps k0 -> k1, compiled (:func:`pounding.framework.engine.free_stretch.advance`)."""
         from pounding.framework.engine.free_stretch import advance
         from pounding.framework.engine.kernel import advance_free
 

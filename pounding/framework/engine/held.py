@@ -460,7 +460,7 @@ def held_stretch(tr, modes, ground, z, held_pairs, k0, k1, rec, geo, settings, r
     """Run grid steps k0 -> k1 while pairs are held and nothing else happens.
 
     Bundles and ``rules`` (None: the crossing locator; True: the paper's rules, the other
-    branch pruned before compiling) as in :func:`pounding.framework.engine.kernel.advance`, plus
+    branch pruned before compiling) as in :func:`pounding.framework.engine.free_stretch.advance`, plus
     ``held_pairs``, the :class:`~pounding.framework.engine.bundles.HeldPairs` (the contact force at
     the current instant and the held pairs, both updated in place).
     Each step: :func:`stop_closing` on the held pairs' touching points (with ``rules`` None) or

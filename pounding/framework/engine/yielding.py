@@ -358,7 +358,7 @@ class Yielding:
         """Grid steps k0 -> k1 compiled (:func:`pounding.framework.engine.spring_core.stretch`), until a slab
         pair comes within the contact tolerance: then (k, OVERLAP, pair) with the state at the start
         of step k, which the driver takes in Python (``Driver.python_step``). Same answers as
-        :func:`pounding.framework.engine.kernel.advance` (DONE or OVERLAP)."""
+        :func:`pounding.framework.engine.free_stretch.advance` (DONE or OVERLAP)."""
         from pounding.framework.engine.spring_core import stretch
 
         tr = driver.transition(driver.dt)
